@@ -1,0 +1,122 @@
+// Ground contact (report eq. 10): for a point below H = 0, a penalty force
+// S * depth along the unit normal, depth = -H / |grad H|, plus normal
+// damping; then Coulomb friction. Rim points are tested one by one; a
+// continuous wheel touches at the deepest point of its circle.
+#include <cmath>
+
+#include "forces.hpp"
+
+namespace groundsim {
+namespace {
+
+// Adds a contact at world point p if it is below the ground.
+void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int point, int body,
+                int particle, int wheel, const Vec3& com) {
+  Vec3 g;
+  const double H = m.ground->eval(p, &g);
+  if (!(H < 0.0)) return;
+  const double gn = g.norm();
+  if (!(gn > 0.0)) return;  // degenerate surface point: no normal, no force
+  Contact& c = ws.contacts[ws.ncontacts++];
+  c.point = point;
+  c.body = body;
+  c.particle = particle;
+  c.wheel = wheel;
+  c.p = p;
+  c.n = g / gn;
+  c.r = p - com;
+  c.depth = -H / gn;
+  c.normal = 0.0;
+  c.friction.setZero();
+  c.u = u;
+  c.slip = u - u.dot(c.n) * c.n;
+}
+
+// Deepest point of a wheel's circle: start from the direction of steepest
+// descent of H projected into the wheel plane, then repeat at the new point
+// (exact in one pass for a plane; two more passes settle curved grounds).
+Vec3 lowestCirclePoint(const Model& m, const Vec3& centre, const Vec3& axis, double radius) {
+  Vec3 g;
+  Vec3 p = centre;
+  for (int iter = 0; iter < 3; ++iter) {
+    m.ground->eval(p, &g);
+    Vec3 d = -(g - g.dot(axis) * axis);
+    const double dn = d.norm();
+    d = dn < 1e-12 ? axis.unitOrthogonal() : Vec3(d / dn);  // lying flat: any rim point
+    p = centre + radius * d;
+  }
+  return p;
+}
+
+}  // namespace
+
+void detectGroundContacts(const Model& m, Workspace& ws) {
+  ws.ncontacts = 0;
+  ws.max_depth = 0.0;
+  const double L = m.ground->gradientBound();
+  // broad phase: H(centre) > L * radius proves the whole ball is above the
+  // ground, so none of the body's points (or its wheel circle) can touch
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    ws.body_far[i] = 0;
+    if (std::isfinite(L)) {
+      Vec3 g;
+      ws.body_far[i] = m.ground->eval(ws.com[i], &g) > L * m.bodies[i].bound_radius * 1.000001;
+    }
+  }
+  for (int k : m.contact_points) {
+    const Point& pt = m.points[k];
+    if (pt.body >= 0) {
+      if (ws.body_far[pt.body]) continue;
+      addContact(m, ws, ws.point_pos[k], ws.point_vel[k], k, pt.body, -1, pt.wheel, ws.com[pt.body]);
+    } else {
+      addContact(m, ws, ws.point_pos[k], ws.point_vel[k], k, -1, pt.particle, -1, ws.point_pos[k]);
+    }
+  }
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const Wheel& wh = m.wheels[w];
+    if (wh.contact != WheelContact::Circle || ws.body_far[wh.body]) continue;
+    const Vec3 axis = ws.R[wh.body] * wh.axis;
+    const Vec3 p = lowestCirclePoint(m, ws.com[wh.body], axis, wh.radius);
+    const Vec3 u = ws.vel[wh.body] + ws.omega[wh.body].cross(p - ws.com[wh.body]);
+    addContact(m, ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
+  }
+  for (int c = 0; c < ws.ncontacts; ++c) ws.max_depth = std::max(ws.max_depth, ws.contacts[c].depth);
+}
+
+void applyContactNormals(const Model& m, Workspace& ws) {
+  const ContactParams& cp = m.opt.contact;
+  ws.ground_energy = 0.0;
+  for (auto& v : ws.wheel_normal) v = 0.0;
+  for (int i = 0; i < ws.ncontacts; ++i) {
+    Contact& c = ws.contacts[i];
+    const double rate = -c.u.dot(c.n);  // d(depth)/dt
+    double N = cp.stiffness * c.depth;
+    if (cp.damping_model == NormalDamping::KelvinVoigt) {
+      N += cp.damping * rate;
+    } else {
+      N *= 1.0 + cp.damping * rate;  // Hunt-Crossley: damping vanishes at first touch
+    }
+    c.normal = std::max(N, 0.0);  // the ground pushes, never pulls
+    ws.ground_energy += 0.5 * cp.stiffness * c.depth * c.depth;
+    if (c.wheel >= 0) ws.wheel_normal[c.wheel] += c.normal;
+  }
+}
+
+void applyExplicitFriction(const Model& m, Workspace& ws) {
+  const ContactParams& cp = m.opt.contact;
+  for (auto& v : ws.wheel_friction) v = 0.0;
+  for (auto& v : ws.wheel_slip) v = 0.0;
+  for (int i = 0; i < ws.ncontacts; ++i) {
+    Contact& c = ws.contacts[i];
+    const double s = c.slip.norm();
+    if (c.wheel >= 0) ws.wheel_slip[c.wheel] = std::max(ws.wheel_slip[c.wheel], s);
+    if (cp.friction_model == FrictionModel::StickSlip || s == 0.0) continue;
+    const double scale = cp.friction_model == FrictionModel::Sign
+                             ? 1.0
+                             : std::tanh(s / cp.slip_velocity);
+    c.friction = -cp.friction * c.normal * scale / s * c.slip;
+    if (c.wheel >= 0) ws.wheel_friction[c.wheel] += c.friction.norm();
+  }
+}
+
+}  // namespace groundsim

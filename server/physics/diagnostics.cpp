@@ -1,0 +1,114 @@
+#include "diagnostics.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "forces.hpp"
+
+namespace groundsim {
+
+const char* healthName(Health h) {
+  switch (h) {
+    case Health::Ok: return "ok";
+    case Health::NonFinite: return "non_finite";
+    case Health::Penetration: return "penetration";
+    case Health::Speed: return "speed";
+    case Health::Energy: return "energy";
+  }
+  return "?";
+}
+
+Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
+  computeKinematics(m, s.y, s.controls, ws);
+  detectGroundContacts(m, ws);
+  Energy e;
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int i = 0; i < nb; ++i) {
+    const Body& b = m.bodies[i];
+    const Vec3 v = bodyVel(s.y, i);
+    e.kinetic += 0.5 * b.mass * v.squaredNorm() + 0.5 * ws.omega[i].dot(bodyMom(s.y, i));
+    e.gravity -= b.mass * m.opt.gravity.dot(bodyPos(s.y, i));
+  }
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
+    const int o = particleOffset(nb, j);
+    e.kinetic += 0.5 * m.particles[j].mass * s.y.segment<3>(o + 3).squaredNorm();
+    e.gravity -= m.particles[j].mass * m.opt.gravity.dot(s.y.segment<3>(o));
+  }
+  for (const Spring& sp : m.springs) {
+    const Vec3 d = ws.point_pos[sp.b] - ws.point_pos[sp.a];
+    const double stretch = sp.isotropic ? d.norm() : d.norm() - sp.rest_length;
+    e.spring += 0.5 * sp.stiffness * stretch * stretch;
+  }
+  for (int c = 0; c < ws.ncontacts; ++c)
+    e.ground += 0.5 * m.opt.contact.stiffness * ws.contacts[c].depth * ws.contacts[c].depth;
+  return e;
+}
+
+Vec3 linearMomentum(const Model& m, const State& s) {
+  Vec3 p = Vec3::Zero();
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int i = 0; i < nb; ++i) p += m.bodies[i].mass * bodyVel(s.y, i);
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j)
+    p += m.particles[j].mass * s.y.segment<3>(particleOffset(nb, j) + 3);
+  return p;
+}
+
+Vec3 angularMomentum(const Model& m, const State& s) {
+  Vec3 L = Vec3::Zero();
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int i = 0; i < nb; ++i)
+    L += bodyPos(s.y, i).cross(m.bodies[i].mass * bodyVel(s.y, i)) + bodyMom(s.y, i);
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
+    const int o = particleOffset(nb, j);
+    L += s.y.segment<3>(o).cross(m.particles[j].mass * s.y.segment<3>(o + 3));
+  }
+  return L;
+}
+
+namespace {
+bool fail(State& s, Health h, const std::string& why) {
+  s.health = h;
+  s.health_reason = why;
+  return false;
+}
+}  // namespace
+
+bool checkHealth(const Model& m, State& s, Workspace& ws, bool check_energy) {
+  if (s.health != Health::Ok) return false;
+  if (!s.y.allFinite()) return fail(s, Health::NonFinite, "state became NaN or infinite");
+  const Limits& lim = m.opt.limits;
+  if (ws.max_depth > lim.max_penetration) {
+    std::ostringstream o;
+    o << "penetration " << ws.max_depth << " m exceeds limit " << lim.max_penetration
+      << " m (ground too soft or step too large)";
+    return fail(s, Health::Penetration, o.str());
+  }
+  const int nb = static_cast<int>(m.bodies.size());
+  double vmax = 0.0;
+  for (int i = 0; i < nb; ++i) vmax = std::max(vmax, bodyVel(s.y, i).norm());
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j)
+    vmax = std::max(vmax, s.y.segment<3>(particleOffset(nb, j) + 3).norm());
+  if (vmax > lim.max_speed) {
+    std::ostringstream o;
+    o << "speed " << vmax << " m/s exceeds limit " << lim.max_speed << " m/s";
+    return fail(s, Health::Speed, o.str());
+  }
+  if (check_energy) {
+    const double e = computeEnergy(m, s, ws).total();
+    double weight = 0.0;
+    for (const Body& b : m.bodies) weight += b.mass * m.opt.gravity.norm();
+    for (const Particle& p : m.particles) weight += p.mass * m.opt.gravity.norm();
+    const double allowed = lim.max_energy_growth *
+                           (std::abs(s.initial_energy) + std::abs(s.drive_work) + weight * 1.0);
+    const double excess = e - (s.initial_energy + s.drive_work);
+    if (!std::isfinite(e) || excess > allowed) {
+      std::ostringstream o;
+      o << "energy grew by " << excess << " J beyond the initial energy plus drive work (allowed "
+        << allowed << " J)";
+      return fail(s, Health::Energy, o.str());
+    }
+  }
+  return true;
+}
+
+}  // namespace groundsim

@@ -1,0 +1,32 @@
+// Energy, momentum and divergence checks. Not called inside the force loop;
+// the simulator samples them (health every step is cheap, energy every
+// kEnergyCheckInterval steps).
+#pragma once
+
+#include "model.hpp"
+#include "state.hpp"
+#include "workspace.hpp"
+
+namespace groundsim {
+
+struct Energy {
+  double kinetic = 0.0;   // J  translational + rotational
+  double gravity = 0.0;   // J  -m g . x
+  double spring = 0.0;    // J  1/2 k (l - l0)^2
+  double ground = 0.0;    // J  1/2 S depth^2
+  double total() const { return kinetic + gravity + spring + ground; }
+};
+
+// Recomputes kinematics and contacts of s into ws.
+Energy computeEnergy(const Model& m, const State& s, Workspace& ws);
+Vec3 linearMomentum(const Model& m, const State& s);
+// about the world origin
+Vec3 angularMomentum(const Model& m, const State& s);
+
+// Sets s.health / s.health_reason if s has diverged: a non-finite state,
+// penetration or speed beyond model limits (ws holds the last force
+// evaluation), or, when check_energy, energy above the initial energy plus
+// drive work by more than the limit (recomputed into ws). True while healthy.
+bool checkHealth(const Model& m, State& s, Workspace& ws, bool check_energy);
+
+}  // namespace groundsim

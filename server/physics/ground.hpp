@@ -1,0 +1,44 @@
+// The ground is any implicit surface H(x, y, z) = 0; points with H < 0 are
+// below it. The core only asks H and grad H at a point (see the report,
+// eq. 10), so analytic grounds, parsed expressions and height fields are all
+// implementations of one small interface.
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "math.hpp"
+
+namespace groundsim {
+
+class Ground {
+ public:
+  virtual ~Ground() = default;
+  // H at p; writes grad H at p into *grad.
+  virtual double eval(const Vec3& p, Vec3* grad) const = 0;
+  // An upper bound on |grad H| over all space, or +inf when none is known.
+  // With it, H(c) > L * r proves a ball of radius r about c is above the
+  // ground, so its points need no contact evaluation (broad phase).
+  virtual double gradientBound() const { return std::numeric_limits<double>::infinity(); }
+  virtual std::string describe() const = 0;
+};
+
+using GroundPtr = std::shared_ptr<const Ground>;
+
+// n . p - offset, with |n| = 1 (z = 0 is n = (0,0,1), offset 0).
+GroundPtr makePlane(const Vec3& normal, double offset);
+// Plane through the origin tilted by angle_rad so that the ground descends
+// along the horizontal unit direction downhill (the report's eq. 23 is
+// angle pi/6, downhill +x: H = z + tan(pi/6) x, normalised here to |grad| = 1).
+GroundPtr makeIncline(double angle_rad, const Vec3& downhill);
+// z - amplitude * cos(2 pi x / wavelength) (the report's eq. 25: 0.5, 2 pi).
+GroundPtr makeCosineWave(double amplitude, double wavelength);
+// z - curvature/2 * (x^2 + y^2): a bowl.
+GroundPtr makeParabola(double curvature);
+// z - slope * sqrt(x^2 + y^2): a cone (negative slope: a peak).
+GroundPtr makeCone(double slope);
+// z - amplitude * sin(2 pi x / wx) * sin(2 pi y / wy): bumps.
+GroundPtr makeSinSinBumps(double amplitude, double wavelength_x, double wavelength_y);
+
+}  // namespace groundsim

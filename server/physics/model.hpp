@@ -1,0 +1,125 @@
+// The immutable model: everything that does not change while a scene runs.
+// Built once (ModelBuilder, vehicle builder) from a validated scenario; every
+// engine function takes `const Model&` and a mutable `State` (state.hpp),
+// as MuJoCo does with mjModel / mjData.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ground.hpp"
+#include "math.hpp"
+
+namespace groundsim {
+
+enum class IntegratorKind { SemiImplicitEuler, VelocityVerlet, Rk4, ImplicitEuler, Adaptive };
+enum class FrictionModel {
+  StickSlip,    // velocity-level Coulomb clamp: sticks exactly, no chatter, no creep
+  Regularized,  // mu N tanh(|u|/v_s): smooth, creeps at v_s atanh(tan(theta)/mu)
+  Sign          // the report's mu N u/|u|: chatters at zero slip (kept for comparison)
+};
+enum class NormalDamping { KelvinVoigt, HuntCrossley };
+enum class WheelContact { RimPoints, Circle };
+
+// Ground contact (report eq. 10 plus damping and friction choices).
+struct ContactParams {
+  double stiffness = 2000.0;       // N/m      S: penalty force per metre of depth
+  double damping = 0.0;            // N s/m    Kelvin-Voigt c, or Hunt-Crossley alpha [s/m]
+  NormalDamping damping_model = NormalDamping::KelvinVoigt;
+  double friction = 0.5;           // -        Coulomb mu
+  FrictionModel friction_model = FrictionModel::StickSlip;
+  double slip_velocity = 0.01;     // m/s      regularisation scale v_s
+  int friction_iterations = 4;     // -        Gauss-Seidel sweeps over contacts and brakes
+};
+
+// Bounds beyond which a run is declared diverged (see health.hpp).
+struct Limits {
+  double max_penetration = 0.5;    // m
+  double max_speed = 1000.0;       // m/s     any body or particle
+  // energy may exceed (initial energy + drive work) by at most this fraction
+  // of (|initial energy| + |drive work| + total weight * 1 m)
+  double max_energy_growth = 1.0;  // -
+};
+
+struct Options {
+  double dt = 5e-5;                // s       step of the fixed-step integrators; output step of adaptive
+  IntegratorKind integrator = IntegratorKind::SemiImplicitEuler;
+  double tolerance = 1e-6;         // -       adaptive: relative local error per step
+  int substeps = 1;                // -       integrator steps per step()
+  Vec3 gravity{0.0, 0.0, -9.8};    // m/s^2   the report's g = 9.8
+  ContactParams contact;
+  Limits limits;
+};
+
+// A rigid body made of mass points (report eqs. 3-9). Its frame sits at the
+// centre of mass; point offsets are given in that frame.
+struct Body {
+  std::string name;
+  double mass = 0.0;               // kg
+  Mat3 inertia = Mat3::Zero();     // kg m^2  about the centre of mass, body frame
+  Mat3 inv_inertia = Mat3::Zero();
+  double bound_radius = 0.0;       // m       largest distance of a contact point from the COM
+  bool has_contact_points = false;
+};
+
+// A free point mass (the report's non-rigid bodies).
+struct Particle {
+  double mass = 0.0;               // kg
+  bool contact = true;
+};
+
+// An attachment point: on a body (offset `local` in the body frame) or a
+// particle. Springs and contacts refer to points.
+struct Point {
+  int body = -1;                   // body index, or -1
+  int particle = -1;               // particle index, or -1
+  Vec3 local = Vec3::Zero();       // m       offset in the body frame
+  bool contact = false;            // takes part in ground contact
+  int wheel = -1;                  // wheel whose rim this point belongs to (telemetry)
+  int steer_wheel = -1;            // this point turns with that wheel's steering angle
+  Vec3 steer_pivot = Vec3::Zero(); // m       pivot of that rotation, body frame
+};
+
+// Spring-dashpot between two points (report eq. 1, with the dashpot acting on
+// the rate of change of length as eq. 1 says, not |U_j - U_k| as eq. 13 does).
+struct Spring {
+  int a = -1, b = -1;              // point indices
+  double stiffness = 0.0;          // N/m
+  double damping = 0.0;            // N s/m
+  double rest_length = 0.0;        // m
+  // zero-length isotropic spring k (x_b - x_a) + c (u_b - u_a): a ball joint
+  // by penalty; two of them along an axis make a hinge
+  bool isotropic = false;
+};
+
+// A wheel: a rigid body turning about `axis` relative to its carrier body,
+// driven and braked by torques with the reaction on the carrier.
+struct Wheel {
+  int body = -1;                   // the wheel's rigid body
+  int carrier = -1;                // the body its axle belongs to
+  Vec3 axis = Vec3::UnitY();       // unit, wheel frame: positive spin drives forward
+  double radius = 1.0;             // m
+  WheelContact contact = WheelContact::RimPoints;
+  bool steerable = false;
+  double max_steer = 0.0;          // rad
+  int first_point = 0;             // its rim points: [first_point, first_point + rim_points)
+  int rim_points = 0;
+};
+
+struct Model {
+  Options opt;
+  GroundPtr ground;
+  std::vector<Body> bodies;
+  std::vector<Particle> particles;
+  std::vector<Point> points;
+  std::vector<Spring> springs;
+  std::vector<Wheel> wheels;
+  std::vector<int> contact_points;  // indices of points with contact = true
+  std::vector<std::string> vehicle_names;
+  std::vector<int> vehicle_of_wheel;  // which vehicle each wheel belongs to
+  std::vector<int> vehicle_body;      // the chassis body of each vehicle
+
+  int stateSize() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
+};
+
+}  // namespace groundsim

@@ -1,0 +1,32 @@
+// The report's integrator (section 4): forces at the current configuration,
+// then momenta first and positions with the new velocities (eqs. 18-21),
+// rotating each body by Rodrigues' formula with its new angular velocity.
+// Symplectic for conservative forces; stable for omega h < 2.
+#include "forces.hpp"
+#include "integrators.hpp"
+
+namespace groundsim {
+
+void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double h) {
+  computeForces(m, s.y, s.controls, h, ws);
+  ++evaluations;
+  s.drive_work += h * ws.drive_power;
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int i = 0; i < nb; ++i) {
+    auto v = bodyVel(s.y, i);
+    auto L = bodyMom(s.y, i);
+    v += h * ws.body_force[i] / m.bodies[i].mass;  // (18)
+    L += h * ws.body_torque[i];                     // (20)
+    const Vec3 omega = ws.inv_inertia_world[i] * L; // (21), I rotated to now
+    bodyPos(s.y, i) += h * v;                       // (19)
+    auto q = bodyRot(s.y, i);
+    q = integrateRotation(Quat(q), omega, h);       // (11)-(12)
+  }
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
+    const int o = particleOffset(nb, j);
+    s.y.segment<3>(o + 3) += h * ws.particle_force[j] / m.particles[j].mass;
+    s.y.segment<3>(o) += h * s.y.segment<3>(o + 3);
+  }
+}
+
+}  // namespace groundsim

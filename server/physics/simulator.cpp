@@ -1,0 +1,43 @@
+#include "simulator.hpp"
+
+#include <stdexcept>
+
+namespace groundsim {
+
+Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
+    : model_(std::move(model)), state_(std::move(initial)), ws_(*model_),
+      integrator_(makeIntegrator(model_->opt.integrator)) {
+  if (state_.y.size() != model_->stateSize())
+    throw std::invalid_argument("state size does not match the model");
+  state_.controls.resize(model_->wheels.size());
+  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+}
+
+bool Simulator::step() {
+  if (state_.health != Health::Ok) return false;
+  const Model& m = *model_;
+  last_good_ = state_.y;  // same size every time: no allocation
+  const double t0 = state_.t;
+  const int n = std::max(1, m.opt.substeps);
+  const double h = m.opt.dt / n;
+  for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+  ++state_.tick;
+  state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
+  if (checkHealth(m, state_, ws_, state_.tick % kEnergyCheckInterval == 0)) return true;
+  // divergence is terminal; keep the last finite state so nothing downstream
+  // ever sees NaN, and report the reason through state().health
+  state_.y = last_good_;
+  state_.t = t0;
+  --state_.tick;
+  return false;
+}
+
+bool Simulator::step(long long n) {
+  for (long long i = 0; i < n; ++i)
+    if (!step()) return false;
+  return true;
+}
+
+Energy Simulator::energy() { return computeEnergy(*model_, state_, ws_); }
+
+}  // namespace groundsim

@@ -1,0 +1,48 @@
+// The engine's front door: a model, its state, the workspace and the chosen
+// integrator. The same class runs in the CLI (embedded) and in each server
+// session.
+#pragma once
+
+#include <memory>
+
+#include "diagnostics.hpp"
+#include "integrator.hpp"
+#include "model.hpp"
+#include "state.hpp"
+#include "workspace.hpp"
+
+namespace groundsim {
+
+class Simulator {
+ public:
+  Simulator(std::shared_ptr<const Model> model, State initial);
+
+  // One step of opt.dt (in opt.substeps integrator steps): integrate, then
+  // check. On divergence returns false, sets state().health and its reason,
+  // and keeps the last finite state; later calls do nothing.
+  bool step();
+  bool step(long long n);
+
+  const Model& model() const { return *model_; }
+  std::shared_ptr<const Model> modelPtr() const { return model_; }
+  const State& state() const { return state_; }
+  // Restoring a saved state continues the run bit for bit.
+  void restore(const State& s) { state_ = s; }
+  std::vector<WheelControl>& controls() { return state_.controls; }
+  const Workspace& workspace() const { return ws_; }
+  bool healthy() const { return state_.health == Health::Ok; }
+  long long forceEvaluations() const { return integrator_->evaluations; }
+  // Energy of the current state (recomputes the workspace's kinematics).
+  Energy energy();
+
+  static constexpr int kEnergyCheckInterval = 256;
+
+ private:
+  std::shared_ptr<const Model> model_;
+  State state_;
+  Workspace ws_;
+  std::unique_ptr<Integrator> integrator_;
+  Eigen::VectorXd last_good_;
+};
+
+}  // namespace groundsim

@@ -1,0 +1,165 @@
+#include "vehicle.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace groundsim {
+
+bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal) {
+  // Newton on z, from z = 0, guarded by bisection once a bracket is known
+  double z = 0.0, lo = -1e9, hi = 1e9;
+  Vec3 grad;
+  for (int it = 0; it < 200; ++it) {
+    const double H = g.eval(Vec3(x, y, z), &grad);
+    if (std::abs(H) < 1e-12) break;
+    if (H > 0) hi = std::min(hi, z); else lo = std::max(lo, z);
+    double zn = (std::abs(grad.z()) > 1e-12) ? z - H / grad.z() : z - H;
+    if (!(zn > lo && zn < hi)) zn = (lo > -1e9 && hi < 1e9) ? 0.5 * (lo + hi) : z - H;
+    z = zn;
+  }
+  const double H = g.eval(Vec3(x, y, z), &grad);
+  if (!(std::abs(H) < 1e-6) || !(grad.norm() > 0)) return false;
+  *point = Vec3(x, y, z);
+  *normal = grad.normalized();
+  return true;
+}
+
+namespace {
+
+// Smallest signed distance of a wheel circle above the ground (sampled).
+double circleClearance(const Ground& g, const Vec3& c, const Vec3& axis, double r) {
+  const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 grad;
+  for (int k = 0; k < 720; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / 720.0;
+    const Vec3 p = c + r * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    const double H = g.eval(p, &grad);
+    best = std::min(best, H / std::max(grad.norm(), 1e-12));
+  }
+  return best;
+}
+
+}  // namespace
+
+CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at) {
+  if (p.rim_points < 3) throw std::invalid_argument("car: rim_points must be >= 3");
+  const double r = p.wheel_radius, a = p.axle_half_length;
+  // body frame: x forward, y left, z up
+  Mat3 R;
+  if (at.on_ground) {
+    Vec3 surf, n;
+    if (!groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n))
+      throw std::invalid_argument("car '" + name + "': no ground surface below its position");
+    Vec3 f = Vec3(std::cos(at.yaw), std::sin(at.yaw), 0.0);
+    f = (f - f.dot(n) * n).normalized();
+    R.col(0) = f;
+    R.col(1) = n.cross(f);
+    R.col(2) = n;
+  } else {
+    R = (Eigen::AngleAxisd(at.yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(at.pitch, Vec3::UnitY()) *
+         Eigen::AngleAxisd(at.roll, Vec3::UnitX())).toRotationMatrix();
+  }
+  const Quat q(R);
+  const std::array<Vec3, 4> centres = {Vec3(p.half_length, p.half_width, 0), Vec3(p.half_length, -p.half_width, 0),
+                                       Vec3(-p.half_length, p.half_width, 0), Vec3(-p.half_length, -p.half_width, 0)};
+  Vec3 origin = at.position;
+  if (at.on_ground) {
+    Vec3 surf, n;
+    groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n);
+    origin = surf + R.col(2) * r;
+    // settle: move along the vertical until the lowest wheel has the clearance
+    for (int it = 0; it < 8; ++it) {
+      double low = std::numeric_limits<double>::infinity();
+      for (const Vec3& c : centres)
+        low = std::min(low, circleClearance(*b.model().ground, origin + R * c, R.col(1), r));
+      if (std::abs(low - at.clearance) < 1e-10) break;
+      origin.z() += (at.clearance - low) / std::max(R(2, 2), 0.1);
+    }
+  }
+  const Vec3 vel = at.speed * R.col(0);
+
+  CarHandle h;
+  h.vehicle = b.beginVehicle(name);
+  BodySpec body;
+  body.name = name + "/body";
+  for (const Vec3& c : centres)
+    for (double side : {+1.0, -1.0}) {
+      body.points.push_back(c + Vec3(0, side * a, 0));
+      body.masses.push_back(p.body_mass / 8.0);
+      body.contact.push_back(p.body_contact);
+    }
+  body.origin = origin;
+  body.orientation = q;
+  body.velocity = vel;
+  int first_axle = 0;
+  h.body = b.addBody(body, &first_axle);
+  b.setVehicleBody(h.body);
+
+  static const char* kWheelNames[4] = {"front_left", "front_right", "rear_left", "rear_right"};
+  for (int w = 0; w < 4; ++w) {
+    BodySpec ws;
+    ws.name = name + "/" + kWheelNames[w];
+    const bool rim_contact = p.wheel_contact == WheelContact::RimPoints;
+    for (int k = 0; k < p.rim_points; ++k) {
+      const double phi = 2.0 * std::numbers::pi * k / p.rim_points;
+      ws.points.push_back(Vec3(r * std::cos(phi), 0.0, r * std::sin(phi)));
+      ws.masses.push_back(p.wheel_mass / p.rim_points);
+      ws.contact.push_back(rim_contact);
+    }
+    if (p.coupling == WheelCoupling::Bearing) {  // massless attachment points on the axle
+      for (double side : {+1.0, -1.0}) {
+        ws.points.push_back(Vec3(0, side * a, 0));
+        ws.masses.push_back(0.0);
+        ws.contact.push_back(false);
+      }
+    }
+    ws.origin = origin + R * centres[w];
+    ws.orientation = q;
+    ws.velocity = vel;
+    ws.angular_velocity = at.wheel_spin * R.col(1);
+    int first_rim = 0;
+    const int wb = b.addBody(ws, &first_rim);
+
+    const int axle0 = first_axle + 2 * w;  // +a side, then -a side
+    if (p.coupling == WheelCoupling::RimSprings) {
+      for (int k = 0; k < p.rim_points; ++k)
+        for (int s = 0; s < 2; ++s) {
+          Spring sp;
+          sp.a = first_rim + k;
+          sp.b = axle0 + s;
+          sp.stiffness = p.rim_stiffness;
+          sp.damping = p.rim_damping;
+          sp.rest_length = (b.pointPosition(sp.a) - b.pointPosition(sp.b)).norm();
+          b.addSpring(sp);
+        }
+    } else {
+      for (int s = 0; s < 2; ++s) {
+        Spring sp;
+        sp.a = first_rim + p.rim_points + s;
+        sp.b = axle0 + s;
+        sp.stiffness = p.bearing_stiffness;
+        sp.damping = p.bearing_damping;
+        sp.isotropic = true;
+        b.addSpring(sp);
+      }
+    }
+    Wheel wh;
+    wh.body = wb;
+    wh.carrier = h.body;
+    wh.axis = Vec3::UnitY();
+    wh.radius = r;
+    wh.contact = p.wheel_contact;
+    wh.steerable = w < 2 && p.max_steer > 0.0;
+    wh.max_steer = p.max_steer;
+    wh.first_point = first_rim;
+    wh.rim_points = p.rim_points;
+    h.wheels[w] = b.addWheel(wh);
+    if (wh.steerable)
+      for (int s = 0; s < 2; ++s) b.setSteered(axle0 + s, h.wheels[w], centres[w]);
+  }
+  return h;
+}
+
+}  // namespace groundsim

@@ -1,0 +1,32 @@
+#include "workspace.hpp"
+
+namespace groundsim {
+
+Workspace::Workspace(const Model& m) {
+  const size_t nb = m.bodies.size(), np = m.points.size(), nq = m.particles.size(),
+               nw = m.wheels.size();
+  R.assign(nb, Mat3::Identity());
+  inv_inertia_world.assign(nb, Mat3::Zero());
+  com.assign(nb, Vec3::Zero());
+  vel.assign(nb, Vec3::Zero());
+  omega.assign(nb, Vec3::Zero());
+  point_pos.assign(np, Vec3::Zero());
+  point_vel.assign(np, Vec3::Zero());
+  f_spring.assign(np, Vec3::Zero());
+  body_far.assign(nb, 0);
+  contacts.assign(m.contact_points.size() + nw, Contact{});
+  body_force.assign(nb, Vec3::Zero());
+  body_torque.assign(nb, Vec3::Zero());
+  particle_force.assign(nq, Vec3::Zero());
+  v_pred.assign(nb, Vec3::Zero());
+  w_pred.assign(nb, Vec3::Zero());
+  pv_pred.assign(nq, Vec3::Zero());
+  brake_impulse.assign(nw, 0.0);
+  wheel_normal.assign(nw, 0.0);
+  wheel_friction.assign(nw, 0.0);
+  wheel_slip.assign(nw, 0.0);
+  const int n = m.stateSize();
+  for (Eigen::VectorXd* v : {&dy, &ytmp, &k1, &k2, &k3, &k4, &k5, &k6, &k7, &err}) v->setZero(n);
+}
+
+}  // namespace groundsim

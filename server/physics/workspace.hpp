@@ -1,0 +1,70 @@
+// Everything one force evaluation computes, sized once for a model so that
+// step() never allocates. Grouped by the phase that fills it; per-kind force
+// buffers stay separate until summed so telemetry and tests can read them.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "model.hpp"
+
+namespace groundsim {
+
+struct Contact {
+  int point = -1;     // point index (rim/body/particle contact), or -1 for a wheel circle
+  int body = -1;      // body that receives the force, or -1
+  int particle = -1;  // particle that receives the force, or -1
+  int wheel = -1;     // wheel it belongs to, or -1
+  Vec3 p, n, r;       // world point, unit ground normal, offset from the body COM
+  double depth = 0.0; // m, > 0 below the ground
+  double normal = 0.0;// N, normal force magnitude (>= 0)
+  Vec3 friction = Vec3::Zero();  // N, tangential force
+  Vec3 u = Vec3::Zero();         // m/s, velocity of the point
+  Vec3 slip = Vec3::Zero();      // m/s, tangential part of u
+  // velocity-level friction: tangent basis, inverse effective mass, impulse
+  Vec3 t1, t2;
+  Eigen::Matrix2d k_inv;
+  Eigen::Vector2d impulse;
+};
+
+struct Workspace {
+  explicit Workspace(const Model& m);
+
+  // kinematics (report section 4.1): rotations and world points
+  std::vector<Mat3> R;                 // (nbody) body to world
+  std::vector<Mat3> inv_inertia_world; // (nbody) R I^-1 R^T
+  std::vector<Vec3> com;               // (nbody) m, centre of mass
+  std::vector<Vec3> vel;               // (nbody) m/s
+  std::vector<Vec3> omega;             // (nbody) rad/s, world
+  std::vector<Vec3> point_pos;         // (npoint) m
+  std::vector<Vec3> point_vel;         // (npoint) m/s
+  std::vector<unsigned char> body_far; // (nbody) broad phase: provably above the ground
+
+  // forces (report section 4.2), each kind in its own buffer
+  std::vector<Vec3> f_spring;          // (npoint) N
+  std::vector<Contact> contacts;       // capacity: contact points + wheels
+  int ncontacts = 0;
+  std::vector<Vec3> body_force;        // (nbody) N, total
+  std::vector<Vec3> body_torque;       // (nbody) N m, total about the COM
+  std::vector<Vec3> particle_force;    // (nparticle) N, total
+
+  // velocity-level pass (friction, brakes): predicted velocities
+  std::vector<Vec3> v_pred, w_pred;    // (nbody)
+  std::vector<Vec3> pv_pred;           // (nparticle)
+  std::vector<double> brake_impulse;   // (nwheel) N m s
+
+  // telemetry of the last evaluation
+  std::vector<double> wheel_normal;    // (nwheel) N
+  std::vector<double> wheel_friction;  // (nwheel) N
+  std::vector<double> wheel_slip;      // (nwheel) m/s, largest contact slip
+  double ground_energy = 0.0;          // J, penalty energy 1/2 S depth^2
+  double max_depth = 0.0;              // m
+  double drive_power = 0.0;            // W
+
+  // integrator scratch
+  Eigen::VectorXd dy, ytmp, k1, k2, k3, k4, k5, k6, k7, err;
+  Eigen::MatrixXd jac, lhs;
+};
+
+}  // namespace groundsim
