@@ -44,6 +44,11 @@ Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
   return e;
 }
 
+Vec3 angularVelocity(const Model& m, const State& s, int body) {
+  const Mat3 R = Quat(bodyRot(s.y, body)).normalized().toRotationMatrix();
+  return R * (m.bodies[body].inv_inertia * (R.transpose() * bodyMom(s.y, body)));
+}
+
 Vec3 linearMomentum(const Model& m, const State& s) {
   Vec3 p = Vec3::Zero();
   const int nb = static_cast<int>(m.bodies.size());

@@ -20,6 +20,8 @@ struct Energy {
 // Recomputes kinematics and contacts of s into ws.
 Energy computeEnergy(const Model& m, const State& s, Workspace& ws);
 Vec3 linearMomentum(const Model& m, const State& s);
+// world angular velocity of a body at state s
+Vec3 angularVelocity(const Model& m, const State& s, int body);
 // about the world origin
 Vec3 angularMomentum(const Model& m, const State& s);
 

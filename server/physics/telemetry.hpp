@@ -1,0 +1,38 @@
+// What the outside world sees of one vehicle at one instant: the numbers
+// the CLI writes to CSV and the server publishes. Plain data, no I/O.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "simulator.hpp"
+
+namespace groundsim {
+
+struct WheelSample {
+  double spin = 0.0;         // rad/s  about its axle, relative to the carrier
+  double normal_force = 0.0; // N      ground normal force on the wheel
+  double friction_force = 0.0;  // N   magnitude of the ground friction force
+  double slip = 0.0;         // m/s    largest tangential speed of its contact points
+  bool in_contact = false;
+};
+
+struct VehicleSample {
+  double t = 0.0;            // s
+  long long tick = 0;
+  Vec3 position = Vec3::Zero();         // m     body centre of mass
+  Quat orientation = Quat::Identity();  //       body to world
+  Vec3 velocity = Vec3::Zero();         // m/s
+  Vec3 angular_velocity = Vec3::Zero(); // rad/s world
+  double speed = 0.0;                   // m/s   |velocity|
+  std::array<WheelSample, 4> wheels{};  // front-left, front-right, rear-left, rear-right
+  int wheel_count = 0;
+  double energy = 0.0;       // J      total energy of the whole scene
+  Health health = Health::Ok;
+};
+
+// Reads vehicle v from the simulator's state and its last force evaluation.
+// energy is filled only when with_energy (it costs one force-free pass).
+VehicleSample sampleVehicle(Simulator& sim, int vehicle, bool with_energy);
+
+}  // namespace groundsim

@@ -1,0 +1,67 @@
+// Scenario layer: JSON text -> validated Scenario -> Scene (model + initial
+// state). All validation happens here, once, at load; every problem is
+// reported with its JSON pointer path and the reason, e.g.
+//   /vehicle/wheel_radius: must be > 0, got -1
+// Unknown keys are errors. The physics core never sees JSON.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "physics/model_builder.hpp"
+#include "physics/state.hpp"
+#include "physics/vehicle.hpp"
+
+namespace groundsim::scenario {
+
+struct Issue {
+  std::string path;     // JSON pointer, "" for the document itself
+  std::string message;  // the reason
+  std::string str() const { return (path.empty() ? std::string("/") : path) + ": " + message; }
+};
+
+class ScenarioError : public std::runtime_error {
+ public:
+  explicit ScenarioError(std::vector<Issue> issues);
+  const std::vector<Issue>& issues() const { return issues_; }
+
+ private:
+  std::vector<Issue> issues_;
+};
+
+// A validated scenario: the document with every default filled in, plus the
+// typed values the builder needs.
+struct Scenario {
+  nlohmann::json document;        // complete, defaults filled: what was simulated
+  std::string name;
+  double duration = 5.0;          // s
+  double output_rate = 50.0;      // Hz
+};
+
+// Parses and validates; throws ScenarioError listing every problem found.
+Scenario parseScenario(const std::string& json_text);
+Scenario parseScenario(const nlohmann::json& doc);
+// Reads a file; a missing, empty or unreadable file is a ScenarioError too.
+Scenario loadScenarioFile(const std::string& path);
+
+// Applies "a.b.c=value" to a document before validation (value parsed as
+// JSON when it is valid JSON, else taken as a string). Throws ScenarioError
+// naming the key when the path cannot be set.
+void applyOverride(nlohmann::json& doc, const std::string& assignment);
+
+struct Scene {
+  BuiltModel built;               // model and initial state (controls set)
+  std::vector<CarHandle> cars;    // one per vehicle, in document order
+  std::vector<std::string> vehicle_names;
+  double duration = 5.0;          // s
+  double output_rate = 50.0;      // Hz
+};
+
+// Builds the physics model and initial state. Throws ScenarioError for
+// problems only visible while building (e.g. no ground below a vehicle).
+Scene buildScene(const Scenario& s);
+
+}  // namespace groundsim::scenario
