@@ -11,9 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physics/model.hpp"
 #include "physics/model_builder.hpp"
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
+#include "scenario/ground_spec.hpp"
+#include "scenario/vehicle_spec.hpp"
 
 namespace groundsim::scenario {
 
@@ -39,6 +42,11 @@ struct Scenario {
   std::string name;
   double duration = 5.0;          // s
   double output_rate = 50.0;      // Hz
+  std::string description;
+  std::string preset;             // "fast" | "balanced" | "accurate", "" when absent
+  Options options;                // physics + contact
+  GroundSpec ground;
+  std::vector<VehicleSpec> vehicles;  // document order (`vehicle` is one)
 };
 
 // Parses and validates; throws ScenarioError listing every problem found.
@@ -46,6 +54,12 @@ Scenario parseScenario(const std::string& json_text);
 Scenario parseScenario(const nlohmann::json& doc);
 // Reads a file; a missing, empty or unreadable file is a ScenarioError too.
 Scenario loadScenarioFile(const std::string& path);
+// Reads and parses a file's JSON without validating it (for overrides
+// before validation); the same file errors as loadScenarioFile.
+nlohmann::json loadScenarioDocument(const std::string& path);
+// Parses JSON text; malformed text is a ScenarioError at path "" naming
+// the byte position and the reason.
+nlohmann::json parseScenarioDocument(const std::string& json_text);
 
 // Applies "a.b.c=value" to a document before validation (value parsed as
 // JSON when it is valid JSON, else taken as a string). Throws ScenarioError

@@ -1,0 +1,105 @@
+// Scenario -> Scene: the physics model and its initial state. The document
+// is valid by now; what can still fail is only visible while building (an
+// integrator this build lacks, no ground below a car, overlapping cars).
+#include <cmath>
+
+#include "physics/integrator.hpp"
+#include "scenario/object_reader.hpp"
+#include "scenario/scenario.hpp"
+#include "scenario/scenario_error.hpp"
+
+namespace groundsim::scenario {
+namespace {
+
+constexpr IntegratorKind kAllIntegrators[] = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
+                                              IntegratorKind::Rk4, IntegratorKind::ImplicitEuler,
+                                              IntegratorKind::Adaptive};
+
+bool available(IntegratorKind k) {
+  try {
+    makeIntegrator(k);
+    return true;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
+void checkIntegrator(IntegratorKind kind, IssueList& issues) {
+  if (available(kind)) return;
+  std::string list;
+  for (IntegratorKind k : kAllIntegrators)
+    if (available(k)) list += (list.empty() ? "\"" : ", \"") + std::string(integratorName(k)) + "\"";
+  issues.add("/physics/integrator",
+             "\"" + std::string(integratorName(kind)) + "\" is not available in this build (available: " + list + ")");
+}
+
+std::string vehiclePath(const Scenario& s, size_t i) {
+  return s.document.contains("vehicles") ? "/vehicles/" + std::to_string(i) : "/vehicle";
+}
+
+// Radius of the vehicle's footprint about its centre, in the ground plane.
+double footprint(const CarParams& p) {
+  return std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length);
+}
+
+// Cars placed inside each other start with huge spring and contact forces
+// and diverge in the first steps: refuse them with both names.
+void checkOverlaps(const Scenario& s, IssueList& issues) {
+  for (size_t j = 1; j < s.vehicles.size(); ++j)
+    for (size_t i = 0; i < j; ++i) {
+      const VehicleSpec &a = s.vehicles[i], &b = s.vehicles[j];
+      const double need = footprint(a.params) + footprint(b.params);
+      const Vec3 d = b.placement.position - a.placement.position;
+      // with on_ground only x and y count; placed freely, z separates too
+      const double dist = (a.placement.on_ground || b.placement.on_ground) ? std::hypot(d.x(), d.y()) : d.norm();
+      if (dist < need)
+        issues.add(vehiclePath(s, j) + "/initial/position",
+                   "overlaps vehicle \"" + a.name + "\": centres " + formatNumber(dist) + " m apart, need at least " +
+                       formatNumber(need) + " m");
+    }
+}
+
+void setControls(const VehicleControlSpec& c, const CarHandle& car, std::vector<WheelControl>& controls) {
+  for (int k = 0; k < 4; ++k) {
+    const bool driven = c.drive_wheels == DriveWheels::All || (c.drive_wheels == DriveWheels::Front && k < 2) ||
+                        (c.drive_wheels == DriveWheels::Rear && k >= 2);
+    WheelControl& w = controls.at(static_cast<size_t>(car.wheels[k]));
+    w.drive_torque = driven ? c.drive_torque : 0.0;
+    w.brake_torque = c.brake_torque;
+    w.steer = c.steer;  // only steerable (front) wheels turn
+  }
+}
+
+}  // namespace
+
+Scene buildScene(const Scenario& s) {
+  IssueList issues;
+  checkIntegrator(s.options.integrator, issues);
+  checkOverlaps(s, issues);
+  issues.throwIfAny();
+
+  ModelBuilder builder(s.options, makeGround(s.ground));
+  Scene scene;
+  for (size_t i = 0; i < s.vehicles.size(); ++i) {
+    const VehicleSpec& v = s.vehicles[i];
+    try {
+      scene.cars.push_back(addCar(builder, v.name, v.params, v.placement));
+      scene.vehicle_names.push_back(v.name);
+    } catch (const std::invalid_argument& e) {
+      issues.add(vehiclePath(s, i), e.what());
+    }
+  }
+  issues.throwIfAny();
+  try {
+    scene.built = builder.build();
+  } catch (const std::invalid_argument& e) {
+    throw ScenarioError({Issue{"", std::string("cannot build the model: ") + e.what()}});
+  }
+  for (size_t i = 0; i < s.vehicles.size(); ++i)
+    setControls(s.vehicles[i].control, scene.cars[i], scene.built.initial.controls);
+  scene.duration = s.duration;
+  scene.output_rate = s.output_rate;
+  return scene;
+}
+
+}  // namespace groundsim::scenario

@@ -1,0 +1,22 @@
+// Validators of the scenario's sections, one file each: each reads its
+// object through an ObjectReader (recording issues, filling defaults) and
+// returns the typed settings.
+#pragma once
+
+#include "physics/model.hpp"
+#include "scenario/ground_spec.hpp"
+#include "scenario/object_reader.hpp"
+#include "scenario/vehicle_spec.hpp"
+
+namespace groundsim::scenario {
+
+// physics_section.cpp: `physics` (integrator, step, gravity, limits) and
+// `contact` (ground stiffness, damping, friction).
+void readPhysics(ObjectReader physics, Options& opt);
+void readContact(ObjectReader contact, ContactParams& c);
+// ground_section.cpp
+GroundSpec readGround(ObjectReader ground);
+// vehicle_section.cpp: one vehicle object.
+VehicleSpec readVehicle(ObjectReader vehicle);
+
+}  // namespace groundsim::scenario
