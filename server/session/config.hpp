@@ -1,0 +1,25 @@
+// Limits and timings of the session service (groundsim-server's options).
+#pragma once
+
+#include <cstdint>
+#include <cstddef>
+
+namespace groundsim::session {
+
+struct ServiceConfig {
+  int workers = 0;                     // stepping threads; 0: one per core
+  int max_sessions = 64;               // concurrent sessions, pending creates included
+  double idle_timeout = 600.0;         // s  wall time without owner activity before a session is reclaimed
+  double command_timeout = 0.5;        // s  real time mode: drive torques fall to zero without a fresh command
+  double max_torque = 1000.0;          // N m  largest |drive| or brake torque accepted
+  double slice = 0.002;                // s  wall time one session may step before yielding its worker
+  double publish_limit = 2000.0;       // frames per wall second per session (paced, never dropped)
+  double max_lag = 0.5;                // s  real time mode: a session this far behind re-anchors (overrun event)
+  int max_vehicles = 32;               // per session: keeps a state message in one UDP datagram
+  std::size_t max_scenario_bytes = 1 << 20;
+  std::int64_t max_steps_per_request = 100'000'000;
+  double max_rate = 1000.0;            // largest real-time factor
+  double max_publish_rate = 10000.0;   // Hz
+};
+
+}  // namespace groundsim::session

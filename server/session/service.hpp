@@ -1,0 +1,66 @@
+// The session service: the registry of sessions, ownership checks, input
+// validation and the worker pool. Transport-neutral: the LCM adapter calls
+// handleRequest/handleDrive from its receive thread and implements Output.
+// Every request is answered (reply, plus an event when it is refused); no
+// exception leaves this class.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "scheduler.hpp"
+#include "session.hpp"
+#include "types.hpp"
+
+namespace groundsim::session {
+
+struct ServiceStatus {
+  int workers = 0;
+  int max_sessions = 0;
+  double load = 0.0;
+  std::vector<SessionInfo> sessions;
+};
+
+class SessionService {
+ public:
+  SessionService(ServiceConfig cfg, Output& out);
+  ~SessionService();
+
+  // Receive thread only.
+  void handleRequest(const Request& r);
+  void handleDrive(Drive d);
+  // Input the transport could not decode (names the channel and why).
+  void reportBadInput(ErrorCode code, const std::string& channel, const std::string& reason);
+  // Reclaims idle sessions; call about once a second.
+  void housekeeping();
+  ServiceStatus status();
+  // Stops every session (each publishes a final stopped frame) and the pool.
+  void shutdown(const std::string& reason);
+
+  const ServiceConfig& config() const { return cfg_; }
+
+ private:
+  void create(const Request& r);
+  void build(const Request& r);  // on a worker
+  std::shared_ptr<Session> find(const std::string& id);
+  // Looks up the session and checks the token; answers the refusal itself.
+  std::shared_ptr<Session> owned(const Request& r);
+  bool validSettings(const Request& r);
+  void fail(const Request& r, ErrorCode code, const std::string& error);
+  void replyOk(const Request& r, Reply reply);
+
+  ServiceConfig cfg_;
+  Output& out_;
+  std::mutex mutex_;  // sessions_ and reserved_ (workers add sessions after building them)
+  std::map<std::string, std::shared_ptr<Session>> sessions_;
+  int reserved_ = 0;  // creates accepted but still building
+  bool shut_down_ = false;
+  Scheduler pool_;    // last member: its workers stop before the registry goes
+};
+
+}  // namespace groundsim::session

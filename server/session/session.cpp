@@ -1,0 +1,413 @@
+#include "session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "physics/telemetry.hpp"
+#include "token.hpp"
+
+namespace groundsim::session {
+namespace {
+
+std::int64_t stepsPerFrame(double publish_rate, double dt) {
+  return std::max<std::int64_t>(1, std::llround(1.0 / (publish_rate * dt)));
+}
+
+// A diverged simulator keeps its last finite state, but the workspace of the
+// failed evaluation (contact forces, slip) may hold NaN: never publish it.
+void finite(double& x) {
+  if (!std::isfinite(x)) x = 0.0;
+}
+void sanitize(VehicleSample& s) {
+  finite(s.t);
+  finite(s.speed);
+  finite(s.energy);
+  for (int i = 0; i < 3; ++i) {
+    finite(s.position[i]);
+    finite(s.velocity[i]);
+    finite(s.angular_velocity[i]);
+  }
+  if (!s.orientation.coeffs().allFinite()) s.orientation = Quat::Identity();
+  for (auto& w : s.wheels) {
+    finite(w.spin);
+    finite(w.normal_force);
+    finite(w.friction_force);
+    finite(w.slip);
+  }
+}
+
+std::string formatTime(double t) {
+  std::ostringstream os;
+  os << "t=" << t << " s";
+  return os.str();
+}
+
+}  // namespace
+
+Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
+                 const ServiceConfig& cfg, Output& out, TimePoint now)
+    : setup_(std::move(setup)),
+      cfg_(cfg),
+      out_(out),
+      sim_(model, initial),
+      initial_(std::move(initial)),
+      budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)),
+      last_activity_(now) {
+  const Model& m = *model;
+  vehicles_.resize(m.vehicle_names.size());
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const int v = m.vehicle_of_wheel[w];
+    if (v < 0 || v >= static_cast<int>(vehicles_.size())) continue;
+    vehicles_[v].wheels.push_back(static_cast<int>(w));
+    vehicles_[v].max_steer.push_back(m.wheels[w].steerable ? m.wheels[w].max_steer : 0.0);
+  }
+  names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
+  steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
+  anchor_.reset(now, sim_.state().t, setup_.rate);
+  updateInfo(now);
+}
+
+bool Session::tokenMatches(const std::string& token) const { return tokensEqual(token, setup_.token); }
+
+void Session::post(const Request& r) {
+  std::lock_guard<std::mutex> lk(mailbox_mutex_);
+  mailbox_.emplace_back(r);
+}
+
+void Session::post(Drive d) {
+  std::lock_guard<std::mutex> lk(mailbox_mutex_);
+  mailbox_.emplace_back(std::move(d));
+}
+
+void Session::stop(std::optional<ReplyTo> reply, std::string reason) {
+  std::lock_guard<std::mutex> lk(mailbox_mutex_);
+  mailbox_.emplace_back(StopCommand{std::move(reply), std::move(reason)});
+}
+
+void Session::touch(TimePoint now) {
+  std::lock_guard<std::mutex> lk(info_mutex_);
+  last_activity_ = now;
+}
+
+double Session::idleSeconds(TimePoint now) const {
+  std::lock_guard<std::mutex> lk(info_mutex_);
+  return seconds(now - last_activity_);
+}
+
+SessionInfo Session::info(TimePoint now) const {
+  std::lock_guard<std::mutex> lk(info_mutex_);
+  SessionInfo i = info_;
+  i.idle_s = seconds(now - last_activity_);
+  return i;
+}
+
+void Session::updateInfo(TimePoint) {
+  std::lock_guard<std::mutex> lk(info_mutex_);
+  info_.session_id = setup_.id;
+  info_.name = setup_.name;
+  info_.mode = setup_.mode;
+  info_.status = status_;
+  info_.reason = reason_;
+  info_.rate = setup_.rate;
+  info_.publish_rate = setup_.publish_rate;
+  info_.t = sim_.state().t;
+  info_.tick = sim_.state().tick;
+  info_.seq = seq_ - 1;
+  info_.vehicle_names = setup_.vehicle_names;
+}
+
+std::optional<TimePoint> Session::run(TimePoint now) {
+  try {
+    {
+      std::lock_guard<std::mutex> lk(mailbox_mutex_);
+      work_.swap(mailbox_);
+    }
+    for (const Command& c : work_) {
+      if (status_ == Status::Stopped) break;  // nothing after a stop
+      std::visit([&](const auto& cmd) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(cmd)>, Request>) apply(cmd, now);
+        else apply(cmd);
+      }, c);
+    }
+    work_.clear();
+    std::optional<TimePoint> next;
+    if (status_ != Status::Stopped) next = advance(now, now + toDuration(cfg_.slice));
+    updateInfo(now);
+    return next;
+  } catch (const std::exception& e) {
+    work_.clear();
+    diverged(std::string("internal error: ") + e.what(), ErrorCode::Internal);
+  } catch (...) {
+    work_.clear();
+    diverged("internal error: unknown exception", ErrorCode::Internal);
+  }
+  try {
+    updateInfo(now);
+  } catch (...) {
+  }
+  return std::nullopt;
+}
+
+// ---- commands -------------------------------------------------------------
+
+void Session::apply(const Request& r, TimePoint now) {
+  const ReplyTo to{r.op, r.request_id, r.client_id};
+  switch (r.op) {
+    case Op::Reset:
+      failSteps(ErrorCode::BadRequest, "interrupted by a reset");
+      sim_.restore(initial_);
+      status_ = Status::Running;
+      reason_.clear();
+      drive_held_ = false;
+      reanchor(now);
+      frame_pending_ = true;
+      reply(to, true, ErrorCode::None, "");
+      return;
+    case Op::Pause:
+      if (status_ != Status::Running && status_ != Status::Paused)
+        return reply(to, false, ErrorCode::BadRequest, std::string("cannot pause: session is ") + statusName(status_));
+      status_ = Status::Paused;
+      frame_pending_ = true;  // subscribers see the pause
+      return reply(to, true, ErrorCode::None, "");
+    case Op::Resume:
+      if (status_ != Status::Running && status_ != Status::Paused)
+        return reply(to, false, ErrorCode::BadRequest, std::string("cannot resume: session is ") + statusName(status_));
+      status_ = Status::Running;
+      reanchor(now);
+      frame_pending_ = true;
+      return reply(to, true, ErrorCode::None, "");
+    case Op::Step:
+      if (setup_.mode != Mode::Lockstep)
+        return reply(to, false, ErrorCode::WrongMode,
+                     std::string("step needs lockstep mode; session is ") + modeName(setup_.mode));
+      if (status_ == Status::Diverged)
+        return reply(to, false, ErrorCode::Diverged, "session diverged: " + reason_ + " (reset it)", makeFrame(false));
+      if (status_ == Status::Paused)
+        return reply(to, false, ErrorCode::BadRequest, "session is paused (resume it)");
+      status_ = Status::Running;  // lockstep ignores the duration
+      reason_.clear();
+      steps_.push_back(StepJob{to, r.steps});
+      return;
+    case Op::SetMode: {
+      if (r.mode != 0) {
+        const Mode m = *modeFromInt(r.mode);  // validated by the service
+        if (m != Mode::Lockstep) failSteps(ErrorCode::WrongMode, "mode changed");
+        setup_.mode = m;
+      }
+      if (r.rate > 0) setup_.rate = r.rate;
+      if (r.publish_rate > 0) {
+        setup_.publish_rate = r.publish_rate;
+        steps_per_frame_ = stepsPerFrame(r.publish_rate, sim_.model().opt.dt);
+      }
+      reanchor(now);
+      return reply(to, true, ErrorCode::None, "");
+    }
+    default:
+      return reply(to, false, ErrorCode::BadRequest, "not a session request");
+  }
+}
+
+void Session::apply(const Drive& d) {
+  const VehicleWheels& vw = vehicles_.at(d.vehicle);
+  auto& controls = sim_.controls();
+  bool any = false;
+  for (size_t k = 0; k < vw.wheels.size() && k < d.wheels.size(); ++k) {
+    WheelControl c = d.wheels[k];
+    // physics applies any angle it is given: hold it to the wheel's lock
+    c.steer = std::clamp(c.steer, -vw.max_steer[k], vw.max_steer[k]);
+    controls[vw.wheels[k]] = c;
+    any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
+  }
+  last_drive_ = d.received;
+  drive_held_ = any;
+}
+
+void Session::apply(const StopCommand& c) {
+  failSteps(ErrorCode::BadRequest, "session stopped");
+  status_ = Status::Stopped;
+  reason_ = c.reason;
+  publishFrame();
+  if (c.reply) reply(*c.reply, true, ErrorCode::None, "");
+  event(Severity::Info, ErrorCode::None, "session stopped: " + c.reason);
+}
+
+void Session::failSteps(ErrorCode code, const std::string& why) {
+  for (const StepJob& j : steps_) reply(j.reply, false, code, why, makeFrame(false));
+  steps_.clear();
+}
+
+void Session::diverged(const std::string& why, ErrorCode code) {
+  status_ = Status::Diverged;
+  reason_ = why;
+  event(Severity::Error, code, "session diverged at " + formatTime(sim_.state().t) + ": " + why);
+  publishFrame();
+  failSteps(code, "session diverged: " + why);
+}
+
+void Session::reanchor(TimePoint now) { anchor_.reset(now, sim_.state().t, setup_.rate); }
+
+// ---- stepping -------------------------------------------------------------
+
+bool Session::finished() const {
+  return setup_.mode != Mode::Lockstep && setup_.duration > 0 &&
+         sim_.state().t >= setup_.duration - 0.5 * sim_.model().opt.dt;
+}
+
+bool Session::stepOnce() {
+  if (!sim_.step()) {
+    diverged(sim_.state().health_reason, ErrorCode::Diverged);
+    return false;
+  }
+  if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;
+  return true;
+}
+
+void Session::checkCommandTimeout(TimePoint now) {
+  if (!drive_held_ || seconds(now - last_drive_) <= cfg_.command_timeout) return;
+  for (const VehicleWheels& vw : vehicles_)
+    for (int w : vw.wheels) {
+      sim_.controls()[w].drive_torque = 0.0;
+      sim_.controls()[w].brake_torque = 0.0;
+    }
+  drive_held_ = false;
+  event(Severity::Warning, ErrorCode::CommandTimeout,
+        "no drive command for " + std::to_string(cfg_.command_timeout) + " s: torques set to zero");
+}
+
+std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {
+  if (status_ != Status::Running) {
+    if (frame_pending_) publishFrame();
+    return std::nullopt;
+  }
+  if (setup_.mode == Mode::Lockstep) return advanceLockstep(deadline);
+
+  const double dt = sim_.model().opt.dt;
+  const bool realtime = setup_.mode == Mode::Realtime;
+  std::int64_t todo = std::numeric_limits<std::int64_t>::max();
+  if (realtime) {
+    checkCommandTimeout(now);
+    double lag = (anchor_.target(now) - sim_.state().t) / setup_.rate;
+    if (lag > cfg_.max_lag) {
+      // the pool cannot keep up: drop the backlog rather than run ever later
+      if (seconds(now - last_overrun_event_) > 5.0) {
+        event(Severity::Warning, ErrorCode::Overrun,
+              "real time overrun: " + std::to_string(lag) + " s behind the wall clock; skipping ahead");
+        last_overrun_event_ = now;
+      }
+      reanchor(now);
+    }
+    todo = static_cast<std::int64_t>(std::floor((anchor_.target(now) - sim_.state().t) / dt + 1e-6));
+  }
+  for (;;) {
+    if (frame_pending_ && !emitFrame(Clock::now())) return budget_.nextToken(Clock::now());
+    if (finished()) {
+      status_ = Status::Finished;
+      reason_ = "reached the duration, " + formatTime(setup_.duration);
+      publishFrame();
+      return std::nullopt;
+    }
+    if (todo <= 0) break;
+    if (Clock::now() >= deadline) return Clock::now();  // yield the worker, come back at once
+    if (!stepOnce()) return std::nullopt;
+    --todo;
+  }
+  // real time, caught up: sleep until the next frame is due
+  const std::int64_t tick = sim_.state().tick;
+  const double next_frame_t = sim_.state().t + (steps_per_frame_ - tick % steps_per_frame_) * dt;
+  return anchor_.wallAt(next_frame_t);
+}
+
+std::optional<TimePoint> Session::advanceLockstep(TimePoint deadline) {
+  frame_pending_ = false;  // lockstep publishes once per step request
+  while (!steps_.empty()) {
+    StepJob& job = steps_.front();
+    while (job.remaining > 0) {
+      if (Clock::now() >= deadline) return Clock::now();
+      if (!stepOnce()) return std::nullopt;
+      --job.remaining;
+    }
+    frame_pending_ = false;
+    Frame f = makeFrame();
+    out_.publishState(f);
+    ReplyTo to = job.reply;
+    steps_.pop_front();
+    reply(to, true, ErrorCode::None, "", std::move(f));
+  }
+  return std::nullopt;
+}
+
+// ---- output ---------------------------------------------------------------
+
+bool Session::emitFrame(TimePoint now) {
+  if (!budget_.take(now)) return false;
+  publishFrame();
+  return true;
+}
+
+void Session::publishFrame() {
+  frame_pending_ = false;
+  out_.publishState(makeFrame());
+}
+
+Frame Session::makeFrame(bool published) {
+  const State& s = sim_.state();
+  Frame f;
+  f.session_id = setup_.id;
+  // a frame only carried by a reply repeats the last published seq, so that
+  // state subscribers never see a gap that is not a loss
+  f.seq = published ? seq_++ : seq_ - 1;
+  f.t = s.t;
+  f.tick = s.tick;
+  f.mode = setup_.mode;
+  f.status = status_;
+  f.health = s.health;
+  f.reason = reason_;
+  f.names = names_;
+  f.vehicles.reserve(vehicles_.size());
+  for (size_t v = 0; v < vehicles_.size(); ++v) {
+    f.vehicles.push_back(sampleVehicle(sim_, static_cast<int>(v), v == 0));
+    sanitize(f.vehicles.back());
+  }
+  if (!f.vehicles.empty()) f.energy = f.vehicles.front().energy;
+  for (auto& v : f.vehicles) v.energy = f.energy;
+  return f;
+}
+
+void Session::reply(const ReplyTo& to, bool ok, ErrorCode code, std::string error, std::optional<Frame> state) {
+  Reply r;
+  r.op = to.op;
+  r.request_id = to.request_id;
+  r.client_id = to.client_id;
+  r.session_id = setup_.id;
+  r.ok = ok;
+  r.code = code;
+  r.error = std::move(error);
+  r.t = sim_.state().t;
+  r.state = std::move(state);
+  updateInfo(Clock::now());
+  r.sessions.push_back(info(Clock::now()));
+  if (!ok) {
+    Event e;
+    e.session_id = setup_.id;
+    e.client_id = to.client_id;
+    e.request_id = to.request_id;
+    e.code = code;
+    e.reason = r.error;
+    e.t = r.t;
+    out_.publishEvent(e);
+  }
+  out_.publishReply(r);
+}
+
+void Session::event(Severity sev, ErrorCode code, std::string reason) {
+  Event e;
+  e.session_id = setup_.id;
+  e.severity = sev;
+  e.code = code;
+  e.reason = std::move(reason);
+  e.t = sim_.state().t;
+  out_.publishEvent(e);
+}
+
+}  // namespace groundsim::session

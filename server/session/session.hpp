@@ -1,0 +1,118 @@
+// One hosted simulation: a Simulator, its mode and pacing, and a mailbox of
+// commands. The receive thread only posts to the mailbox (a short lock); a
+// worker applies the mailbox and steps the session in a bounded slice, so a
+// slow or diverging scene never holds the receive loop or another session.
+#pragma once
+
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "config.hpp"
+#include "pacing.hpp"
+#include "physics/simulator.hpp"
+#include "scheduler.hpp"
+#include "types.hpp"
+
+namespace groundsim::session {
+
+struct SessionSetup {
+  std::string id;
+  std::string token;
+  std::string name;                   // scenario name
+  std::vector<std::string> vehicle_names;
+  double duration = 5.0;              // s; <= 0: unlimited (lockstep ignores it)
+  Mode mode = Mode::Realtime;
+  double rate = 1.0;
+  double publish_rate = 50.0;         // Hz
+};
+
+// Per vehicle: its wheels' global indices (telemetry order) and steering limits.
+struct VehicleWheels {
+  std::vector<int> wheels;
+  std::vector<double> max_steer;      // 0 for wheels that do not steer
+};
+
+class Session : public Task {
+ public:
+  Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
+          const ServiceConfig& cfg, Output& out, TimePoint now);
+
+  const std::string& id() const { return setup_.id; }
+  bool tokenMatches(const std::string& token) const;
+  const std::vector<VehicleWheels>& vehicles() const { return vehicles_; }
+
+  // Receive thread (then wake the session). Control requests: Reset,
+  // Pause, Resume, Step, SetMode; stop() for Stop and reclamation.
+  void post(const Request& r);
+  void post(Drive d);
+  void stop(std::optional<ReplyTo> reply, std::string reason);
+  // Marks owner activity (for idle reclamation).
+  void touch(TimePoint now);
+
+  // Worker: applies the mailbox, then steps for at most cfg.slice of wall
+  // time. Returns when to run next, or nothing to sleep until woken.
+  // Never throws: a failure ends the session with status diverged.
+  std::optional<TimePoint> run(TimePoint now) override;
+
+  SessionInfo info(TimePoint now) const;
+  double idleSeconds(TimePoint now) const;
+
+ private:
+  struct StepJob { ReplyTo reply; std::int64_t remaining; };
+  struct StopCommand { std::optional<ReplyTo> reply; std::string reason; };
+  using Command = std::variant<Request, Drive, StopCommand>;
+
+  void apply(const Request& r, TimePoint now);
+  void apply(const Drive& d);
+  void apply(const StopCommand& c);
+  void failSteps(ErrorCode code, const std::string& why);
+  void diverged(const std::string& why, ErrorCode code);
+  std::optional<TimePoint> advance(TimePoint now, TimePoint deadline);
+  std::optional<TimePoint> advanceLockstep(TimePoint deadline);
+  bool stepOnce();
+  bool emitFrame(TimePoint now);   // false: out of publish budget, retry later
+  void publishFrame();             // now, whatever the budget (final and lockstep frames)
+  Frame makeFrame(bool published = true);
+  void reply(const ReplyTo& to, bool ok, ErrorCode code, std::string error,
+             std::optional<Frame> state = std::nullopt);
+  void event(Severity sev, ErrorCode code, std::string reason);
+  void checkCommandTimeout(TimePoint now);
+  void reanchor(TimePoint now);
+  void updateInfo(TimePoint now);
+  bool finished() const;
+
+  SessionSetup setup_;
+  const ServiceConfig& cfg_;
+  Output& out_;
+  Simulator sim_;
+  State initial_;
+  std::vector<VehicleWheels> vehicles_;
+  std::shared_ptr<const std::vector<std::string>> names_;
+  std::int64_t steps_per_frame_ = 1;
+
+  // worker-owned
+  Status status_ = Status::Running;
+  std::string reason_;
+  std::int64_t seq_ = 0;
+  bool frame_pending_ = true;         // the initial state is the first frame
+  RealtimeAnchor anchor_;
+  PublishBudget budget_;
+  std::deque<StepJob> steps_;
+  TimePoint last_drive_{};
+  bool drive_held_ = false;           // a non-zero drive command is in force
+  TimePoint last_overrun_event_{};
+  std::vector<Command> work_;
+
+  // shared with the receive thread
+  mutable std::mutex mailbox_mutex_;
+  std::vector<Command> mailbox_;
+  TimePoint last_activity_;
+  mutable std::mutex info_mutex_;
+  SessionInfo info_;
+};
+
+}  // namespace groundsim::session

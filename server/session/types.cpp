@@ -1,0 +1,32 @@
+#include "types.hpp"
+
+namespace groundsim::session {
+
+const char* modeName(Mode m) {
+  switch (m) {
+    case Mode::Realtime: return "realtime";
+    case Mode::Fast: return "fast";
+    case Mode::Lockstep: return "lockstep";
+  }
+  return "?";
+}
+
+const char* statusName(Status s) {
+  switch (s) {
+    case Status::Running: return "running";
+    case Status::Paused: return "paused";
+    case Status::Finished: return "finished";
+    case Status::Diverged: return "diverged";
+    case Status::Stopped: return "stopped";
+  }
+  return "?";
+}
+
+std::optional<Mode> modeFromInt(int m) {
+  if (m == static_cast<int>(Mode::Realtime)) return Mode::Realtime;
+  if (m == static_cast<int>(Mode::Fast)) return Mode::Fast;
+  if (m == static_cast<int>(Mode::Lockstep)) return Mode::Lockstep;
+  return std::nullopt;
+}
+
+}  // namespace groundsim::session

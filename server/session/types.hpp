@@ -1,0 +1,134 @@
+// What the session layer exchanges with its transport: requests in, replies,
+// state frames and events out. Plain data; the LCM adapter (server/lcm)
+// translates these to and from the wire types, and nothing here knows LCM.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "physics/telemetry.hpp"
+
+namespace groundsim::session {
+
+using Clock = std::chrono::steady_clock;
+using TimePoint = Clock::time_point;
+
+enum class Mode : int { Realtime = 1, Fast = 2, Lockstep = 3 };
+enum class Status : int { Running = 1, Paused = 2, Finished = 3, Diverged = 4, Stopped = 5 };
+enum class Op : int { Create = 1, List = 2, Stop = 3, Reset = 4, Pause = 5, Resume = 6, Step = 7, SetMode = 8 };
+enum class Severity : int { Info = 0, Warning = 1, Error = 2 };
+
+// Numbered as event_t.ERR_* so the adapter copies them unchanged.
+enum class ErrorCode : int {
+  None = 0, Decode = 1, Fingerprint = 2, UnknownSession = 3, BadScenario = 4,
+  BadControl = 5, TooManySessions = 6, Unauthorized = 7, BadRequest = 8,
+  WrongMode = 9, Diverged = 10, CommandTimeout = 11, Overrun = 12,
+  Internal = 13, Shutdown = 14
+};
+
+const char* modeName(Mode m);
+const char* statusName(Status s);
+std::optional<Mode> modeFromInt(int m);
+
+struct Request {
+  Op op = Op::List;
+  std::int64_t request_id = 0;
+  std::string client_id;
+  std::string session_id;
+  std::string token;
+  std::string scenario_json;      // Create
+  double duration = 0.0;          // Create: s; 0 scenario's, < 0 unlimited
+  int mode = 0;                   // Create/SetMode: Mode value, 0 = unchanged/default
+  double rate = 0.0;              // real-time factor, 0 = unchanged/default
+  double publish_rate = 0.0;      // Hz, 0 = unchanged/default
+  std::int64_t steps = 0;         // Step
+};
+
+struct Drive {
+  std::string client_id;
+  std::string session_id;
+  std::string token;
+  int vehicle = 0;
+  std::vector<WheelControl> wheels;  // the vehicle's wheels, in telemetry order
+  TimePoint received{};
+};
+
+// One published state of a session: every vehicle at one instant. Values are
+// finite by construction (Session::makeFrame sanitizes).
+struct Frame {
+  std::string session_id;
+  std::int64_t seq = 0;
+  double t = 0.0;
+  std::int64_t tick = 0;
+  Mode mode = Mode::Realtime;
+  Status status = Status::Running;
+  Health health = Health::Ok;
+  std::string reason;
+  double energy = 0.0;
+  std::vector<VehicleSample> vehicles;
+  std::shared_ptr<const std::vector<std::string>> names;
+};
+
+struct SessionInfo {
+  std::string session_id;
+  std::string name;
+  Mode mode = Mode::Realtime;
+  Status status = Status::Running;
+  std::string reason;
+  double rate = 1.0;
+  double publish_rate = 50.0;
+  double t = 0.0;
+  std::int64_t tick = 0;
+  std::int64_t seq = -1;          // last published frame
+  std::vector<std::string> vehicle_names;
+  double idle_s = 0.0;
+};
+
+struct Reply {
+  Op op = Op::List;
+  std::int64_t request_id = 0;
+  std::string client_id;
+  std::string session_id;
+  bool ok = true;
+  ErrorCode code = ErrorCode::None;
+  std::string error;
+  std::string token;
+  double t = 0.0;
+  std::vector<SessionInfo> sessions;
+  std::optional<Frame> state;
+};
+
+struct Event {
+  std::string session_id;
+  std::string client_id;
+  std::int64_t request_id = 0;
+  Severity severity = Severity::Error;
+  ErrorCode code = ErrorCode::None;
+  std::string channel;
+  std::string reason;
+  double t = 0.0;
+};
+
+// Reply to a request, remembered until the request has been carried out.
+struct ReplyTo {
+  Op op = Op::List;
+  std::int64_t request_id = 0;
+  std::string client_id;
+};
+
+// Implemented by the transport. Called from worker threads and the receive
+// thread at once: implementations must be thread-safe and must not block for
+// long (they are on the stepping path).
+class Output {
+ public:
+  virtual ~Output() = default;
+  virtual void publishState(const Frame& f) = 0;
+  virtual void publishReply(const Reply& r) = 0;
+  virtual void publishEvent(const Event& e) = 0;
+};
+
+}  // namespace groundsim::session
