@@ -1,0 +1,156 @@
+#include "convert.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace groundsim::net {
+
+session::Request fromMessage(const groundsim::request_t& m) {
+  session::Request r;
+  r.op = static_cast<session::Op>(m.op);  // unknown values are refused by the service
+  r.request_id = m.request_id;
+  r.client_id = m.client_id;
+  r.session_id = m.session_id;
+  r.token = m.token;
+  r.scenario_json = m.scenario_json;
+  r.duration = m.duration;
+  r.mode = m.mode;
+  r.rate = m.rate;
+  r.publish_rate = m.publish_rate;
+  r.steps = m.steps;
+  return r;
+}
+
+session::Drive fromMessage(const groundsim::drive_t& m) {
+  session::Drive d;
+  d.client_id = m.client_id;
+  d.session_id = m.session_id;
+  d.token = m.token;
+  d.vehicle = m.vehicle;
+  const int n = std::max<int>(0, m.nwheels);
+  d.wheels.resize(n);
+  for (int k = 0; k < n; ++k) {
+    d.wheels[k].drive_torque = m.drive_torque[k];
+    d.wheels[k].brake_torque = m.brake_torque[k];
+    d.wheels[k].steer = m.steer[k];
+  }
+  d.received = session::Clock::now();
+  return d;
+}
+
+groundsim::state_t toMessage(const session::Frame& f) {
+  groundsim::state_t m;
+  m.utime = toUtime(f.t);
+  m.seq = f.seq;
+  m.session_id = f.session_id;
+  m.t = f.t;
+  m.tick = f.tick;
+  m.mode = static_cast<int8_t>(f.mode);
+  m.status = static_cast<int8_t>(f.status);
+  m.health = static_cast<int8_t>(f.health);
+  m.status_reason = f.reason;
+  m.energy = f.energy;
+  m.nvehicles = static_cast<int32_t>(f.vehicles.size());
+  m.vehicles.resize(f.vehicles.size());
+  for (size_t v = 0; v < f.vehicles.size(); ++v) {
+    const VehicleSample& s = f.vehicles[v];
+    groundsim::vehicle_state_t& o = m.vehicles[v];
+    o.utime = m.utime;
+    o.name = f.names && v < f.names->size() ? (*f.names)[v] : std::string();
+    for (int i = 0; i < 3; ++i) {
+      o.position[i] = s.position[i];
+      o.velocity[i] = s.velocity[i];
+      o.angular_velocity[i] = s.angular_velocity[i];
+    }
+    o.orientation[0] = s.orientation.w();
+    o.orientation[1] = s.orientation.x();
+    o.orientation[2] = s.orientation.y();
+    o.orientation[3] = s.orientation.z();
+    o.speed = s.speed;
+    o.wheel_count = static_cast<int8_t>(s.wheel_count);
+    for (int k = 0; k < 4; ++k) {
+      o.wheel_spin[k] = s.wheels[k].spin;
+      o.normal_force[k] = s.wheels[k].normal_force;
+      o.friction_force[k] = s.wheels[k].friction_force;
+      o.slip[k] = s.wheels[k].slip;
+      o.in_contact[k] = s.wheels[k].in_contact;
+    }
+  }
+  return m;
+}
+
+groundsim::session_info_t toMessage(const session::SessionInfo& s) {
+  groundsim::session_info_t m;
+  m.utime = toUtime(s.t);
+  m.seq = s.seq;
+  m.session_id = s.session_id;
+  m.name = s.name;
+  m.mode = static_cast<int8_t>(s.mode);
+  m.status = static_cast<int8_t>(s.status);
+  m.status_reason = s.reason;
+  m.rate = s.rate;
+  m.publish_rate = s.publish_rate;
+  m.tick = s.tick;
+  m.nvehicles = static_cast<int32_t>(s.vehicle_names.size());
+  m.vehicle_names = s.vehicle_names;
+  m.idle_s = s.idle_s;
+  return m;
+}
+
+groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq) {
+  groundsim::reply_t m;
+  m.utime = toUtime(r.t);
+  m.seq = seq;
+  m.request_id = r.request_id;
+  m.client_id = r.client_id;
+  m.session_id = r.session_id;
+  m.op = static_cast<int8_t>(r.op);
+  m.ok = r.ok;
+  m.error_code = static_cast<int32_t>(r.code);
+  m.error = r.error;
+  m.token = r.token;
+  m.nsessions = static_cast<int32_t>(r.sessions.size());
+  for (const auto& s : r.sessions) m.sessions.push_back(toMessage(s));
+  m.nstates = r.state ? 1 : 0;
+  if (r.state) m.states.push_back(toMessage(*r.state));
+  return m;
+}
+
+groundsim::event_t toMessage(const session::Event& e, std::int64_t seq) {
+  groundsim::event_t m;
+  m.utime = toUtime(e.t);
+  m.seq = seq;
+  m.session_id = e.session_id;
+  m.client_id = e.client_id;
+  m.request_id = e.request_id;
+  m.severity = static_cast<int8_t>(e.severity);
+  m.code = static_cast<int32_t>(e.code);
+  m.channel = e.channel;
+  m.reason = e.reason;
+  return m;
+}
+
+VehicleSample toSample(const groundsim::state_t& m, int vehicle) {
+  const groundsim::vehicle_state_t& o = m.vehicles.at(vehicle);
+  VehicleSample s;
+  s.t = m.t;
+  s.tick = m.tick;
+  s.position = Vec3(o.position[0], o.position[1], o.position[2]);
+  s.orientation = Quat(o.orientation[0], o.orientation[1], o.orientation[2], o.orientation[3]);
+  s.velocity = Vec3(o.velocity[0], o.velocity[1], o.velocity[2]);
+  s.angular_velocity = Vec3(o.angular_velocity[0], o.angular_velocity[1], o.angular_velocity[2]);
+  s.speed = o.speed;
+  s.wheel_count = std::clamp<int>(o.wheel_count, 0, 4);
+  for (int k = 0; k < 4; ++k) {
+    s.wheels[k].spin = o.wheel_spin[k];
+    s.wheels[k].normal_force = o.normal_force[k];
+    s.wheels[k].friction_force = o.friction_force[k];
+    s.wheels[k].slip = o.slip[k];
+    s.wheels[k].in_contact = o.in_contact[k];
+  }
+  s.energy = m.energy;
+  s.health = static_cast<Health>(m.health);
+  return s;
+}
+
+}  // namespace groundsim::net

@@ -1,0 +1,135 @@
+#include "lcm_server.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+#include "channels.hpp"
+#include "codec.hpp"
+#include "convert.hpp"
+#include "session/token.hpp"
+
+namespace groundsim::net {
+namespace {
+
+std::int64_t wallMicros() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+session::ErrorCode codeFor(DecodeStatus s) {
+  return s == DecodeStatus::Fingerprint ? session::ErrorCode::Fingerprint : session::ErrorCode::Decode;
+}
+
+}  // namespace
+
+LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, bool verbose)
+    : url_(withReceiveBuffer(url)), verbose_(verbose), lcm_(url_), server_id_(session::randomHex(8)) {
+  if (!lcm_.good())
+    throw std::runtime_error("cannot open LCM URL " + url_ +
+                             " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
+  service_ = std::make_unique<session::SessionService>(cfg, *this);
+  // Requests and drives from many clients may arrive in bursts while this
+  // thread is busy: a deep queue instead of LCM's silent 30.
+  lcm_.subscribe(kRequestChannel, &LcmServer::onRequest, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(kDriveChannel, &LcmServer::onDrive, this)->setQueueCapacity(kDeepQueue);
+}
+
+LcmServer::~LcmServer() { service_.reset(); }
+
+template <class T>
+void LcmServer::publish(const std::string& channel, const T& msg) {
+  // encode outside the lock; one reusable buffer per thread
+  static thread_local std::vector<std::uint8_t> buf;
+  const int size = msg.getEncodedSize();
+  if (buf.size() < static_cast<size_t>(size)) buf.resize(size);
+  if (msg.encode(buf.data(), 0, size) < 0) return;
+  std::lock_guard<std::mutex> lk(publish_mutex_);
+  lcm_.publish(channel, buf.data(), static_cast<unsigned>(size));
+}
+
+void LcmServer::publishState(const session::Frame& f) {
+  publish(stateChannel(f.session_id), toMessage(f));
+  ++frames_;
+}
+
+void LcmServer::publishReply(const session::Reply& r) { publish(kReplyChannel, toMessage(r, reply_seq_++)); }
+
+void LcmServer::publishEvent(const session::Event& e) {
+  publish(kEventChannel, toMessage(e, event_seq_++));
+  if (e.severity == session::Severity::Info) {
+    if (verbose_) std::fprintf(stderr, "groundsim-server: %s%s%s\n", e.session_id.c_str(), e.session_id.empty() ? "" : ": ", e.reason.c_str());
+    return;
+  }
+  ++errors_;
+  if (verbose_)
+    std::fprintf(stderr, "groundsim-server: %s %d%s%s%s%s: %s\n",
+                 e.severity == session::Severity::Warning ? "warning" : "error", static_cast<int>(e.code),
+                 e.session_id.empty() ? "" : " session ", e.session_id.c_str(),
+                 e.channel.empty() ? "" : " on ", e.channel.c_str(), e.reason.c_str());
+}
+
+void LcmServer::onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  ++inputs_;
+  groundsim::request_t msg;
+  const DecodeResult d = decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), msg, "groundsim.request_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  service_->handleRequest(fromMessage(msg));
+}
+
+void LcmServer::onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  ++inputs_;
+  groundsim::drive_t msg;
+  const DecodeResult d = decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), msg, "groundsim.drive_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  service_->handleDrive(fromMessage(msg));
+}
+
+void LcmServer::heartbeat() {
+  const session::ServiceStatus st = service_->status();
+  groundsim::server_status_t m;
+  m.utime = wallMicros();
+  m.seq = status_seq_++;
+  m.server_id = server_id_;
+  m.workers = st.workers;
+  m.max_sessions = st.max_sessions;
+  m.load = st.load;
+  m.frames_published = frames_.load();
+  m.requests_handled = inputs_.load();
+  m.errors = errors_.load();
+  m.nsessions = static_cast<int32_t>(st.sessions.size());
+  for (const auto& s : st.sessions) m.sessions.push_back(toMessage(s));
+  publish(kStatusChannel, m);
+}
+
+void LcmServer::run(const std::atomic<bool>& stop) {
+  using namespace std::chrono;
+  auto next_beat = steady_clock::now();
+  while (!stop.load()) {
+    // short timeout so that a signal is noticed promptly
+    if (lcm_.handleTimeout(100) < 0) {
+      std::fprintf(stderr, "groundsim-server: LCM receive error on %s\n", url_.c_str());
+      std::this_thread::sleep_for(milliseconds(100));
+    }
+    const auto now = steady_clock::now();
+    if (now >= next_beat) {
+      try {
+        service_->housekeeping();
+        heartbeat();
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "groundsim-server: heartbeat failed: %s\n", e.what());
+      }
+      next_beat = now + seconds(1);
+    }
+  }
+  session::Event bye;
+  bye.severity = session::Severity::Info;
+  bye.code = session::ErrorCode::Shutdown;
+  bye.reason = "server " + server_id_ + " stopping";
+  publishEvent(bye);
+  service_->shutdown("server stopped");
+  heartbeat();  // lists no sessions
+}
+
+}  // namespace groundsim::net

@@ -1,0 +1,52 @@
+// The LCM adapter of groundsim-server: one receive thread (the only caller
+// of lcm::LCM::handle) decodes requests and drive commands and hands them to
+// the SessionService; replies, states and events come back through
+// session::Output from any thread and are encoded and published here.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "session/service.hpp"
+
+namespace groundsim::net {
+
+class LcmServer final : public session::Output {
+ public:
+  // Throws std::runtime_error when the URL cannot be opened.
+  LcmServer(const std::string& url, const session::ServiceConfig& cfg, bool verbose);
+  ~LcmServer() override;
+
+  // Receives until *stop becomes true, then stops every session (each
+  // publishes a final frame with status stopped).
+  void run(const std::atomic<bool>& stop);
+
+  void publishState(const session::Frame& f) override;
+  void publishReply(const session::Reply& r) override;
+  void publishEvent(const session::Event& e) override;
+
+  const std::string& url() const { return url_; }
+  int workers() const { return service_->config().workers; }
+
+ private:
+  void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void heartbeat();
+  template <class T>
+  void publish(const std::string& channel, const T& msg);
+
+  std::string url_;
+  bool verbose_;
+  lcm::LCM lcm_;
+  std::mutex publish_mutex_;
+  std::string server_id_;
+  std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0};
+  std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0};
+  std::unique_ptr<session::SessionService> service_;  // after lcm_: it publishes through it
+};
+
+}  // namespace groundsim::net

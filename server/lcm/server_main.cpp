@@ -1,0 +1,60 @@
+// groundsim-server: hosts simulation sessions for LCM clients
+// (docs/protocol.md). Stops cleanly on SIGINT or SIGTERM.
+#include <csignal>
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "channels.hpp"
+#include "lcm_server.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+void onSignal(int) { g_stop.store(true); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  groundsim::session::ServiceConfig cfg;
+  std::string url = groundsim::net::defaultUrl();
+  double slice_ms = cfg.slice * 1e3;
+  bool quiet = false;
+
+  CLI::App app{"groundsim-server: simulation sessions over LCM"};
+  app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
+  app.add_option("--workers", cfg.workers, "stepping threads (0: one per core)")->capture_default_str();
+  app.add_option("--max-sessions", cfg.max_sessions, "concurrent sessions")->capture_default_str()->check(CLI::Range(1, 100000));
+  app.add_option("--idle-timeout", cfg.idle_timeout, "s without owner activity before a session is reclaimed (0: never)")->capture_default_str();
+  app.add_option("--command-timeout", cfg.command_timeout, "s real time mode holds a drive command before zero torque")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-torque", cfg.max_torque, "N m, largest accepted drive or brake torque")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--slice-ms", slice_ms, "ms a session may step before yielding its worker")->capture_default_str()->check(CLI::Range(0.05, 1000.0));
+  app.add_option("--publish-limit", cfg.publish_limit, "state messages per wall second per session (paced, not dropped)")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-lag", cfg.max_lag, "s behind the wall clock before a real time session skips ahead")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-vehicles", cfg.max_vehicles, "vehicles per session")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_flag("--quiet", quiet, "do not log events on stderr");
+  CLI11_PARSE(app, argc, argv);
+  cfg.slice = slice_ms * 1e-3;
+
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+
+  try {
+    groundsim::net::LcmServer server(url, cfg, !quiet);
+    std::printf("groundsim-server ready on %s with %d workers, up to %d sessions\n", server.url().c_str(),
+                server.workers(), cfg.max_sessions);
+    std::fflush(stdout);
+    server.run(g_stop);
+    std::printf("groundsim-server stopped\n");
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundsim-server: %s\n", e.what());
+    return 2;
+  }
+}
