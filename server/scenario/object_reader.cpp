@@ -170,7 +170,12 @@ namespace {
 
 std::string listOf(const std::vector<std::string>& allowed) {
   std::string s;
-  for (size_t i = 0; i < allowed.size(); ++i) s += (i ? ", \"" : "\"") + allowed[i] + "\"";
+  for (const std::string& a : allowed) {
+    if (!s.empty()) s += ", ";
+    s += '"';
+    s += a;
+    s += '"';
+  }
   return s;
 }
 

@@ -55,7 +55,7 @@ void applyOverride(nlohmann::json& doc, const std::string& assignment) {
       next = &(*at)[seg];
       if (!last && next->is_null()) *next = nlohmann::json::object();
     } else {
-      fail(path, "override \"" + key + "\": cannot set a key inside a " + jsonTypeName(*at));
+      fail(path, "override \"" + key + "\": cannot set a key inside a value of type " + jsonTypeName(*at));
     }
     if (last) {
       *next = std::move(value);

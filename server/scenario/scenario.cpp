@@ -68,6 +68,12 @@ nlohmann::json parseScenarioDocument(const std::string& json_text) {
     if (const auto p = why.find("] "); why.rfind("[json.exception", 0) == 0 && p != std::string::npos)
       why = why.substr(p + 2);
     fail("", "malformed JSON at byte " + std::to_string(e.byte) + ": " + why);
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range.406 "number overflow parsing '1e999'": the number
+    // is not representable, so it cannot be validated either
+    std::string why = e.what();
+    if (const auto p = why.find("] "); p != std::string::npos) why = why.substr(p + 2);
+    fail("", "invalid JSON: " + why);
   }
 }
 

@@ -23,7 +23,12 @@ namespace groundsim::scenario {
 struct Issue {
   std::string path;     // JSON pointer, "" for the document itself
   std::string message;  // the reason
-  std::string str() const { return (path.empty() ? std::string("/") : path) + ": " + message; }
+  std::string str() const {
+    std::string s = path.empty() ? std::string("/") : path;
+    s += ": ";
+    s += message;
+    return s;
+  }
 };
 
 class ScenarioError : public std::runtime_error {

@@ -6,7 +6,10 @@ namespace {
 // One issue per line: what() is what a user reads when nothing else formats it.
 std::string joined(const std::vector<Issue>& issues) {
   std::string s;
-  for (const Issue& i : issues) s += (s.empty() ? "" : "\n") + i.str();
+  for (const Issue& i : issues) {
+    if (!s.empty()) s += '\n';
+    s += i.str();
+  }
   return s.empty() ? std::string("invalid scenario") : s;
 }
 

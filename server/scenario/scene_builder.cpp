@@ -28,7 +28,12 @@ void checkIntegrator(IntegratorKind kind, IssueList& issues) {
   if (available(kind)) return;
   std::string list;
   for (IntegratorKind k : kAllIntegrators)
-    if (available(k)) list += (list.empty() ? "\"" : ", \"") + std::string(integratorName(k)) + "\"";
+    if (available(k)) {
+      if (!list.empty()) list += ", ";
+      list += '"';
+      list += integratorName(k);
+      list += '"';
+    }
   issues.add("/physics/integrator",
              "\"" + std::string(integratorName(kind)) + "\" is not available in this build (available: " + list + ")");
 }

@@ -1,0 +1,255 @@
+// `groundsim run SCENARIO.json`: loads and validates a scenario, simulates
+// it in this process with groundsim::Simulator, writes frames at the output
+// rate to CSV, optionally plots speed per frame, and prints a summary.
+//
+// Exit codes: 0 done, 1 output file problem, 2 invalid scenario or
+// arguments, 3 the simulation diverged (the summary gives the reason).
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "physics/integrator.hpp"
+#include "physics/simulator.hpp"
+#include "physics/telemetry.hpp"
+#include "scenario/scenario.hpp"
+#include "speed_plot.hpp"
+#include "telemetry_csv.hpp"
+
+namespace groundsim::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kExitOutput = 1, kExitInvalid = 2, kExitDiverged = 3;
+
+struct RunOptions {
+  std::string scenario_path;
+  std::optional<double> duration;
+  std::vector<std::string> overrides;
+  std::string csv_path;
+  std::string plot_path;
+  bool quiet = false;
+};
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// A single updating line on a terminal; on a pipe or log file, a plain line
+// every few seconds instead of carriage-return clutter. Silent for the
+// first ~2 s of wall time: short runs need no progress report.
+class Progress {
+ public:
+  Progress(bool enabled, double duration) : enabled_(enabled), duration_(duration), tty_(isatty(STDERR_FILENO)) {}
+
+  void update(double sim_t) {
+    if (!enabled_) return;
+    const double wall = secondsSince(start_);
+    if (wall < 2.0 || wall - last_ < (tty_ ? 0.2 : 5.0)) return;
+    last_ = wall;
+    const double rate = sim_t / wall;
+    const double eta = rate > 0 ? (duration_ - sim_t) / rate : 0.0;
+    std::fprintf(stderr, "%st = %.2f / %.2f s (%3.0f%%), %.2f sim-s per wall-s, %.0f s left%s", tty_ ? "\r" : "",
+                 sim_t, duration_, 100.0 * sim_t / duration_, rate, eta, tty_ ? "\033[K" : "\n");
+    shown_ = true;
+  }
+  void done() {
+    if (shown_ && tty_) std::fprintf(stderr, "\r\033[K");
+  }
+
+ private:
+  bool enabled_;
+  double duration_;
+  bool tty_;
+  Clock::time_point start_ = Clock::now();
+  double last_ = 0.0;
+  bool shown_ = false;
+};
+
+void printIssues(const std::string& file, const scenario::ScenarioError& e) {
+  for (const scenario::Issue& i : e.issues()) std::cerr << "error: " << file << ": " << i.str() << "\n";
+}
+
+// Frames at t = k / rate, each at the step nearest to it.
+long long frameTick(long long k, double rate, double dt) { return std::llround(static_cast<double>(k) / (rate * dt)); }
+
+struct RunResult {
+  long long steps = 0;
+  double wall = 0.0;
+  double energy_start = 0.0, energy_end = 0.0;
+  std::vector<VehicleSample> final_samples;
+};
+
+// The frame loop: step to each frame's tick, sample every vehicle, write.
+RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* csv, bool progress) {
+  const double dt = sim.model().opt.dt;
+  const long long last_frame = static_cast<long long>(std::floor(scene.duration * scene.output_rate + 1e-9));
+  const long long end_tick = std::llround(scene.duration / dt);
+  RunResult r;
+  r.energy_start = sim.state().initial_energy;
+  Progress bar(progress, scene.duration);
+  const auto t0 = Clock::now();
+
+  auto writeFrame = [&]() {
+    r.final_samples.clear();
+    for (size_t v = 0; v < scene.cars.size(); ++v) {
+      // energy is the whole scene's: compute it once per frame
+      VehicleSample s = sampleVehicle(sim, scene.cars[v].vehicle, v == 0);
+      if (v > 0) s.energy = r.final_samples.front().energy;
+      if (csv) *csv << csvRow(s, scene.vehicle_names[v]) << '\n';
+      r.final_samples.push_back(s);
+    }
+  };
+
+  writeFrame();
+  for (long long k = 1; k <= last_frame && sim.healthy(); ++k) {
+    const long long target = std::min(frameTick(k, scene.output_rate, dt), end_tick);
+    while (sim.state().tick < target) {
+      // progress is checked between chunks: a clock read per step costs more than the step
+      const long long chunk = std::min<long long>(target - sim.state().tick, 2048);
+      if (!sim.step(chunk)) break;
+      bar.update(sim.state().t);
+    }
+    writeFrame();  // after a divergence: the last finite state, health set
+  }
+  // a duration that is not a whole number of frames still runs to its end
+  while (sim.healthy() && sim.state().tick < end_tick) sim.step(std::min<long long>(end_tick - sim.state().tick, 2048));
+  r.wall = secondsSince(t0);
+  bar.done();
+  r.steps = sim.state().tick;
+  r.energy_end = sim.energy().total();
+  if (!r.final_samples.empty() && r.final_samples.front().t != sim.state().t) {
+    r.final_samples.clear();
+    for (size_t v = 0; v < scene.cars.size(); ++v) r.final_samples.push_back(sampleVehicle(sim, scene.cars[v].vehicle, false));
+  }
+  return r;
+}
+
+void printSummary(const scenario::Scenario& s, const Simulator& sim, const scenario::Scene& scene,
+                  const RunResult& r) {
+  const Model& m = sim.model();
+  std::printf("scenario   %s%s%s\n", s.name.c_str(), s.description.empty() ? "" : ": ", s.description.c_str());
+  std::printf("simulated  %.4g s of %.4g s in %lld steps (dt %.3g s, %s, ground: %s)\n", sim.state().t, s.duration,
+              r.steps, m.opt.dt, integratorName(m.opt.integrator), m.ground->describe().c_str());
+  const double wall = std::max(r.wall, 1e-9);
+  std::printf("wall time  %.3f s: %.0f steps/s, %.3g sim-s per wall-s\n", r.wall, r.steps / wall,
+              sim.state().t / wall);
+  for (size_t v = 0; v < r.final_samples.size(); ++v) {
+    const VehicleSample& f = r.final_samples[v];
+    std::printf("vehicle    %-10s position (%.4f, %.4f, %.4f) m, speed %.4f m/s, velocity (%.4f, %.4f, %.4f) m/s\n",
+                scene.vehicle_names[v].c_str(), f.position.x(), f.position.y(), f.position.z(), f.speed,
+                f.velocity.x(), f.velocity.y(), f.velocity.z());
+  }
+  std::printf("energy     start %.6g J, end %.6g J (drive work %.4g J)\n", r.energy_start, r.energy_end,
+              sim.state().drive_work);
+  if (sim.healthy())
+    std::printf("health     ok\n");
+  else
+    std::printf("health     DIVERGED (%s) at t = %.6g s: %s\n", healthName(sim.state().health), sim.state().t,
+                sim.state().health_reason.c_str());
+}
+
+int run(const RunOptions& o) {
+  // load, override, validate: every problem of the file is reported at once
+  scenario::Scenario s;
+  try {
+    nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path);
+    if (doc.is_object() && !doc.contains("name"))
+      doc["name"] = std::filesystem::path(o.scenario_path).stem().string();
+    for (const std::string& a : o.overrides) scenario::applyOverride(doc, a);
+    if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump());
+    s = scenario::parseScenario(doc);
+  } catch (const scenario::ScenarioError& e) {
+    printIssues(o.scenario_path, e);
+    return kExitInvalid;
+  }
+  std::optional<scenario::Scene> scene;
+  try {
+    scene = scenario::buildScene(s);
+  } catch (const scenario::ScenarioError& e) {
+    printIssues(o.scenario_path, e);
+    return kExitInvalid;
+  }
+
+  // the CSV: the requested file, or a temporary one for the plot alone
+  std::string csv_path = o.csv_path;
+  bool temp_csv = false;
+  if (csv_path.empty() && !o.plot_path.empty()) {
+    const char* tmpdir = std::getenv("TMPDIR");
+    csv_path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/groundsim-run-XXXXXX";
+    const int fd = mkstemp(csv_path.data());
+    if (fd < 0) {
+      std::cerr << "error: cannot create a temporary CSV for the plot\n";
+      return kExitOutput;
+    }
+    close(fd);
+    temp_csv = true;
+  }
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path, std::ios::binary | std::ios::trunc);
+    if (!csv) {
+      std::cerr << "error: cannot write \"" << csv_path << "\"\n";
+      return kExitOutput;
+    }
+    csv << csvHeader() << '\n';
+  }
+
+  Simulator sim(scene->built.model, scene->built.initial);
+  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet);
+  int code = 0;
+  if (csv.is_open()) {
+    csv.close();
+    if (!csv) {
+      std::cerr << "error: writing \"" << csv_path << "\" failed\n";
+      code = kExitOutput;
+    }
+  }
+  if (!o.quiet) printSummary(s, sim, *scene, r);
+  if (!o.plot_path.empty() && code == 0) {
+    const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,
+                                           s.name + ": speed of the body per frame"});
+    if (!err.empty()) {
+      std::cerr << "error: plot \"" << o.plot_path << "\": " << err << "\n";
+      code = kExitOutput;
+    }
+  }
+  if (temp_csv) std::remove(csv_path.c_str());
+  if (!sim.healthy()) {
+    std::cerr << "error: the simulation diverged at t = " << sim.state().t << " s ("
+              << healthName(sim.state().health) << "): " << sim.state().health_reason << "\n";
+    return kExitDiverged;
+  }
+  return code;
+}
+
+}  // namespace
+
+void registerRunCommand(CLI::App& app) {
+  auto opts = std::make_shared<RunOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "Simulate a scenario file in this process (no server)");
+  cmd->add_option("scenario", opts->scenario_path, "Scenario JSON file (docs/scenario.md)")->required();
+  cmd->add_option("--duration", opts->duration, "Simulated time in s (overrides the file's duration)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--set", opts->overrides, "Override a value before validation: key.path=value (repeatable)")
+      ->allow_extra_args(false);
+  cmd->add_option("--csv", opts->csv_path, "Write frames at the output rate to this CSV file");
+  cmd->add_option("--plot", opts->plot_path, "Plot speed per frame to this PNG (needs gnuplot)");
+  cmd->add_flag("-q,--quiet", opts->quiet, "No progress line and no summary");
+  cmd->callback([opts]() {
+    const int code = run(*opts);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}
+
+}  // namespace groundsim::cli

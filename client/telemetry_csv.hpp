@@ -1,0 +1,21 @@
+// CSV rows of vehicle telemetry. Shared by `groundsim run` and the network
+// logger so that files from either have identical columns:
+//   t,x,y,z,vx,vy,vz,speed,vehicle,qw,qx,qy,qz,wx,wy,wz,
+//   spin_fl..spin_rr,normal_fl..,friction_fl..,slip_fl..,energy,health
+// Units: s, m, m/s, quaternion body->world, rad/s (world), wheel spin rad/s
+// about the axle relative to the body, forces N, slip m/s, energy J (whole
+// scene), health one of ok|non_finite|... (physics healthName).
+// Rows never contain NaN or inf: a non-finite number is written as an empty
+// field (a missing value to every CSV reader).
+#pragma once
+
+#include <string>
+
+#include "physics/telemetry.hpp"
+
+namespace groundsim::cli {
+
+std::string csvHeader();  // no trailing newline
+std::string csvRow(const groundsim::VehicleSample& s, const std::string& vehicle_name);  // no trailing newline
+
+}  // namespace groundsim::cli

@@ -1,0 +1,109 @@
+// Scenario -> Scene: model, initial controls, and the problems only visible
+// while building.
+#include <gtest/gtest.h>
+
+#include "physics/integrator.hpp"
+#include "physics/simulator.hpp"
+#include "scenario_test_util.hpp"
+
+namespace groundsim::scenario::test {
+namespace {
+
+std::vector<Issue> buildIssues(const nlohmann::json& d) {
+  try {
+    buildScene(parseScenario(d));
+  } catch (const ScenarioError& e) {
+    return e.issues();
+  }
+  ADD_FAILURE() << "scene was built";
+  return {};
+}
+
+TEST(Scene, OneCarWithItsSettings) {
+  auto d = minimalDoc();
+  d["physics"]["dt"] = 1e-4;
+  d["contact"]["friction"] = 0.8;
+  const Scene scene = buildScene(parseScenario(d));
+  ASSERT_EQ(scene.cars.size(), 1u);
+  EXPECT_EQ(scene.vehicle_names, std::vector<std::string>{"car"});
+  const Model& m = *scene.built.model;
+  EXPECT_EQ(m.opt.dt, 1e-4);
+  EXPECT_EQ(m.opt.contact.friction, 0.8);
+  EXPECT_EQ(m.wheels.size(), 4u);
+  EXPECT_EQ(scene.built.initial.controls.size(), m.wheels.size());
+}
+
+TEST(Scene, ControlsGoToTheChosenWheels) {
+  auto d = minimalDoc();
+  d["vehicle"]["control"] = {{"drive_torque", 1.5}, {"drive_wheels", "rear"}, {"brake_torque", 0.2}};
+  const Scene scene = buildScene(parseScenario(d));
+  const CarHandle& car = scene.cars[0];
+  const auto& c = scene.built.initial.controls;
+  for (int k = 0; k < 4; ++k) {
+    const WheelControl& w = c.at(static_cast<size_t>(car.wheels[k]));
+    EXPECT_EQ(w.drive_torque, k >= 2 ? 1.5 : 0.0) << "wheel " << k;  // fl, fr, rl, rr
+    EXPECT_EQ(w.brake_torque, 0.2);
+  }
+}
+
+TEST(Scene, SeveralVehiclesInDocumentOrder) {
+  auto d = nlohmann::json::parse(R"({"ground": {"type": "plane"}, "vehicles": [
+      {"name": "a", "control": {"drive_torque": 1}},
+      {"name": "b", "initial": {"position": [0, 10, 0]}}]})");
+  const Scene scene = buildScene(parseScenario(d));
+  ASSERT_EQ(scene.cars.size(), 2u);
+  EXPECT_EQ(scene.vehicle_names, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(scene.built.initial.controls.at(scene.cars[0].wheels[0]).drive_torque, 1.0);
+  EXPECT_EQ(scene.built.initial.controls.at(scene.cars[1].wheels[0]).drive_torque, 0.0);
+  Simulator sim(scene.built.model, scene.built.initial);
+  EXPECT_TRUE(sim.step(100));
+}
+
+TEST(Scene, OverlappingVehiclesAreRefused) {
+  auto d = nlohmann::json::parse(R"({"ground": {"type": "plane"}, "vehicles": [
+      {"name": "a"}, {"name": "b", "initial": {"position": [1, 0, 0]}}]})");
+  EXPECT_TRUE(hasIssue(buildIssues(d), "/vehicles/1/initial/position", "overlaps vehicle \"a\""));
+}
+
+TEST(Scene, UnavailableIntegratorIsAPathNamedError) {
+  for (const char* name : {"velocity_verlet", "rk4", "implicit_euler", "adaptive"}) {
+    auto d = minimalDoc();
+    d["physics"]["integrator"] = name;
+    const Scenario s = parseScenario(d);  // the name itself is valid
+    bool available = true;
+    try {
+      makeIntegrator(s.options.integrator);
+    } catch (const std::invalid_argument&) {
+      available = false;
+    }
+    if (available) {
+      EXPECT_NO_THROW(buildScene(s)) << name;
+    } else {
+      EXPECT_TRUE(hasIssue(buildIssues(d), "/physics/integrator", "not available")) << name;
+    }
+  }
+}
+
+TEST(Scene, EachBuildHasItsOwnGround) {
+  // an expression ground holds parser state: scenes must not share it
+  auto d = minimalDoc();
+  d["ground"] = {{"type", "expression"}, {"expression", "z - 0.5*cos(x)"}};
+  const Scenario s = parseScenario(d);
+  EXPECT_NE(buildScene(s).built.model->ground.get(), buildScene(s).built.model->ground.get());
+}
+
+TEST(Scene, CarSitsOnTheGround) {
+  auto d = minimalDoc();
+  d["ground"] = {{"type", "incline"}, {"angle_deg", 20}};
+  const Scene scene = buildScene(parseScenario(d));
+  Simulator sim(scene.built.model, scene.built.initial);
+  // placed with wheels touching: after a short settle nothing has diverged
+  // and the body has not fallen through
+  ASSERT_TRUE(sim.step(2000));
+  const Vec3 x = bodyPos(sim.state().y, scene.cars[0].body);
+  Vec3 grad;
+  EXPECT_GT(scene.built.model->ground->eval(x, &grad), 0.0);
+}
+
+}  // namespace
+}  // namespace groundsim::scenario::test
