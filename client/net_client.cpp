@@ -1,0 +1,78 @@
+#include "net_client.hpp"
+
+#include <chrono>
+#include <random>
+
+#include <unistd.h>
+
+#include "channels.hpp"
+#include "codec.hpp"
+
+namespace groundsim::cli {
+
+std::int64_t wallMicros() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+NetClient::NetClient(const std::string& url, bool deep_receive)
+    : url_(deep_receive ? net::withReceiveBuffer(url) : (url.empty() ? net::defaultUrl() : url)), lcm_(url_) {
+  if (!lcm_.good())
+    throw NetError("cannot open LCM URL " + url_ + " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
+  std::random_device rd;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "cli-%d-%08x", static_cast<int>(getpid()), rd());
+  client_id_ = buf;
+  // replies and events of every client share one channel: keep ours only
+  lcm_.subscribe(net::kReplyChannel, &NetClient::onReply, this)->setQueueCapacity(net::kDeepQueue);
+  lcm_.subscribe(net::kEventChannel, &NetClient::onEvent, this)->setQueueCapacity(net::kDeepQueue);
+}
+
+void NetClient::onReply(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  groundsim::reply_t m;
+  if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.reply_t").ok()) return;
+  if (m.client_id == client_id_ && m.request_id == waiting_for_) reply_ = std::move(m);
+}
+
+void NetClient::onEvent(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  groundsim::event_t m;
+  if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.event_t").ok()) return;
+  if (m.client_id == client_id_ && m.severity == groundsim::event_t::SEVERITY_ERROR) events_.push_back(std::move(m));
+}
+
+groundsim::reply_t NetClient::call(groundsim::request_t req, double timeout_s) {
+  req.utime = wallMicros();
+  req.seq = seq_++;
+  req.request_id = seq_;  // > 0: 0 marks "no request" in events
+  req.client_id = client_id_;
+  waiting_for_ = req.request_id;
+  reply_.reset();
+  if (lcm_.publish(net::kRequestChannel, &req) != 0) throw NetError("cannot publish on " + url_);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (!reply_) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0)
+      throw NetError("no reply from groundsim-server within " + std::to_string(timeout_s) + " s on " + url_ +
+                     " (is the server running with the same --lcm-url?)");
+    lcm_.handleTimeout(static_cast<int>(left.count()) + 1);
+  }
+  waiting_for_ = -1;
+  groundsim::reply_t r = std::move(*reply_);
+  reply_.reset();
+  return r;
+}
+
+void NetClient::send(groundsim::drive_t cmd) {
+  cmd.utime = wallMicros();
+  cmd.seq = seq_++;
+  cmd.client_id = client_id_;
+  if (lcm_.publish(net::kDriveChannel, &cmd) != 0) throw NetError("cannot publish on " + url_);
+}
+
+std::vector<groundsim::event_t> NetClient::takeEvents() {
+  std::vector<groundsim::event_t> out;
+  out.swap(events_);
+  return out;
+}
+
+}  // namespace groundsim::cli

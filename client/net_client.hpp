@@ -1,0 +1,58 @@
+// A client's connection to groundsim-server: requests matched to their
+// replies by request id (with a timeout and a clear error when no server
+// answers), drive commands, and the events addressed to this client.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <groundsim/drive_t.hpp>
+#include <groundsim/event_t.hpp>
+#include <groundsim/reply_t.hpp>
+#include <groundsim/request_t.hpp>
+
+namespace groundsim::cli {
+
+struct NetError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class NetClient {
+ public:
+  // deep_receive: an 8 MiB socket buffer (for subscribers that must not lose
+  // messages). Throws NetError when the URL cannot be opened.
+  explicit NetClient(const std::string& url, bool deep_receive = false);
+
+  lcm::LCM& lcm() { return lcm_; }
+  const std::string& url() const { return url_; }
+  const std::string& clientId() const { return client_id_; }
+
+  // Fills utime, seq, request_id and client_id, publishes, and waits for the
+  // reply. Throws NetError on timeout. A refused request returns ok = false.
+  groundsim::reply_t call(groundsim::request_t req, double timeout_s);
+  void send(groundsim::drive_t cmd);
+
+  // Error events addressed to this client since the last call.
+  std::vector<groundsim::event_t> takeEvents();
+
+ private:
+  void onReply(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onEvent(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+
+  std::string url_;
+  lcm::LCM lcm_;
+  std::string client_id_;
+  std::int64_t seq_ = 0;
+  std::int64_t waiting_for_ = -1;
+  std::optional<groundsim::reply_t> reply_;
+  std::vector<groundsim::event_t> events_;
+};
+
+std::int64_t wallMicros();
+
+}  // namespace groundsim::cli

@@ -1,0 +1,57 @@
+// Shared parts of the `groundsim` network subcommands (net_*.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include <groundsim/reply_t.hpp>
+#include <groundsim/state_t.hpp>
+
+#include "net_client.hpp"
+
+namespace groundsim::cli {
+
+// Exit codes of the network commands.
+inline constexpr int kExitRefused = 1;   // the server answered with an error
+inline constexpr int kExitNoServer = 2;  // no reply, or LCM could not be opened
+inline constexpr int kExitLoss = 3;      // `log`: messages were lost
+
+struct NetOptions {
+  std::string url;
+  double timeout = 2.0;      // s to wait for a reply
+  std::string token_file;    // "" : defaultTokenFile()
+  std::string token;         // explicit token, overrides the file
+};
+
+// --lcm-url and --timeout on every command; --token-file / --token on those
+// that need ownership (with_token).
+void addNetOptions(CLI::App* cmd, NetOptions& o, bool with_token);
+// The explicit --token, else the token file's entry, else "" (the server
+// then refuses, naming the reason).
+std::string tokenFor(const NetOptions& o, const std::string& session_id);
+
+// Prints "groundsim: message" on stderr and ends the command with `code`.
+[[noreturn]] void fail(int code, const std::string& message);
+// Runs a command body, turning NetError into kExitNoServer.
+void guarded(const std::function<void()>& body);
+
+const char* modeName(int mode);
+const char* statusName(int status);
+int modeFromName(const std::string& name);  // 0 if unknown
+bool isFinal(int status);                   // finished, diverged or stopped
+
+// SIGINT/SIGTERM end the long-running commands (watch, log, drive) cleanly.
+void installStopSignals();
+bool stopRequested();
+
+// One line: "t=1.2 tick=24000 running car: x=.. speed=.. m/s".
+std::string stateLine(const groundsim::state_t& s);
+
+void registerSessionCommands(CLI::App& app);  // create list stop reset pause resume mode step
+void registerWatchCommand(CLI::App& app);
+void registerLogCommand(CLI::App& app);
+void registerDriveCommand(CLI::App& app);
+
+}  // namespace groundsim::cli

@@ -1,0 +1,72 @@
+// `groundsim watch SESSION`: live state on the terminal. On a terminal one
+// line is redrawn (at most 10 times a second); otherwise every state is
+// printed on its own line, so the output can be piped or tested.
+#include <chrono>
+#include <cstdio>
+
+#include <unistd.h>
+
+#include "channels.hpp"
+#include "codec.hpp"
+#include "net_commands.hpp"
+
+namespace groundsim::cli {
+
+void registerWatchCommand(CLI::App& app) {
+  struct Opts {
+    NetOptions net;
+    std::string session;
+    long long count = 0;
+    double duration = 0.0;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("watch", "show a session's state as it is published");
+  cmd->add_option("SESSION", o->session, "session id")->required();
+  cmd->add_option("--count", o->count, "stop after this many states (0: no limit)")->capture_default_str();
+  cmd->add_option("--duration", o->duration, "stop after this many wall seconds (0: no limit)")->capture_default_str();
+  addNetOptions(cmd, o->net, false);
+  cmd->callback([o] {
+    guarded([&] {
+      installStopSignals();
+      NetClient client(o->net.url, /*deep_receive=*/true);
+      const bool tty = ::isatty(STDOUT_FILENO);
+      long long received = 0, lost = 0;
+      long long last_seq = -1;
+      bool ended = false;
+      auto last_draw = std::chrono::steady_clock::time_point{};
+      groundsim::state_t latest;
+      auto handler = [&](const lcm::ReceiveBuffer* rbuf, const std::string&) {
+        groundsim::state_t m;
+        if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.state_t").ok()) return;
+        if (last_seq >= 0 && m.seq > last_seq + 1) lost += m.seq - last_seq - 1;
+        last_seq = std::max<long long>(last_seq, m.seq);
+        ++received;
+        ended = isFinal(m.status);
+        const auto now = std::chrono::steady_clock::now();
+        if (!tty) {
+          std::printf("%s\n", stateLine(m).c_str());
+          std::fflush(stdout);
+        } else if (ended || now - last_draw > std::chrono::milliseconds(100)) {
+          std::printf("\r\033[K%s", stateLine(m).c_str());
+          std::fflush(stdout);
+          last_draw = now;
+        }
+      };
+      auto* sub = client.lcm().subscribeFunction(
+          net::stateChannel(o->session),
+          +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(handler)* h) { (*h)(rbuf, ch); },
+          &handler);
+      sub->setQueueCapacity(net::kDeepQueue);
+      const auto start = std::chrono::steady_clock::now();
+      while (!stopRequested() && !ended && (o->count <= 0 || received < o->count)) {
+        if (o->duration > 0 && std::chrono::steady_clock::now() - start > std::chrono::duration<double>(o->duration))
+          break;
+        client.lcm().handleTimeout(100);
+      }
+      if (tty) std::printf("\n");
+      std::fprintf(stderr, "watch %s: %lld states received, %lld lost\n", o->session.c_str(), received, lost);
+    });
+  });
+}
+
+}  // namespace groundsim::cli
