@@ -108,7 +108,7 @@ void LcmServer::run(const std::atomic<bool>& stop) {
   auto next_beat = steady_clock::now();
   while (!stop.load()) {
     // short timeout so that a signal is noticed promptly
-    if (lcm_.handleTimeout(100) < 0) {
+    if (lcm_.handleTimeout(100) < 0 && !stop.load()) {  // a signal interrupts the wait: not an error
       std::fprintf(stderr, "groundsim-server: LCM receive error on %s\n", url_.c_str());
       std::this_thread::sleep_for(milliseconds(100));
     }
