@@ -4,22 +4,35 @@
 
 namespace groundsim {
 
+__attribute__((target_clones("arch=x86-64-v3", "default")))
 void accumulateBodyForces(const Model& m, const Eigen::VectorXd& /*y*/, Workspace& ws) {
   const Vec3& g = m.opt.gravity;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     ws.body_force[i] = m.bodies[i].mass * g;
     ws.body_torque[i].setZero();
   }
-  for (size_t j = 0; j < m.particles.size(); ++j) ws.particle_force[j] = m.particles[j].mass * g;
-  for (size_t k = 0; k < m.points.size(); ++k) {
-    const Point& pt = m.points[k];
-    const Vec3& f = ws.f_spring[k];
-    if (pt.body >= 0) {
-      ws.body_force[pt.body] += f;
-      ws.body_torque[pt.body] += (ws.point_pos[k] - ws.com[pt.body]).cross(f);
-    } else {
-      ws.particle_force[pt.particle] += f;
+  for (size_t j = 0; j < m.particles.size(); ++j)
+    ws.particle_force[j] = m.particles[j].mass * g + ws.springForce(m.particle_points[j]);
+  // sum f and (p - c) x f over each body's points (a vectorisable reduction)
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const double cx = ws.com[i].x(), cy = ws.com[i].y(), cz = ws.com[i].z();
+    double Fx = 0, Fy = 0, Fz = 0, Tx = 0, Ty = 0, Tz = 0;
+    const double *px = ws.px.data(), *py = ws.py.data(), *pz = ws.pz.data();
+    const double *fxs = ws.fx.data(), *fys = ws.fy.data(), *fzs = ws.fz.data();
+    const int kb = m.body_point_begin[i], ke = m.body_point_end[i];
+#pragma omp simd reduction(+ : Fx, Fy, Fz, Tx, Ty, Tz)
+    for (int k = kb; k < ke; ++k) {
+      const double rx = px[k] - cx, ry = py[k] - cy, rz = pz[k] - cz;
+      const double fx = fxs[k], fy = fys[k], fz = fzs[k];
+      Fx += fx;
+      Fy += fy;
+      Fz += fz;
+      Tx += ry * fz - rz * fy;
+      Ty += rz * fx - rx * fz;
+      Tz += rx * fy - ry * fx;
     }
+    ws.body_force[i] += Vec3(Fx, Fy, Fz);
+    ws.body_torque[i] += Vec3(Tx, Ty, Tz);
   }
   for (int i = 0; i < ws.ncontacts; ++i) {
     const Contact& c = ws.contacts[i];

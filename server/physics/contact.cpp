@@ -54,23 +54,26 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
   ws.ncontacts = 0;
   ws.max_depth = 0.0;
   const double L = m.ground->gradientBound();
-  // broad phase: H(centre) > L * radius proves the whole ball is above the
-  // ground, so none of the body's points (or its wheel circle) can touch
+  Vec3 g;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
-    ws.body_far[i] = 0;
-    if (std::isfinite(L)) {
-      Vec3 g;
-      ws.body_far[i] = m.ground->eval(ws.com[i], &g) > L * m.bodies[i].bound_radius * 1.000001;
-    }
+    const Body& b = m.bodies[i];
+    // broad phase: H(centre) > L * radius proves the whole ball is above the
+    // ground, so none of the body's points (nor its wheel circle) can touch
+    ws.body_far[i] = !b.has_contact_points ||
+                     (std::isfinite(L) &&
+                      m.ground->eval(ws.com[i], &g) > L * b.bound_radius * 1.000001);
+    if (ws.body_far[i]) continue;
+    const int begin = m.body_point_begin[i], end = m.body_point_end[i];
+    m.ground->heights(ws.px.data(), ws.py.data(), ws.pz.data(), begin, end, ws.H.data());
+    for (int k = begin; k < end; ++k)
+      if (ws.H[k] < 0.0 && m.points[k].contact)
+        addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, static_cast<int>(i), -1, m.points[k].wheel,
+                   ws.com[i]);
   }
-  for (int k : m.contact_points) {
-    const Point& pt = m.points[k];
-    if (pt.body >= 0) {
-      if (ws.body_far[pt.body]) continue;
-      addContact(m, ws, ws.point_pos[k], ws.point_vel[k], k, pt.body, -1, pt.wheel, ws.com[pt.body]);
-    } else {
-      addContact(m, ws, ws.point_pos[k], ws.point_vel[k], k, -1, pt.particle, -1, ws.point_pos[k]);
-    }
+  for (size_t j = 0; j < m.particles.size(); ++j) {
+    const int k = m.particle_points[j];
+    if (m.particles[j].contact)
+      addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, -1, static_cast<int>(j), -1, ws.pointPos(k));
   }
   for (size_t w = 0; w < m.wheels.size(); ++w) {
     const Wheel& wh = m.wheels[w];

@@ -35,7 +35,7 @@ Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
     e.gravity -= m.particles[j].mass * m.opt.gravity.dot(s.y.segment<3>(o));
   }
   for (const Spring& sp : m.springs) {
-    const Vec3 d = ws.point_pos[sp.b] - ws.point_pos[sp.a];
+    const Vec3 d = ws.pointPos(sp.b) - ws.pointPos(sp.a);
     const double stretch = sp.isotropic ? d.norm() : d.norm() - sp.rest_length;
     e.spring += 0.5 * sp.stiffness * stretch * stretch;
   }

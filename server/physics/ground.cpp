@@ -5,6 +5,12 @@
 #include <sstream>
 
 namespace groundsim {
+void Ground::heights(const double* x, const double* y, const double* z, int begin, int end,
+                     double* H) const {
+  Vec3 g;
+  for (int k = begin; k < end; ++k) H[k] = eval(Vec3(x[k], y[k], z[k]), &g);
+}
+
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -15,6 +21,11 @@ class Plane final : public Ground {
   double eval(const Vec3& p, Vec3* grad) const override {
     *grad = n_;
     return n_.dot(p) - offset_;
+  }
+  void heights(const double* x, const double* y, const double* z, int begin, int end,
+               double* H) const override {
+    const double a = n_.x(), b = n_.y(), c = n_.z(), d = offset_;
+    for (int k = begin; k < end; ++k) H[k] = a * x[k] + b * y[k] + c * z[k] - d;
   }
   double gradientBound() const override { return 1.0; }
   std::string describe() const override {

@@ -17,6 +17,11 @@ class Ground {
   virtual ~Ground() = default;
   // H at p; writes grad H at p into *grad.
   virtual double eval(const Vec3& p, Vec3* grad) const = 0;
+  // H at points [begin, end) of the arrays, without gradients: the contact
+  // test for many points at once (analytic grounds override it with a loop
+  // the compiler vectorises).
+  virtual void heights(const double* x, const double* y, const double* z, int begin, int end,
+                       double* H) const;
   // An upper bound on |grad H| over all space, or +inf when none is known.
   // With it, H(c) > L * r proves a ball of radius r about c is above the
   // ground, so its points need no contact evaluation (broad phase).

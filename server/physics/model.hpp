@@ -115,6 +115,18 @@ struct Model {
   std::vector<Spring> springs;
   std::vector<Wheel> wheels;
   std::vector<int> contact_points;  // indices of points with contact = true
+  // derived at build, for the hot loops: a body's points are contiguous
+  std::vector<int> body_point_begin, body_point_end;  // (nbody)
+  std::vector<int> steered_points;    // points that turn with a wheel's steering
+  std::vector<int> particle_points;   // point index of each particle
+  // Springs [first, first + count) whose `a` points are consecutive and
+  // whose `b` point is shared (a wheel rim fanned out to one axle point):
+  // their loop runs over contiguous arrays and vectorises. The rest go one
+  // by one.
+  struct SpringFan { int first = 0, count = 0, a0 = 0, b = 0; };
+  std::vector<SpringFan> spring_fans;
+  std::vector<int> loose_springs;
+  std::vector<double> spring_k, spring_c, spring_rest;  // (nspring) copies for the fan loop
   std::vector<std::string> vehicle_names;
   std::vector<int> vehicle_of_wheel;  // which vehicle each wheel belongs to
   std::vector<int> vehicle_body;      // the chassis body of each vehicle

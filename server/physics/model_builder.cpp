@@ -141,8 +141,47 @@ void ModelBuilder::setVehicleBody(int body) { m_.vehicle_body.at(current_vehicle
 
 BuiltModel ModelBuilder::build() {
   m_.contact_points.clear();
-  for (int k = 0; k < static_cast<int>(m_.points.size()); ++k)
+  m_.steered_points.clear();
+  m_.body_point_begin.assign(m_.bodies.size(), 0);
+  m_.body_point_end.assign(m_.bodies.size(), 0);
+  m_.particle_points.assign(m_.particles.size(), -1);
+  for (int k = static_cast<int>(m_.points.size()) - 1; k >= 0; --k) {
+    const Point& p = m_.points[k];
+    if (p.body >= 0) {
+      m_.body_point_begin[p.body] = k;
+      if (m_.body_point_end[p.body] == 0) m_.body_point_end[p.body] = k + 1;
+    } else {
+      m_.particle_points[p.particle] = k;
+    }
+  }
+  m_.spring_fans.clear();
+  m_.loose_springs.clear();
+  m_.spring_k.clear();
+  m_.spring_c.clear();
+  m_.spring_rest.clear();
+  for (int i = 0; i < static_cast<int>(m_.springs.size());) {
+    const Spring& s0 = m_.springs[i];
+    int n = 1;
+    while (!s0.isotropic && i + n < static_cast<int>(m_.springs.size()) &&
+           !m_.springs[i + n].isotropic && m_.springs[i + n].b == s0.b &&
+           m_.springs[i + n].a == s0.a + n)
+      ++n;
+    if (n >= 4) {
+      m_.spring_fans.push_back({i, n, s0.a, s0.b});
+    } else {
+      for (int k = 0; k < n; ++k) m_.loose_springs.push_back(i + k);
+    }
+    i += n;
+  }
+  for (const Spring& sp : m_.springs) {
+    m_.spring_k.push_back(sp.stiffness);
+    m_.spring_c.push_back(sp.damping);
+    m_.spring_rest.push_back(sp.rest_length);
+  }
+  for (int k = 0; k < static_cast<int>(m_.points.size()); ++k) {
     if (m_.points[k].contact) m_.contact_points.push_back(k);
+    if (m_.points[k].steer_wheel >= 0) m_.steered_points.push_back(k);
+  }
   State s;
   s.y.resize(m_.stateSize());
   for (size_t i = 0; i < y_.size(); ++i) s.y[static_cast<Eigen::Index>(i)] = y_[i];

@@ -124,8 +124,10 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
 
     const int axle0 = first_axle + 2 * w;  // +a side, then -a side
     if (p.coupling == WheelCoupling::RimSprings) {
-      for (int k = 0; k < p.rim_points; ++k)
-        for (int s = 0; s < 2; ++s) {
+      // axle point outer, rim point inner: each axle's springs form a fan
+      // the force loop runs over contiguously
+      for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < p.rim_points; ++k) {
           Spring sp;
           sp.a = first_rim + k;
           sp.b = axle0 + s;

@@ -10,9 +10,12 @@ Workspace::Workspace(const Model& m) {
   com.assign(nb, Vec3::Zero());
   vel.assign(nb, Vec3::Zero());
   omega.assign(nb, Vec3::Zero());
-  point_pos.assign(np, Vec3::Zero());
-  point_vel.assign(np, Vec3::Zero());
-  f_spring.assign(np, Vec3::Zero());
+  for (auto* v : {&lx, &ly, &lz, &px, &py, &pz, &ux, &uy, &uz, &fx, &fy, &fz, &H}) v->assign(np, 0.0);
+  for (size_t k = 0; k < np; ++k) {
+    lx[k] = m.points[k].local.x();
+    ly[k] = m.points[k].local.y();
+    lz[k] = m.points[k].local.z();
+  }
   body_far.assign(nb, 0);
   contacts.assign(m.contact_points.size() + nw, Contact{});
   body_force.assign(nb, Vec3::Zero());

@@ -37,12 +37,18 @@ struct Workspace {
   std::vector<Vec3> com;               // (nbody) m, centre of mass
   std::vector<Vec3> vel;               // (nbody) m/s
   std::vector<Vec3> omega;             // (nbody) rad/s, world
-  std::vector<Vec3> point_pos;         // (npoint) m
-  std::vector<Vec3> point_vel;         // (npoint) m/s
+  // points as structure of arrays so the per-body loops vectorise
+  std::vector<double> lx, ly, lz;      // (npoint) m, body-frame offsets (steering applied)
+  std::vector<double> px, py, pz;      // (npoint) m, world position
+  std::vector<double> ux, uy, uz;      // (npoint) m/s, world velocity
+  std::vector<double> H;               // (npoint) ground function at the point
+  Vec3 pointPos(int k) const { return Vec3(px[k], py[k], pz[k]); }
+  Vec3 pointVel(int k) const { return Vec3(ux[k], uy[k], uz[k]); }
+  Vec3 springForce(int k) const { return Vec3(fx[k], fy[k], fz[k]); }
   std::vector<unsigned char> body_far; // (nbody) broad phase: provably above the ground
 
   // forces (report section 4.2), each kind in its own buffer
-  std::vector<Vec3> f_spring;          // (npoint) N
+  std::vector<double> fx, fy, fz;      // (npoint) N, spring forces
   std::vector<Contact> contacts;       // capacity: contact points + wheels
   int ncontacts = 0;
   std::vector<Vec3> body_force;        // (nbody) N, total
