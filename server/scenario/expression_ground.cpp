@@ -47,15 +47,17 @@ double ExpressionGround::value(const Vec3& p) const {
 }
 
 // Fourth-order central difference (-f(2h) + 8 f(h) - 8 f(-h) + f(-2h)) / 12h.
-// Truncation error ~ h^4 |f'''''| / 30 and rounding ~ 1.5 eps |f| / h balance
-// at h ~ eps^(1/5) ~ 7e-4 in units of the coordinate's scale; we take the
-// power of two 2^-10 (~1e-3) times the coordinate's binade so that p +- h is
-// exact and the stencil symmetric. Both errors are then ~1e-13 relative for
-// grounds varying on metre scales.
+// Truncation error ~ h^4 |d5H| / 30 and rounding ~ 1.5 eps |H| / h balance
+// at h ~ eps^(1/5) L ~ 7e-4 L for a ground whose features have length L.
+// Grounds for vehicles vary on metre scales, so h is fixed at 2^-10 m
+// (~1e-3): a power of two keeps p +- h exact (for |p| < 2^42 m) and the
+// stencil symmetric. The step must not grow with |p|: a ripple far from the
+// origin is as fine as one near it (cos x at x = 1000 with h scaled to |x|
+// would be off by 1e-3). Both errors are then ~1e-13 for metre-scale
+// grounds; coordinates near 1e4 m add ~1e-9 from the rounding of x itself.
 double ExpressionGround::partial(const Vec3& p, int axis) const {
+  constexpr double h = 0x1p-10;
   const double c = p[axis];
-  const int e = std::max(0, std::ilogb(std::max(std::abs(c), 1.0)));
-  const double h = std::ldexp(1.0, e - 10);
   Vec3 q = p;
   auto at = [&](double offset) {
     q[axis] = c + offset;

@@ -3,7 +3,7 @@
 // The text is parsed once, at construction; eval() only runs muParser's
 // bytecode. The gradient comes from fourth-order central differences (see
 // expression_ground.cpp for the step choice), accurate to about 1e-12
-// relative for smooth H, far below what the contact force can notice.
+// relative for smooth H varying on metre scales, far below what the contact force can notice.
 //
 // eval() is const but writes the parser's variables: like every Ground, one
 // instance serves one model, stepped by one thread at a time.
