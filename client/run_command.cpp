@@ -77,7 +77,13 @@ class Progress {
 };
 
 void printIssues(const std::string& file, const scenario::ScenarioError& e) {
-  for (const scenario::Issue& i : e.issues()) std::cerr << "error: " << file << ": " << i.str() << "\n";
+  for (const scenario::Issue& i : e.issues()) {
+    // file-level problems (missing, empty, malformed) already name the file
+    if (i.path.empty() && i.message.find(file) != std::string::npos)
+      std::cerr << "error: " << i.message << "\n";
+    else
+      std::cerr << "error: " << file << ": " << i.str() << "\n";
+  }
 }
 
 // Frames at t = k / rate, each at the step nearest to it.
