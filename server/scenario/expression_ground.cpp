@@ -72,6 +72,16 @@ double ExpressionGround::eval(const Vec3& p, Vec3* grad) const {
   return value(p);
 }
 
+void ExpressionGround::heights(const double* x, const double* y, const double* z, int begin, int end,
+                               double* H) const {
+  for (int k = begin; k < end; ++k) {
+    x_ = x[k];
+    y_ = y[k];
+    z_ = z[k];
+    H[k] = parser_.Eval();
+  }
+}
+
 std::string ExpressionGround::describe() const { return "expression H(x,y,z) = " + text_; }
 
 std::optional<std::string> refuteGradientBound(const ExpressionGround& g, double bound) {

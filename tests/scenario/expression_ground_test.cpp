@@ -69,3 +69,19 @@ TEST(ExpressionGround, GradientBoundIsKeptAndChecked) {
 
 }  // namespace
 }  // namespace groundsim::scenario::test
+
+namespace groundsim::scenario::test {
+namespace {
+
+TEST(ExpressionGround, BatchHeightsEqualPointwiseValues) {
+  const ExpressionGround g("z - 0.3*sin(x)*cos(y)");
+  const double x[] = {0.0, 1.0, -2.5, 7.0}, y[] = {0.5, -1.0, 3.0, 0.0}, z[] = {0.1, -0.2, 0.0, 2.0};
+  double H[4] = {-1, -1, -1, -1};
+  g.heights(x, y, z, 1, 4, H);
+  EXPECT_EQ(H[0], -1.0);  // outside [begin, end): untouched
+  Vec3 grad;
+  for (int k = 1; k < 4; ++k) EXPECT_EQ(H[k], g.eval(Vec3(x[k], y[k], z[k]), &grad)) << k;
+}
+
+}  // namespace
+}  // namespace groundsim::scenario::test
