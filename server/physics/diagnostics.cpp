@@ -19,7 +19,7 @@ const char* healthName(Health h) {
 }
 
 Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
-  computeKinematics(m, s.y, s.controls, ws);
+  computeKinematics(m, s.y, s.applied, ws);
   detectGroundContacts(m, ws);
   Energy e;
   const int nb = static_cast<int>(m.bodies.size());

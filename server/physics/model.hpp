@@ -29,7 +29,7 @@ struct ContactParams {
   double friction = 0.5;           // -        Coulomb mu
   FrictionModel friction_model = FrictionModel::StickSlip;
   double slip_velocity = 0.01;     // m/s      regularisation scale v_s
-  int friction_iterations = 4;     // -        Gauss-Seidel sweeps over contacts and brakes
+  int friction_iterations = 50;    // -        most Gauss-Seidel sweeps over contacts and brakes (stops once converged)
 };
 
 // Bounds beyond which a run is declared diverged (see health.hpp).
@@ -102,6 +102,7 @@ struct Wheel {
   WheelContact contact = WheelContact::RimPoints;
   bool steerable = false;
   double max_steer = 0.0;          // rad
+  double steer_rate = 1.0;         // rad/s   fastest change of the steering angle
   int first_point = 0;             // its rim points: [first_point, first_point + rim_points)
   int rim_points = 0;
 };

@@ -191,6 +191,7 @@ BuiltModel ModelBuilder::build() {
     s.y.segment<3>(particleOffset(nb, j) + 3) = particle_vel_[j];
   }
   s.controls.assign(m_.wheels.size(), WheelControl{});
+  s.applied = s.controls;
   s.h_next = m_.opt.dt;
   return {std::make_shared<const Model>(m_), std::move(s)};
 }

@@ -8,7 +8,7 @@
 namespace groundsim {
 
 void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double h) {
-  computeForces(m, s.y, s.controls, h, ws);
+  computeForces(m, s.y, s.applied, h, ws);
   ++evaluations;
   s.drive_work += h * ws.drive_power;
   const int nb = static_cast<int>(m.bodies.size());
@@ -17,10 +17,20 @@ void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double 
     auto L = bodyMom(s.y, i);
     v += h * ws.body_force[i] / m.bodies[i].mass;  // (18)
     L += h * ws.body_torque[i];                     // (20)
-    const Vec3 omega = ws.inv_inertia_world[i] * L; // (21), I rotated to now
     bodyPos(s.y, i) += h * v;                       // (19)
+    // (21) and (11)-(12): rotate by the angular velocity at the half-step
+    // orientation (implicit midpoint, two fixed-point passes). With the
+    // inertia of the start of the step only, a free body's energy drifts and
+    // its precession runs fast; the midpoint rule is symmetric and does not.
     auto q = bodyRot(s.y, i);
-    q = integrateRotation(Quat(q), omega, h);       // (11)-(12)
+    const Quat q0(q);
+    const Mat3& Ib_inv = m.bodies[i].inv_inertia;
+    Vec3 omega = ws.inv_inertia_world[i] * L;
+    for (int pass = 0; pass < 2; ++pass) {
+      const Mat3 Rm = integrateRotation(q0, omega, 0.5 * h).toRotationMatrix();
+      omega = Rm * (Ib_inv * (Rm.transpose() * L));
+    }
+    q = integrateRotation(q0, omega, h);
   }
   for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
     const int o = particleOffset(nb, j);

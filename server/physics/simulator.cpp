@@ -1,5 +1,7 @@
 #include "simulator.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace groundsim {
@@ -10,7 +12,23 @@ Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
   if (state_.y.size() != model_->stateSize())
     throw std::invalid_argument("state size does not match the model");
   state_.controls.resize(model_->wheels.size());
+  state_.applied.resize(model_->wheels.size());
   if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+}
+
+void applyControls(const Model& m, double dt, State& s) {
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const Wheel& wh = m.wheels[w];
+    const WheelControl& c = s.controls[w];
+    WheelControl& a = s.applied[w];
+    a.drive_torque = std::isfinite(c.drive_torque) ? c.drive_torque : 0.0;
+    a.brake_torque = std::isfinite(c.brake_torque) ? std::max(c.brake_torque, 0.0) : 0.0;
+    const double target = wh.steerable && std::isfinite(c.steer)
+                              ? std::clamp(c.steer, -wh.max_steer, wh.max_steer)
+                              : 0.0;
+    const double most = wh.steer_rate * dt;
+    a.steer += std::clamp(target - a.steer, -most, most);
+  }
 }
 
 bool Simulator::step() {
@@ -20,6 +38,7 @@ bool Simulator::step() {
   const double t0 = state_.t;
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
+  applyControls(m, m.opt.dt, state_);
   for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt

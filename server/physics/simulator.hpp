@@ -13,6 +13,9 @@
 
 namespace groundsim {
 
+// Turns commands into what the actuators apply this step (see State::applied).
+void applyControls(const Model& m, double dt, State& s);
+
 class Simulator {
  public:
   Simulator(std::shared_ptr<const Model> model, State initial);

@@ -34,7 +34,12 @@ struct State {
   double h_next = 0.0;         // s     adaptive integrator's next trial step
   double drive_work = 0.0;     // J     work done by drive torques (energy bookkeeping)
   double initial_energy = 0.0; // J
-  std::vector<WheelControl> controls;
+  std::vector<WheelControl> controls;  // as commanded
+  // as applied this step: drive and brake as commanded (brake >= 0), the
+  // steering angle clamped to the wheel's range and moved towards the
+  // command at the wheel's steering rate (an instant turn would snap the
+  // axle points and fling the rim springs)
+  std::vector<WheelControl> applied;
   Health health = Health::Ok;
   std::string health_reason;
 };

@@ -155,6 +155,7 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
     wh.contact = p.wheel_contact;
     wh.steerable = w < 2 && p.max_steer > 0.0;
     wh.max_steer = p.max_steer;
+    wh.steer_rate = p.steer_rate;
     wh.first_point = first_rim;
     wh.rim_points = p.rim_points;
     h.wheels[w] = b.addWheel(wh);

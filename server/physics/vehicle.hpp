@@ -30,6 +30,7 @@ struct CarParams {
   double bearing_stiffness = 1e5;   // N/m    per bearing spring
   double bearing_damping = 20.0;    // N s/m  per bearing spring
   double max_steer = 0.6;           // rad    front wheels
+  double steer_rate = 1.0;          // rad/s  fastest steering change
   bool body_contact = true;         // -      axle points touch the ground too (rollover)
 };
 

@@ -61,7 +61,10 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
   }
   for (auto& b : ws.brake_impulse) b = 0.0;
 
+  // sweep until the impulses stop changing: a fixed small count leaves a
+  // residual slip every step, which integrates into creep
   for (int iter = 0; iter < m.opt.contact.friction_iterations; ++iter) {
+    double change = 0.0, total = 0.0;
     for (size_t w = 0; w < m.wheels.size(); ++w) {
       const double B = controls[w].brake_torque;
       if (!(B > 0.0)) continue;
@@ -72,10 +75,12 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
       const double acc = std::clamp(ws.brake_impulse[w] - spin / (a.dot(ia) + a.dot(ic)), -B * h, B * h);
       const double d = acc - ws.brake_impulse[w];
       ws.brake_impulse[w] = acc;
+      change += std::abs(d);
+      total += std::abs(acc);
       ws.w_pred[wh.body] += d * ia;
       ws.w_pred[wh.carrier] -= d * ic;
     }
-    if (!stick) continue;
+    if (stick) {
     for (int i = 0; i < ws.ncontacts; ++i) {
       Contact& c = ws.contacts[i];
       const Vec3 u = c.body >= 0 ? Vec3(ws.v_pred[c.body] + ws.w_pred[c.body].cross(c.r))
@@ -84,9 +89,17 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
       Eigen::Vector2d acc = c.impulse - c.k_inv * ut;
       const double limit = mu * c.normal * h;
       const double an = acc.norm();
-      if (an > limit) acc *= limit / an;  // Coulomb cone: slide at mu N
+      if (an > limit) {
+        // sliding: mu N opposite the slip (maximum dissipation). Scaling the
+        // stick impulse onto the disc instead would tilt the force off the
+        // slip wherever rotation couples the two tangent directions.
+        const double un = ut.norm();
+        acc = un > 1e-12 ? Eigen::Vector2d(-limit / un * ut) : Eigen::Vector2d(acc * (limit / an));
+      }
       const Eigen::Vector2d d = acc - c.impulse;
       c.impulse = acc;
+      change += d.lpNorm<1>();
+      total += acc.lpNorm<1>();
       const Vec3 J = d.x() * c.t1 + d.y() * c.t2;
       if (c.body >= 0) {
         ws.v_pred[c.body] += J / m.bodies[c.body].mass;
@@ -95,6 +108,8 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
         ws.pv_pred[c.particle] += J / m.particles[c.particle].mass;
       }
     }
+    }
+    if (change <= 1e-13 * total) break;  // converged to round-off
   }
 
   // impulses over the step become forces for the integrator and telemetry

@@ -1,0 +1,107 @@
+// Two point masses joined by a spring, in space.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "physics/diagnostics.hpp"
+#include "scenes.hpp"
+
+using namespace groundsim;
+using namespace groundsim::test;
+
+namespace {
+
+struct Pair {
+  BuiltModel built;
+  double omega;  // sqrt(k / reduced mass)
+};
+
+Pair springPair(double h, double k, double c, double m1, double m2, double stretch) {
+  ModelBuilder b(spaceOptions(h), farGround());
+  const int a = b.addParticle(m1, Vec3(0, 0, 0), Vec3::Zero(), false);
+  const int q = b.addParticle(m2, Vec3(1.0 + stretch, 0, 0), Vec3::Zero(), false);
+  Spring s;
+  s.a = a;
+  s.b = q;
+  s.stiffness = k;
+  s.damping = c;
+  s.rest_length = 1.0;
+  b.addSpring(s);
+  return {b.build(), std::sqrt(k * (m1 + m2) / (m1 * m2))};
+}
+
+double separation(const Simulator& s) { return s.state().y[6] - s.state().y[0]; }
+
+// Mean period from upward zero crossings of the stretch, linearly interpolated.
+double measuredPeriod(Simulator& sim, double duration) {
+  std::vector<double> crossings;
+  double prev = separation(sim) - 1.0, tprev = sim.state().t;
+  while (sim.state().t < duration) {
+    sim.step();
+    const double x = separation(sim) - 1.0, t = sim.state().t;
+    if (prev < 0 && x >= 0) crossings.push_back(tprev + (t - tprev) * (-prev) / (x - prev));
+    prev = x;
+    tprev = t;
+  }
+  return (crossings.back() - crossings.front()) / (crossings.size() - 1);
+}
+
+}  // namespace
+
+TEST(Spring, FrequencyMatchesTheSymplecticEulerDispersionRelation) {
+  // symplectic Euler oscillates at (2/h) asin(omega h / 2), not omega
+  const double h = 5e-3;  // omega h = 0.18
+  auto p = springPair(h, 1000.0, 0.0, 1.0, 3.0, 0.01);
+  Simulator sim(p.built.model, p.built.initial);
+  const double T = measuredPeriod(sim, 20.0);
+  const double discrete = 2.0 / h * std::asin(p.omega * h / 2.0);
+  EXPECT_NEAR(2 * kPi / T, discrete, 2e-4 * discrete);
+  EXPECT_GT(std::abs(discrete - p.omega), 1e-3 * p.omega);  // the two really differ here
+}
+
+TEST(Spring, UndampedEnergyStaysBoundedWithoutDrift) {
+  auto p = springPair(1e-3, 5000.0, 0.0, 0.5, 0.5, 0.05);
+  Simulator sim(p.built.model, p.built.initial);
+  const double e0 = sim.energy().total();
+  double lo = e0, hi = e0;
+  for (int i = 0; i < 200; ++i) {
+    sim.step(100);
+    const double e = sim.energy().total();
+    lo = std::min(lo, e);
+    hi = std::max(hi, e);
+  }
+  // symplectic: the energy error oscillates at O(omega h), it does not grow
+  const double wh = p.omega * 1e-3;
+  EXPECT_LT((hi - lo) / e0, 1.5 * wh);
+  EXPECT_NEAR(sim.energy().total(), e0, 1.5 * wh * e0);
+}
+
+TEST(Spring, DashpotDissipatesAtTheDampedRate) {
+  // amplitude decays as exp(-zeta omega t); zeta = c / (2 sqrt(k mu))
+  const double k = 1000.0, c = 2.0, m = 1.0;  // mu = 0.5
+  auto p = springPair(1e-4, k, c, m, m, 0.01);
+  Simulator sim(p.built.model, p.built.initial);
+  const double zeta = c / (2.0 * std::sqrt(k * 0.5));
+  const double e0 = sim.energy().total();
+  sim.step(10000);  // 1 s
+  // energy ~ amplitude^2, averaged over a period the decay is exp(-2 zeta omega t)
+  const double expected = e0 * std::exp(-2.0 * zeta * p.omega * 1.0);
+  EXPECT_NEAR(sim.energy().total(), expected, 0.05 * expected);
+}
+
+TEST(Spring, InternalForcesConserveMomentum) {
+  auto p = springPair(1e-3, 800.0, 3.0, 1.0, 2.0, 0.2);
+  State s0 = p.built.initial;
+  s0.y.segment<3>(3) = Vec3(0.3, -1.0, 0.5);  // give them different velocities
+  s0.y.segment<3>(9) = Vec3(-0.2, 0.4, 1.0);
+  Simulator sim(p.built.model, s0);
+  const Vec3 P0 = linearMomentum(sim.model(), sim.state());
+  const Vec3 L0 = angularMomentum(sim.model(), sim.state());
+  sim.step(3000);
+  EXPECT_LT((linearMomentum(sim.model(), sim.state()) - P0).norm(), 1e-12);
+  // symplectic Euler conserves angular momentum exactly for central forces:
+  // x_{n+1} x v_{n+1} = x_n x v_{n+1}, and sum x_i x F_i = 0
+  EXPECT_GT(L0.norm(), 0.1);
+  EXPECT_LT((angularMomentum(sim.model(), sim.state()) - L0).norm(), 1e-12 * L0.norm());
+}

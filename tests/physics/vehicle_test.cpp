@@ -1,0 +1,165 @@
+// The car: momentum bookkeeping of drive and brake, rolling on an incline
+// against the analytic acceleration, and the report's four experiments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "physics/diagnostics.hpp"
+#include "physics/telemetry.hpp"
+#include "scenes.hpp"
+
+using namespace groundsim;
+using namespace groundsim::test;
+
+namespace {
+
+// a = g sin(theta) M / (M + sum I_w / r^2) for the report's car (ring wheels)
+double rollingAcceleration(double theta) { return 9.8 * std::sin(theta) * 1.4 / 1.8; }
+
+// Least-squares slope of the chassis speed over [t0, t1].
+double fittedAcceleration(Simulator& sim, double t0, double t1) {
+  double st = 0, sv = 0, stt = 0, stv = 0;
+  int n = 0;
+  const long long every = std::max<long long>(1, std::llround(0.01 / sim.model().opt.dt));
+  while (sim.state().t < t1 - 1e-12) {
+    sim.step(every);
+    if (sim.state().t < t0) continue;
+    const double t = sim.state().t, v = speedOf(sim);
+    st += t; sv += v; stt += t * t; stv += t * v; ++n;
+  }
+  return (n * stv - st * sv) / (n * stt - st * st);
+}
+
+}  // namespace
+
+TEST(Drive, TorqueHasAnEqualReactionSoAngularMomentumIsConserved) {
+  CarPlacement at;
+  at.on_ground = false;
+  auto built = reportCar(spaceOptions(1e-4), farGround(), {}, at);
+  Simulator sim(built.model, built.initial);
+  for (auto& c : sim.controls()) c.drive_torque = 2.0;
+  const Vec3 L0 = angularMomentum(sim.model(), sim.state());
+  ASSERT_TRUE(sim.step(20000));
+  // without the reaction, L would have grown by 4 * 2 N m * 2 s = 16 N m s
+  EXPECT_LT((angularMomentum(sim.model(), sim.state()) - L0).norm(), 1e-9);
+  EXPECT_LT(linearMomentum(sim.model(), sim.state()).norm(), 1e-9);
+  // and the wheels did spin up relative to the body
+  EXPECT_GT(sampleVehicle(sim, 0, false).wheels[0].spin, 1.0);
+}
+
+TEST(Drive, BrakeStopsTheRelativeSpinAndConservesMomentum) {
+  CarPlacement at;
+  at.on_ground = false;
+  at.wheel_spin = 5.0;
+  auto built = reportCar(spaceOptions(1e-4), farGround(), {}, at);
+  Simulator sim(built.model, built.initial);
+  for (auto& c : sim.controls()) c.brake_torque = 0.2;
+  const Vec3 L0 = angularMomentum(sim.model(), sim.state());
+  ASSERT_TRUE(sim.step(30000));
+  for (int w = 0; w < 4; ++w) EXPECT_NEAR(sampleVehicle(sim, 0, false).wheels[w].spin, 0.0, 1e-6);
+  EXPECT_LT((angularMomentum(sim.model(), sim.state()) - L0).norm(), 1e-9);
+}
+
+TEST(Rolling, ContinuousWheelsRollDownAnInclineAtTheAnalyticAcceleration) {
+  const double theta = 30 * kPi / 180;
+  Options o;
+  o.dt = 2e-4;
+  o.contact.friction = 0.9;
+  o.contact.damping = 20.0;
+  CarParams p;
+  p.wheel_contact = WheelContact::Circle;
+  p.coupling = WheelCoupling::Bearing;
+  auto built = reportCar(o, makeIncline(theta, Vec3::UnitX()), p);
+  Simulator sim(built.model, built.initial);
+  const double a = fittedAcceleration(sim, 0.5, 2.0);
+  EXPECT_NEAR(a, rollingAcceleration(theta), 0.005 * rollingAcceleration(theta));
+}
+
+// --- the report's experiments (section 5), with its car ---
+
+TEST(ReportExperiments, PlainGroundCarSpeedsUpThenCoasts) {
+  Options o;
+  o.contact.friction = 0.5;
+  CarPlacement at;
+  at.wheel_spin = 5.0;
+  auto built = reportCar(o, makePlane(Vec3::UnitZ(), 0), {}, at);
+  Simulator sim(built.model, built.initial);
+  ASSERT_TRUE(sim.step(10000));  // 0.5 s
+  const double early = speedOf(sim);
+  // the spinning wheels grip and throw the car forward: most of the
+  // no-slip speed 2 / 1.8 m/s is reached within half a second
+  EXPECT_GT(early, 0.5 * 1.1111);
+  double peak = early;
+  while (sim.state().t < 5.0) {
+    ASSERT_TRUE(sim.step(2000));
+    peak = std::max(peak, speedOf(sim));
+  }
+  // no drive: it never beats the angular momentum bound, and it is still
+  // rolling forward at the end
+  EXPECT_LT(peak, 1.1111 * 1.2);
+  EXPECT_GT(bodyVel(sim.state().y, 0).x(), 0.2);
+  EXPECT_GT(bodyPos(sim.state().y, 0).x(), 2.0);
+}
+
+TEST(ReportExperiments, DownhillCarAcceleratesSteadily) {
+  const double theta = kPi / 6;
+  Options o;
+  o.contact.friction = 0.9;
+  auto built = reportCar(o, makeIncline(theta, Vec3::UnitX()));
+  Simulator sim(built.model, built.initial);
+  double prev = 0;
+  for (int k = 1; k <= 8; ++k) {  // speed rises at every quarter second
+    ASSERT_TRUE(sim.step(5000));
+    EXPECT_GT(speedOf(sim), prev + 0.5);
+    prev = speedOf(sim);
+  }
+  // the 20-point polygon wheels roll a few percent slower than a true wheel
+  const double a = prev / sim.state().t;
+  EXPECT_NEAR(a, rollingAcceleration(theta), 0.05 * rollingAcceleration(theta));
+  EXPECT_GT(bodyVel(sim.state().y, 0).x(), 0);  // downhill is +x
+}
+
+TEST(ReportExperiments, UphillCarWithDriveTorqueAccelerates) {
+  const double theta = kPi / 18;
+  Options o;
+  o.contact.friction = 0.9;
+  o.contact.damping = 10.0;
+  CarPlacement at;
+  at.wheel_spin = 2.0;
+  auto built = reportCar(o, makeIncline(theta, -Vec3::UnitX()), {}, at);
+  Simulator sim(built.model, built.initial);
+  for (auto& c : sim.controls()) c.drive_torque = 1.5;
+  const double z0 = bodyPos(sim.state().y, 0).z();
+  ASSERT_TRUE(sim.step(40000));
+  const double v2 = bodyVel(sim.state().y, 0).x();
+  ASSERT_TRUE(sim.step(60000));
+  const double v5 = bodyVel(sim.state().y, 0).x();
+  EXPECT_GT(v2, 0.0);
+  EXPECT_GT(v5, v2 + 0.5);                              // accelerating up the slope
+  EXPECT_GT(bodyPos(sim.state().y, 0).z(), z0 + 1.0);   // and climbing
+}
+
+TEST(ReportExperiments, CosineCarFailsToClimbTheCrestAndSettlesInTheValley) {
+  Options o;
+  o.contact.friction = 0.5;
+  o.contact.damping = 20.0;
+  CarPlacement at;
+  at.position = Vec3(kPi, 0, 0);  // valley bottom of z = 0.5 cos x
+  at.wheel_spin = 5.0;
+  auto built = reportCar(o, makeCosineWave(0.5, 2 * kPi), {}, at);
+  Simulator sim(built.model, built.initial);
+  double xmax = -1e9, xmin = 1e9, vmax = 0, late_vmax = 0;
+  while (sim.state().t < 20.0) {
+    ASSERT_TRUE(sim.step(1000));
+    const double x = bodyPos(sim.state().y, 0).x();
+    xmax = std::max(xmax, x);
+    xmin = std::min(xmin, x);
+    vmax = std::max(vmax, speedOf(sim));
+    if (sim.state().t > 15.0) late_vmax = std::max(late_vmax, speedOf(sim));
+  }
+  EXPECT_GT(vmax, 0.5);                  // it did set off
+  EXPECT_GT(xmax, kPi + 0.5);            // climbed towards the crest at 2 pi
+  EXPECT_LT(xmax, 2 * kPi);              // but never reached it
+  EXPECT_GT(xmin, 0.0);                  // nor the crest behind: it stays in the valley
+  EXPECT_LT(late_vmax, 0.8 * vmax);      // rocking back and forth, losing motion
+}
