@@ -39,7 +39,8 @@ void applyOverride(nlohmann::json& doc, const std::string& assignment) {
     const size_t dot = key.find('.', start);
     const std::string seg = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     if (seg.empty()) fail("", "override \"" + key + "\": empty key segment");
-    path += "/" + pointerToken(seg);
+    path += '/';
+    path += pointerToken(seg);
     const bool last = dot == std::string::npos;
     nlohmann::json* next = nullptr;
     if (at->is_array()) {

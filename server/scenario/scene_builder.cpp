@@ -34,8 +34,10 @@ void checkIntegrator(IntegratorKind kind, IssueList& issues) {
       list += integratorName(k);
       list += '"';
     }
-  issues.add("/physics/integrator",
-             "\"" + std::string(integratorName(kind)) + "\" is not available in this build (available: " + list + ")");
+  std::string why = "\"";
+  why += integratorName(kind);
+  why += "\" is not available in this build (available: " + list + ")";
+  issues.add("/physics/integrator", why);
 }
 
 std::string vehiclePath(const Scenario& s, size_t i) {
