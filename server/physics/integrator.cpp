@@ -24,7 +24,10 @@ const char* integratorName(IntegratorKind kind) {
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind) {
   switch (kind) {
     case IntegratorKind::SemiImplicitEuler: return std::make_unique<SemiImplicitEuler>();
-    default: break;
+    case IntegratorKind::VelocityVerlet: return std::make_unique<VelocityVerlet>();
+    case IntegratorKind::Rk4: return std::make_unique<Rk4>();
+    case IntegratorKind::ImplicitEuler: return std::make_unique<ImplicitEuler>();
+    case IntegratorKind::Adaptive: return std::make_unique<Adaptive>();
   }
   throw std::invalid_argument(std::string("integrator not available: ") + integratorName(kind));
 }
