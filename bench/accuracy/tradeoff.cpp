@@ -1,0 +1,209 @@
+// The speed/accuracy trade, measured: integrator x dt x wheel fidelity over
+// scenes with analytic answers and the report's four experiments against a
+// reference run, the stability map at the extremes, and an hour of
+// simulated time. Writes CSV, PNG plots and docs/accuracy.md.
+//
+//   tradeoff [--quick] [--jobs N] [--out DIR] [--docs FILE] [--img DIR]
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "physics/model_builder.hpp"
+#include "report.hpp"
+
+using namespace groundsim;
+using namespace groundsim::accuracy;
+
+namespace {
+
+std::vector<Setting> settingsGrid(bool quick) {
+  std::vector<Setting> out;
+  auto add = [&](IntegratorKind k, std::vector<double> dts) {
+    for (double dt : dts) out.push_back({k, dt, 1e-6, Fidelity::Rim20});
+  };
+  if (quick) {
+    add(IntegratorKind::SemiImplicitEuler, {1e-4, 1e-3});
+    add(IntegratorKind::Rk4, {1e-3});
+    add(IntegratorKind::ImplicitEuler, {2e-3});
+    out.push_back({IntegratorKind::Adaptive, 1e-2, 1e-4, Fidelity::Rim20});
+    return out;
+  }
+  add(IntegratorKind::SemiImplicitEuler, {5e-5, 1e-4, 2e-4, 4e-4, 1e-3, 2e-3});
+  add(IntegratorKind::VelocityVerlet, {1e-4, 2e-4, 4e-4, 1e-3, 2e-3});
+  add(IntegratorKind::Rk4, {1e-4, 2e-4, 5e-4, 1e-3, 2e-3});
+  add(IntegratorKind::ImplicitEuler, {1e-3, 2e-3, 5e-3});
+  for (double tol : {1e-3, 1e-4, 1e-5, 1e-6}) out.push_back({IntegratorKind::Adaptive, 1e-2, tol, Fidelity::Rim20});
+  return out;
+}
+
+// Runs tasks on `jobs` threads; each writes its own slot.
+template <class F>
+void parallelFor(size_t n, int jobs, F f) {
+  std::atomic<size_t> next{0};
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, jobs); ++j)
+    pool.emplace_back([&] {
+      for (size_t i = next++; i < n; i = next++) f(i);
+    });
+  for (auto& t : pool) t.join();
+}
+
+// An hour of simulated time at one setting: the plain coast (energy must not
+// grow, the car keeps rolling straight) or parked on 20 degrees (no creep).
+HourRun hour(const std::string& scene, const Setting& s) {
+  HourRun h;
+  h.scene = scene;
+  h.setting = s.label() + " " + fidelityName(s.fidelity);
+  Options o = s.apply(Options{});
+  o.contact.damping = 20.0;
+  o.contact.friction = scene == "parked_20" ? 0.9 : 0.5;
+  CarPlacement at;
+  GroundPtr g;
+  if (scene == "parked_20") {
+    g = makeIncline(20 * std::numbers::pi / 180, Vec3::UnitX());
+  } else {
+    g = makePlane(Vec3::UnitZ(), 0);
+    at.wheel_spin = 5.0;
+  }
+  ModelBuilder b(o, g);
+  addCar(b, "car", carParams(s.fidelity), at);
+  auto built = b.build();
+  Simulator sim(built.model, built.initial);
+  if (scene == "parked_20")
+    for (auto& c : sim.controls()) c.brake_torque = 10.0;
+  Result r;
+  runTo(sim, 10.0, r);
+  const Vec3 x10 = bodyPos(sim.state().y, 0);
+  const double v10 = bodyVel(sim.state().y, 0).norm();
+  runTo(sim, 3600.0, r);
+  h.healthy = r.healthy;
+  h.status = r.status;
+  h.wall_seconds = r.wall_seconds;
+  h.sim_per_wall = r.simPerWall();
+  char buf[200];
+  if (scene == "parked_20")
+    std::snprintf(buf, sizeof buf, "creep from 10 s to 1 h: %.2e m", (bodyPos(sim.state().y, 0) - x10).norm());
+  else
+    std::snprintf(buf, sizeof buf, "speed %.4f m/s at 10 s, %.4f m/s at 1 h (rolling friction-free: should hold)",
+                  v10, bodyVel(sim.state().y, 0).norm());
+  h.outcome = buf;
+  return h;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"groundsim accuracy/cost trade-off and stability map"};
+  bool quick = false;
+  int jobs = 2;
+  std::string out = "bench-accuracy-out", docs = "docs/accuracy.md", img = "docs/img";
+  app.add_flag("--quick", quick, "small grids (smoke test, about a minute)");
+  app.add_option("--jobs", jobs, "worker threads");
+  app.add_option("--out", out, "directory for CSV and gnuplot files");
+  app.add_option("--docs", docs, "markdown document to write");
+  app.add_option("--img", img, "directory for the PNG plots");
+  CLI11_PARSE(app, argc, argv);
+  std::filesystem::create_directories(out);
+  std::filesystem::create_directories(img);
+  const auto start = std::chrono::steady_clock::now();
+
+  Report rep;
+  rep.jobs = jobs;
+  rep.command = "scripts/accuracy.sh" + std::string(quick ? " --quick" : "");
+  rep.scenes = analyticScenes();
+  for (auto& s : reportExperiments()) rep.scenes.push_back(s);
+
+  // 1. the sweep: every scene x setting (x fidelity for car scenes)
+  const std::vector<Fidelity> fidelities =
+      quick ? std::vector<Fidelity>{Fidelity::Rim20, Fidelity::Circle}
+            : std::vector<Fidelity>{Fidelity::Rim20, Fidelity::Rim40, Fidelity::Rim80, Fidelity::Rim160,
+                                    Fidelity::Circle};
+  struct Task { const Scene* scene; Setting setting; };
+  std::vector<Task> tasks;
+  for (const Scene& sc : rep.scenes) {
+    const bool experiment = sc.name.rfind("exp_", 0) == 0;
+    for (Setting s : settingsGrid(quick)) {
+      if (!sc.uses_fidelity) { tasks.push_back({&sc, s}); continue; }
+      for (Fidelity f : fidelities) {
+        // the experiments against a reference: the report's wheel and the
+        // continuous one (the reference run per fidelity is the cost)
+        if (experiment && f != Fidelity::Rim20 && f != Fidelity::Circle) continue;
+        // implicit Euler costs n + 1 evaluations per step: skip the
+        // finest rims, whose evaluations are 8x dearer
+        if (s.integrator == IntegratorKind::ImplicitEuler && (f == Fidelity::Rim80 || f == Fidelity::Rim160)) continue;
+        s.fidelity = f;
+        tasks.push_back({&sc, s});
+      }
+    }
+  }
+  // reference runs of the experiments: RK4 at a step far below every
+  // stability and accuracy scale of the model
+  std::vector<Task> refs;
+  for (const Scene& sc : rep.scenes)
+    if (sc.name.rfind("exp_", 0) == 0)
+      for (Fidelity f : {Fidelity::Rim20, Fidelity::Circle})
+        refs.push_back({&sc, Setting{IntegratorKind::Rk4, quick ? 1e-4 : 2e-5, 1e-6, f}});
+  tasks.insert(tasks.end(), refs.begin(), refs.end());
+  std::vector<Result> results(tasks.size());
+  std::mutex print;
+  std::atomic<int> done{0};
+  std::fprintf(stderr, "sweep: %zu cells on %d threads\n", tasks.size(), jobs);
+  parallelFor(tasks.size(), jobs, [&](size_t i) {
+    results[i] = tasks[i].scene->run(tasks[i].setting);
+    const int d = ++done;
+    if (d % 25 == 0) {
+      std::lock_guard<std::mutex> lock(print);
+      std::fprintf(stderr, "  %d/%zu\n", d, tasks.size());
+    }
+  });
+  // experiments: error against the reference of the same fidelity
+  std::map<std::string, double> reference;
+  for (size_t i = tasks.size() - refs.size(); i < tasks.size(); ++i)
+    reference[results[i].scene + fidelityName(results[i].setting.fidelity)] = results[i].value;
+  for (size_t i = 0; i < tasks.size() - refs.size(); ++i) {
+    Result& r = results[i];
+    auto it = reference.find(r.scene + fidelityName(r.setting.fidelity));
+    if (it == reference.end() || !r.healthy) continue;
+    r.expected = it->second;
+    r.error = std::abs(r.value - r.expected) / std::abs(r.expected);
+  }
+  results.resize(tasks.size() - refs.size());
+  rep.cells = std::move(results);
+
+  // 2. the stability map
+  std::fprintf(stderr, "stability map\n");
+  rep.stability = stabilityMap(quick);
+
+  // 3. an hour of simulated time at the cheapest setting that stays within
+  //    2% on the plain scene with the continuous wheel
+  const Result* cheapest = nullptr;
+  for (const Result& r : rep.cells)
+    if (r.scene == "plain_s1" && r.healthy && r.error < 0.02 && r.setting.fidelity == Fidelity::Circle &&
+        (!cheapest || r.evalsPerSim() < cheapest->evalsPerSim()))
+      cheapest = &r;
+  if (cheapest && !quick) {
+    std::fprintf(stderr, "an hour at %s\n", cheapest->setting.label().c_str());
+    std::vector<HourRun> hours(2);
+    parallelFor(2, jobs, [&](size_t i) { hours[i] = hour(i == 0 ? "plain_s1" : "parked_20", cheapest->setting); });
+    rep.hours = hours;
+  }
+  rep.total_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  writeCsv(rep, out + "/tradeoff.csv");
+  writeStabilityCsv(rep, out + "/stability.csv");
+  writePlots(rep, out, img);
+  writeMarkdown(rep, docs);
+  std::fprintf(stderr, "done in %.0f s: %s, %s/work_precision.png, %s/stability_map.png, %s/tradeoff.csv\n",
+               rep.total_wall_seconds, docs.c_str(), img.c_str(), img.c_str(), out.c_str());
+  return 0;
+}

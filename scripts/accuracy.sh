@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Regenerates docs/accuracy.md, docs/img/work_precision.png and
+# docs/img/stability_map.png: builds bench/accuracy/tradeoff in its own build
+# directory and runs the whole sweep (about 10 minutes on 2 cores).
+#   scripts/accuracy.sh            full sweep
+#   scripts/accuracy.sh --quick    small grids, output under /tmp (smoke test)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD_DIR:-$root/build-accuracy}
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+ninja -C "$build" tradeoff
+cd "$root"
+if [[ "${1:-}" == "--quick" ]]; then
+  out=$(mktemp -d)
+  "$build/bench/accuracy/tradeoff" --quick --jobs "${JOBS:-2}" --out "$out" --docs "$out/accuracy.md" --img "$out/img"
+  echo "quick run written to $out"
+else
+  "$build/bench/accuracy/tradeoff" --jobs "${JOBS:-2}" --out bench-accuracy-out --docs docs/accuracy.md --img docs/img
+fi
