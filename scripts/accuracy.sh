@@ -15,5 +15,5 @@ if [[ "${1:-}" == "--quick" ]]; then
   "$build/bench/accuracy/tradeoff" --quick --jobs "${JOBS:-2}" --out "$out" --docs "$out/accuracy.md" --img "$out/img"
   echo "quick run written to $out"
 else
-  "$build/bench/accuracy/tradeoff" --jobs "${JOBS:-2}" --out bench-accuracy-out --docs docs/accuracy.md --img docs/img
+  "$build/bench/accuracy/tradeoff" --jobs "${JOBS:-2}" --out build-accuracy/accuracy-out --docs docs/accuracy.md --img docs/img
 fi

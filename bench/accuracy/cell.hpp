@@ -33,7 +33,7 @@ struct Result {
   double value = 0.0;         // measured quantity
   double expected = 0.0;      // analytic or reference answer
   double error = 0.0;         // relative (or absolute, see error_unit)
-  std::string error_unit = "rel";
+  const char* error_unit = "rel";  // "rel" or "m"
   double sim_seconds = 0.0;
   double wall_seconds = 0.0;
   long long evaluations = 0;

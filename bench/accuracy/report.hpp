@@ -25,6 +25,7 @@ struct Report {
   std::vector<StabilityRow> stability;
   std::vector<HourRun> hours;
   std::string command;
+  std::string out_dir;  // where the CSV files went
   double total_wall_seconds = 0;
   int jobs = 1;
 };

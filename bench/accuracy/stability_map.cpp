@@ -42,7 +42,7 @@ Options base(IntegratorKind k, double dt) {
 }
 
 // A point mass resting on the ground (1% off its sag) or a second mass on a
-// spring on top of it: stable if it stays in contact and healthy for 40
+// spring on top of it: stable if its perturbation stays small and it stays healthy for 40
 // periods of the stiffest mode (at least 2000 steps).
 bool restingStack(IntegratorKind k, double dt, double S, double m_low, double m_top, double k_top,
                   double omega) {
@@ -68,7 +68,9 @@ bool restingStack(IntegratorKind k, double dt, double S, double m_low, double m_
   const long long steps = std::max<long long>(2000, std::llround(40 * 2 * kPi / omega / dt));
   for (long long i = 0; i < std::min<long long>(steps, 200000); ++i) {
     if (!sim.step()) return false;
-    if (-sim.state().y[2] < 0.0) return false;  // left the ground: the oscillation grew 100x
+    // the 1% perturbation grew 20x: linear instability (symplectic Euler's
+    // bounded ellipse stretches it 20x only within 0.2% of omega dt = 2)
+    if (std::abs(-sim.state().y[2] - sag) > 0.2 * sag) return false;
   }
   return true;
 }

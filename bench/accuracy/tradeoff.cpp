@@ -119,6 +119,7 @@ int main(int argc, char** argv) {
 
   Report rep;
   rep.jobs = jobs;
+  rep.out_dir = out;
   rep.command = "scripts/accuracy.sh" + std::string(quick ? " --quick" : "");
   rep.scenes = analyticScenes();
   for (auto& s : reportExperiments()) rep.scenes.push_back(s);
