@@ -20,7 +20,8 @@ ModelBuilder::ModelBuilder(Options opt, GroundPtr ground) {
 int ModelBuilder::addBody(const BodySpec& spec, int* first_point) {
   const size_t n = spec.points.size();
   if (n == 0) bad("body '" + spec.name + "': has no points");
-  if (spec.masses.size() != n || spec.contact.size() != n)
+  if (spec.masses.size() != n || spec.contact.size() != n ||
+      !(spec.simulate.empty() || spec.simulate.size() == n))
     bad("body '" + spec.name + "': one mass and one contact flag per point");
   Body b;
   b.name = spec.name;
@@ -47,6 +48,7 @@ int ModelBuilder::addBody(const BodySpec& spec, int* first_point) {
   const int id = static_cast<int>(m_.bodies.size());
   const int first = static_cast<int>(m_.points.size());
   for (size_t k = 0; k < n; ++k) {
+    if (!spec.simulate.empty() && !spec.simulate[k]) continue;
     Point p;
     p.body = id;
     p.local = spec.points[k] - com;

@@ -19,6 +19,9 @@ struct BodySpec {
   std::vector<Vec3> points;        // m      in the body's reference frame
   std::vector<double> masses;      // kg     one per point (>= 0; attachment points have 0)
   std::vector<bool> contact;       // -      one per point
+  // optional, one per point: false = the point only lends its mass to the
+  // body's mass and inertia and is not simulated (a continuous wheel's rim)
+  std::vector<bool> simulate;
   Vec3 origin = Vec3::Zero();      // m      world position of the reference frame
   Quat orientation = Quat::Identity();
   Vec3 velocity = Vec3::Zero();    // m/s    of the centre of mass

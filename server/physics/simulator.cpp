@@ -9,11 +9,7 @@ namespace groundsim {
 Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
     : model_(std::move(model)), state_(std::move(initial)), ws_(*model_),
       integrator_(makeIntegrator(model_->opt.integrator)) {
-  if (state_.y.size() != model_->stateSize())
-    throw std::invalid_argument("state size does not match the model");
-  state_.controls.resize(model_->wheels.size());
-  state_.applied.resize(model_->wheels.size());
-  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+  restore(state_);
 }
 
 void applyControls(const Model& m, double dt, State& s) {
@@ -49,6 +45,14 @@ bool Simulator::step() {
   state_.t = t0;
   --state_.tick;
   return false;
+}
+
+void Simulator::restore(const State& s) {
+  if (s.y.size() != model_->stateSize()) throw std::invalid_argument("state size does not match the model");
+  if (&s != &state_) state_ = s;
+  state_.controls.resize(model_->wheels.size());
+  state_.applied.resize(model_->wheels.size());
+  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
 }
 
 bool Simulator::step(long long n) {

@@ -30,7 +30,9 @@ class Simulator {
   std::shared_ptr<const Model> modelPtr() const { return model_; }
   const State& state() const { return state_; }
   // Restoring a saved state continues the run bit for bit.
-  void restore(const State& s) { state_ = s; }
+  // A state at tick 0 (a scene's initial state) gets its initial energy,
+  // the reference of the energy divergence check, computed here.
+  void restore(const State& s);
   std::vector<WheelControl>& controls() { return state_.controls; }
   const Workspace& workspace() const { return ws_; }
   bool healthy() const { return state_.health == Health::Ok; }

@@ -107,12 +107,16 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
       ws.points.push_back(Vec3(r * std::cos(phi), 0.0, r * std::sin(phi)));
       ws.masses.push_back(p.wheel_mass / p.rim_points);
       ws.contact.push_back(rim_contact);
+      // a continuous wheel needs its rim for inertia only, unless the rim
+      // springs hang on it
+      ws.simulate.push_back(rim_contact || p.coupling == WheelCoupling::RimSprings);
     }
     if (p.coupling == WheelCoupling::Bearing) {  // massless attachment points on the axle
       for (double side : {+1.0, -1.0}) {
         ws.points.push_back(Vec3(0, side * a, 0));
         ws.masses.push_back(0.0);
         ws.contact.push_back(false);
+        ws.simulate.push_back(true);
       }
     }
     ws.origin = origin + R * centres[w];
@@ -121,6 +125,7 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
     ws.angular_velocity = at.wheel_spin * R.col(1);
     int first_rim = 0;
     const int wb = b.addBody(ws, &first_rim);
+    const bool rim_kept = ws.simulate.front();
 
     const int axle0 = first_axle + 2 * w;  // +a side, then -a side
     if (p.coupling == WheelCoupling::RimSprings) {
@@ -139,7 +144,7 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
     } else {
       for (int s = 0; s < 2; ++s) {
         Spring sp;
-        sp.a = first_rim + p.rim_points + s;
+        sp.a = first_rim + (rim_kept ? p.rim_points : 0) + s;
         sp.b = axle0 + s;
         sp.stiffness = p.bearing_stiffness;
         sp.damping = p.bearing_damping;
@@ -157,7 +162,7 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
     wh.max_steer = p.max_steer;
     wh.steer_rate = p.steer_rate;
     wh.first_point = first_rim;
-    wh.rim_points = p.rim_points;
+    wh.rim_points = rim_kept ? p.rim_points : 0;
     h.wheels[w] = b.addWheel(wh);
     if (wh.steerable)
       for (int s = 0; s < 2; ++s) b.setSteered(axle0 + s, h.wheels[w], centres[w]);

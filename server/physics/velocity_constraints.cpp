@@ -109,7 +109,7 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
       }
     }
     }
-    if (change <= 1e-13 * total) break;  // converged to round-off
+    if (change <= 1e-9 * total) break;  // converged (tighter stalls on round-off)
   }
 
   // impulses over the step become forces for the integrator and telemetry
