@@ -26,7 +26,7 @@ void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double 
     const Quat q0(q);
     const Mat3& Ib_inv = m.bodies[i].inv_inertia;
     Vec3 omega = ws.inv_inertia_world[i] * L;
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0; pass < 1; ++pass) {
       const Mat3 Rm = integrateRotation(q0, omega, 0.5 * h).toRotationMatrix();
       omega = Rm * (Ib_inv * (Rm.transpose() * L));
     }

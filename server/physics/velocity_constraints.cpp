@@ -18,19 +18,26 @@ bool needsPass(const Model& m, const std::vector<WheelControl>& controls, const 
   return false;
 }
 
-// Inverse of the 2x2 effective mass a tangential impulse sees at the contact.
-Eigen::Matrix2d inverseTangentMass(const Model& m, const Workspace& ws, const Contact& c) {
-  Mat3 K;
+// Tangent basis and the 2x2 effective mass a tangential impulse sees:
+// K_ij = t_i . t_j / m + (r x t_i) . I^-1 (r x t_j).
+void prepareFriction(const Model& m, const Workspace& ws, Contact& c) {
+  c.t1 = c.n.unitOrthogonal();
+  c.t2 = c.n.cross(c.t1);
+  Eigen::Matrix2d K;
   if (c.body >= 0) {
-    const Mat3 rx = skew(c.r);
-    K = Mat3::Identity() / m.bodies[c.body].mass - rx * ws.inv_inertia_world[c.body] * rx;
+    const double inv_m = 1.0 / m.bodies[c.body].mass;
+    c.a1 = c.r.cross(c.t1);
+    c.a2 = c.r.cross(c.t2);
+    c.b1 = ws.inv_inertia_world[c.body] * c.a1;
+    c.b2 = ws.inv_inertia_world[c.body] * c.a2;
+    const double k12 = c.a1.dot(c.b2);
+    K << inv_m + c.a1.dot(c.b1), k12, k12, inv_m + c.a2.dot(c.b2);
   } else {
-    K = Mat3::Identity() / m.particles[c.particle].mass;
+    K = Eigen::Matrix2d::Identity() / m.particles[c.particle].mass;
   }
-  Eigen::Matrix<double, 3, 2> P;
-  P.col(0) = c.t1;
-  P.col(1) = c.t2;
-  return (P.transpose() * K * P).inverse();
+  c.k = K;
+  c.k_inv = K.inverse();
+  c.impulse.setZero();
 }
 
 }  // namespace
@@ -51,15 +58,15 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
   const bool stick = m.opt.contact.friction_model == FrictionModel::StickSlip;
   const double mu = m.opt.contact.friction;
   if (stick) {
-    for (int i = 0; i < ws.ncontacts; ++i) {
-      Contact& c = ws.contacts[i];
-      c.t1 = c.n.unitOrthogonal();
-      c.t2 = c.n.cross(c.t1);
-      c.k_inv = inverseTangentMass(m, ws, c);
-      c.impulse.setZero();
-    }
+    for (int i = 0; i < ws.ncontacts; ++i) prepareFriction(m, ws, ws.contacts[i]);
   }
   for (auto& b : ws.brake_impulse) b = 0.0;
+  // the largest impulse any of them may apply: the floor of the convergence
+  // test, for free rolling needs (almost) no friction at all
+  double scale = 0.0;
+  if (stick)
+    for (int i = 0; i < ws.ncontacts; ++i) scale += mu * ws.contacts[i].normal * h;
+  for (const auto& c : controls) scale += std::max(c.brake_torque, 0.0) * h;
 
   // sweep until the impulses stop changing: a fixed small count leaves a
   // residual slip every step, which integrates into creep
@@ -83,18 +90,27 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
     if (stick) {
     for (int i = 0; i < ws.ncontacts; ++i) {
       Contact& c = ws.contacts[i];
-      const Vec3 u = c.body >= 0 ? Vec3(ws.v_pred[c.body] + ws.w_pred[c.body].cross(c.r))
-                                 : Vec3(ws.pv_pred[c.particle]);
-      const Eigen::Vector2d ut(c.t1.dot(u), c.t2.dot(u));
+      // tangential velocity t . (v + w x r) = t . v + w . (r x t)
+      Eigen::Vector2d ut;
+      if (c.body >= 0) {
+        const Vec3& v = ws.v_pred[c.body];
+        const Vec3& w = ws.w_pred[c.body];
+        ut = Eigen::Vector2d(c.t1.dot(v) + w.dot(c.a1), c.t2.dot(v) + w.dot(c.a2));
+      } else {
+        ut = Eigen::Vector2d(c.t1.dot(ws.pv_pred[c.particle]), c.t2.dot(ws.pv_pred[c.particle]));
+      }
       Eigen::Vector2d acc = c.impulse - c.k_inv * ut;
       const double limit = mu * c.normal * h;
       const double an = acc.norm();
       if (an > limit) {
-        // sliding: mu N opposite the slip (maximum dissipation). Scaling the
-        // stick impulse onto the disc instead would tilt the force off the
-        // slip wherever rotation couples the two tangent directions.
-        const double un = ut.norm();
-        acc = un > 1e-12 ? Eigen::Vector2d(-limit / un * ut) : Eigen::Vector2d(acc * (limit / an));
+        // sliding: mu N opposite the slip this contact would have without
+        // its own friction. Scaling the stick impulse onto the disc instead
+        // tilts the force off the slip wherever rotation couples the two
+        // tangent directions (a skidding box then stops 2% late); using the
+        // slip after friction makes the sweeps converge slowly.
+        const Eigen::Vector2d free = ut - c.k * c.impulse;
+        const double fn = free.norm();
+        acc = fn > 1e-12 ? Eigen::Vector2d(-limit / fn * free) : Eigen::Vector2d(acc * (limit / an));
       }
       const Eigen::Vector2d d = acc - c.impulse;
       c.impulse = acc;
@@ -103,13 +119,14 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
       const Vec3 J = d.x() * c.t1 + d.y() * c.t2;
       if (c.body >= 0) {
         ws.v_pred[c.body] += J / m.bodies[c.body].mass;
-        ws.w_pred[c.body] += ws.inv_inertia_world[c.body] * c.r.cross(J);
+        ws.w_pred[c.body] += d.x() * c.b1 + d.y() * c.b2;
       } else {
         ws.pv_pred[c.particle] += J / m.particles[c.particle].mass;
       }
     }
     }
-    if (change <= 1e-9 * total) break;  // converged (tighter stalls on round-off)
+    ws.friction_sweeps = iter + 1;
+    if (change <= 1e-6 * total + 1e-9 * scale) break;  // converged: what is left cannot add up to creep
   }
 
   // impulses over the step become forces for the integrator and telemetry

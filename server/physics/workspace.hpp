@@ -22,9 +22,11 @@ struct Contact {
   Vec3 friction = Vec3::Zero();  // N, tangential force
   Vec3 u = Vec3::Zero();         // m/s, velocity of the point
   Vec3 slip = Vec3::Zero();      // m/s, tangential part of u
-  // velocity-level friction: tangent basis, inverse effective mass, impulse
-  Vec3 t1, t2;
-  Eigen::Matrix2d k_inv;
+  // velocity-level friction: tangent basis t, a = r x t, b = I^-1 a (so an
+  // impulse d1 t1 + d2 t2 turns the body by d1 b1 + d2 b2), inverse
+  // effective mass in the tangent plane, accumulated impulse
+  Vec3 t1, t2, a1, a2, b1, b2;
+  Eigen::Matrix2d k, k_inv;
   Eigen::Vector2d impulse;
 };
 
@@ -67,6 +69,7 @@ struct Workspace {
   double ground_energy = 0.0;          // J, penalty energy 1/2 S depth^2
   double max_depth = 0.0;              // m
   double drive_power = 0.0;            // W
+  int friction_sweeps = 0;             // Gauss-Seidel sweeps the last evaluation needed
 
   // integrator scratch
   Eigen::VectorXd dy, ytmp, k1, k2, k3, k4, k5, k6, k7, err;
