@@ -23,6 +23,7 @@
 #include "physics/integrator.hpp"
 #include "physics/simulator.hpp"
 #include "physics/telemetry.hpp"
+#include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 #include "speed_plot.hpp"
 #include "telemetry_csv.hpp"
@@ -38,6 +39,8 @@ struct RunOptions {
   std::string scenario_path;
   std::optional<double> duration;
   std::vector<std::string> overrides;
+  std::string preset, integrator;
+  std::optional<double> dt;
   std::string csv_path;
   std::string plot_path;
   bool quiet = false;
@@ -172,6 +175,13 @@ int run(const RunOptions& o) {
     nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path);
     if (doc.is_object() && !doc.contains("name"))
       doc["name"] = std::filesystem::path(o.scenario_path).stem().string();
+    // precedence: file < --preset < --integrator/--dt < --set
+    if (!o.preset.empty() && doc.is_object()) {
+      doc["preset"] = o.preset;
+      scenario::applyPreset(doc, /*force=*/true);
+    }
+    if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"");
+    if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump());
     for (const std::string& a : o.overrides) scenario::applyOverride(doc, a);
     if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump());
     s = scenario::parseScenario(doc);
@@ -247,6 +257,11 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("scenario", opts->scenario_path, "Scenario JSON file (docs/scenario.md)")->required();
   cmd->add_option("--duration", opts->duration, "Simulated time in s (overrides the file's duration)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--preset", opts->preset, "Speed/accuracy preset, replacing the file's settings it names")
+      ->check(CLI::IsMember({"fast", "balanced", "accurate"}));
+  cmd->add_option("--integrator", opts->integrator, "Integrator (overrides the file and the preset)")
+      ->check(CLI::IsMember({"semi_implicit_euler", "velocity_verlet", "rk4", "implicit_euler", "adaptive"}));
+  cmd->add_option("--dt", opts->dt, "Step in s (overrides the file and the preset)")->check(CLI::PositiveNumber);
   cmd->add_option("--set", opts->overrides, "Override a value before validation: key.path=value (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--csv", opts->csv_path, "Write frames at the output rate to this CSV file");

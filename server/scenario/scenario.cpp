@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "scenario/object_reader.hpp"
+#include "scenario/presets.hpp"
 #include "scenario/scenario_error.hpp"
 #include "scenario/sections.hpp"
 
@@ -83,6 +84,7 @@ Scenario parseScenario(const nlohmann::json& input) {
   Scenario s;
   s.document = input;
   nlohmann::json& doc = s.document;
+  applyPreset(doc);  // its settings become ordinary keys, validated like any other
   IssueList issues;
   ObjectReader top(doc, "", issues);
   if (!top.valid()) issues.throwIfAny();
