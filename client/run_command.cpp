@@ -196,6 +196,7 @@ int run(const RunOptions& o) {
     printIssues(o.scenario_path, e);
     return kExitInvalid;
   }
+  for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   // the CSV: the requested file, or a temporary one for the plot alone
   std::string csv_path = o.csv_path;

@@ -77,6 +77,9 @@ struct Scene {
   std::vector<std::string> vehicle_names;
   double duration = 5.0;          // s
   double output_rate = 50.0;      // Hz
+  // settings that run but sit near or beyond a known stability limit,
+  // each naming the setting and the limit (physics/stability.hpp)
+  std::vector<std::string> warnings;
 };
 
 // Builds the physics model and initial state. Throws ScenarioError for

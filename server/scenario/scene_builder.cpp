@@ -3,6 +3,7 @@
 // integrator this build lacks, no ground below a car, overlapping cars).
 #include <cmath>
 
+#include "physics/stability.hpp"
 #include "physics/integrator.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
@@ -106,6 +107,7 @@ Scene buildScene(const Scenario& s) {
     setControls(s.vehicles[i].control, scene.cars[i], scene.built.initial.controls);
   scene.duration = s.duration;
   scene.output_rate = s.output_rate;
+  scene.warnings = stabilityWarnings(*scene.built.model);
   return scene;
 }
 

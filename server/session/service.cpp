@@ -214,6 +214,16 @@ void SessionService::build(const Request& r) {
     reply.token = setup.token;
     reply.sessions.push_back(session->info(Clock::now()));
     replyOk(r, std::move(reply));
+    // settings near or beyond a stability limit run, but the creator hears of it
+    for (const std::string& w : scene.warnings) {
+      Event e;
+      e.session_id = setup.id;
+      e.client_id = r.client_id;
+      e.request_id = r.request_id;
+      e.severity = Severity::Warning;
+      e.reason = w;
+      out_.publishEvent(e);
+    }
     pool_.wake(session);  // publishes the initial state, starts real time / fast stepping
     return;
   } catch (const scenario::ScenarioError& e) {

@@ -1,0 +1,32 @@
+// Load-time estimate of the stiffest modes of a model, compared with the
+// stability limit of its integrator (omega * dt < 2 (sqrt(1 + z^2) - z) for
+// semi-implicit Euler and Verlet with damping ratio z, 2.83 for RK4; the
+// implicit and adaptive methods have none). Penalty ground contact and
+// springs are linear modes, so the estimate matches what runs do: the
+// report's car (40 rim springs of 1e5 N/m per wheel) gives dt < 3.0e-4 s,
+// and its code was stable at 3e-4 and diverged at 4e-4.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model.hpp"
+
+namespace groundsim {
+
+struct StiffMode {
+  std::string what;       // e.g. "ground contact of 'car/front_left'"
+  double omega = 0.0;     // rad/s
+  double zeta = 0.0;      // damping ratio
+  double limit = 0.0;     // largest stable omega * dt for the integrator (inf: none)
+  double dt_limit = 0.0;  // s, limit / omega
+};
+
+// The stiffest mode (largest omega*dt relative to its limit) per kind:
+// ground contact and spring coupling. Empty for a model with neither.
+std::vector<StiffMode> stiffestModes(const Model& m);
+
+// Human-readable warnings for modes at or beyond 80% of their limit.
+std::vector<std::string> stabilityWarnings(const Model& m);
+
+}  // namespace groundsim
