@@ -43,7 +43,10 @@ Vec3 lowestCirclePoint(const Model& m, const Vec3& centre, const Vec3& axis, dou
     Vec3 d = -(g - g.dot(axis) * axis);
     const double dn = d.norm();
     d = dn < 1e-12 ? axis.unitOrthogonal() : Vec3(d / dn);  // lying flat: any rim point
-    p = centre + radius * d;
+    const Vec3 next = centre + radius * d;
+    const bool settled = iter > 0 && (next - p).squaredNorm() < 1e-24 * radius * radius;
+    p = next;
+    if (settled) break;  // a plane settles at once
   }
   return p;
 }

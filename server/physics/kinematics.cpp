@@ -12,7 +12,7 @@ void computeKinematics(const Model& m, const Eigen::VectorXd& y,
   for (int k : m.steered_points) {
     const Point& pt = m.points[k];
     const double a = controls[pt.steer_wheel].steer;
-    const double c = std::cos(a), s = std::sin(a);
+    const double c = a == 0.0 ? 1.0 : std::cos(a), s = a == 0.0 ? 0.0 : std::sin(a);  // straight ahead: no trig
     const Vec3 d = pt.local - pt.steer_pivot;
     ws.lx[k] = pt.steer_pivot.x() + c * d.x() - s * d.y();
     ws.ly[k] = pt.steer_pivot.y() + s * d.x() + c * d.y();
