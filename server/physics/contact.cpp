@@ -63,7 +63,7 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     // broad phase: H(centre) > L * radius proves the whole ball is above the
     // ground, so none of the body's points (nor its wheel circle) can touch
     ws.body_far[i] = !b.has_contact_points ||
-                     (std::isfinite(L) &&
+                     (m.opt.broad_phase && std::isfinite(L) &&
                       m.ground->eval(ws.com[i], &g) > L * b.bound_radius * 1.000001);
     if (ws.body_far[i]) continue;
     const int begin = m.body_point_begin[i], end = m.body_point_end[i];

@@ -46,6 +46,7 @@ struct Options {
   IntegratorKind integrator = IntegratorKind::SemiImplicitEuler;
   double tolerance = 1e-6;         // -       adaptive: relative local error per step
   int substeps = 1;                // -       integrator steps per step()
+  bool broad_phase = true;         // -       skip bodies provably clear of the ground (off: for tests)
   Vec3 gravity{0.0, 0.0, -9.8};    // m/s^2   the report's g = 9.8
   ContactParams contact;
   Limits limits;
