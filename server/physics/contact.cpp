@@ -76,7 +76,8 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
   for (size_t j = 0; j < m.particles.size(); ++j) {
     const int k = m.particle_points[j];
     if (m.particles[j].contact)
-      addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, -1, static_cast<int>(j), -1, ws.pointPos(k));
+      addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, -1, static_cast<int>(j), m.points[k].wheel,
+                 ws.pointPos(k));
   }
   for (size_t w = 0; w < m.wheels.size(); ++w) {
     const Wheel& wh = m.wheels[w];

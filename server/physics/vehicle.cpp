@@ -41,6 +41,86 @@ double circleClearance(const Ground& g, const Vec3& c, const Vec3& axis, double 
   return best;
 }
 
+Spring spring(const ModelBuilder& b, int a, int c, double k, double d) {
+  Spring s;
+  s.a = a;
+  s.b = c;
+  s.stiffness = k;
+  s.damping = d;
+  s.rest_length = (b.pointPosition(a) - b.pointPosition(c)).norm();  // no prestress
+  return s;
+}
+
+// A deformable tyre: see CarParams::deformable. Returns the wheel index.
+int addDeformableWheel(ModelBuilder& b, const std::string& name, const CarParams& p, const Vec3& centre,
+                       const Quat& q, const Vec3& vel, const Vec3& spin, int carrier, int axle0,
+                       bool steerable) {
+  const int n = p.rim_points;
+  const double r = p.wheel_radius, rh = 0.25 * r, a = p.axle_half_length;
+  const Mat3 R = q.toRotationMatrix();
+  // hub: two rings of n points either side of the wheel plane, plus the
+  // two massless bearing points on the axle
+  BodySpec hub;
+  hub.name = name + "/hub";
+  for (double side : {+0.5, -0.5})
+    for (int k = 0; k < n; ++k) {
+      const double phi = 2.0 * std::numbers::pi * k / n;
+      hub.points.push_back(Vec3(rh * std::cos(phi), side * a, rh * std::sin(phi)));
+      hub.masses.push_back(p.hub_mass_fraction * p.wheel_mass / (2 * n));
+      hub.contact.push_back(false);
+    }
+  for (double side : {+1.0, -1.0}) {
+    hub.points.push_back(Vec3(0, side * a, 0));
+    hub.masses.push_back(0.0);
+    hub.contact.push_back(false);
+  }
+  hub.origin = centre;
+  hub.orientation = q;
+  hub.velocity = vel;
+  hub.angular_velocity = spin;
+  int first_hub = 0;
+  const int hub_body = b.addBody(hub, &first_hub);
+  // rim: free point masses moving with the spinning wheel
+  const double m_rim = (1.0 - p.hub_mass_fraction) * p.wheel_mass / n;
+  int first_rim = -1;
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / n;
+    const Vec3 x = centre + R * Vec3(r * std::cos(phi), 0, r * std::sin(phi));
+    const int pt = b.addParticle(m_rim, x, vel + spin.cross(x - centre), true);
+    if (k == 0) first_rim = pt;
+  }
+  // crossed spokes a quarter turn either way to both hub rings, then tread
+  const int s = std::max(1, n / 4);
+  for (int k = 0; k < n; ++k) {
+    for (int ring = 0; ring < 2; ++ring)
+      for (int off : {s, -s})
+        b.addSpring(spring(b, first_rim + k, first_hub + ring * n + ((k + off) % n + n) % n, p.tyre_stiffness,
+                           p.tyre_damping));
+    for (int step : {1, 2})
+      b.addSpring(spring(b, first_rim + k, first_rim + (k + step) % n, p.tread_stiffness, p.tyre_damping));
+  }
+  for (int side = 0; side < 2; ++side) {
+    Spring sp;
+    sp.a = first_hub + 2 * n + side;
+    sp.b = axle0 + side;
+    sp.stiffness = p.bearing_stiffness;
+    sp.damping = p.bearing_damping;
+    sp.isotropic = true;
+    b.addSpring(sp);
+  }
+  Wheel wh;
+  wh.body = hub_body;
+  wh.carrier = carrier;
+  wh.radius = r;
+  wh.contact = WheelContact::RimPoints;
+  wh.steerable = steerable;
+  wh.max_steer = p.max_steer;
+  wh.steer_rate = p.steer_rate;
+  wh.first_point = first_rim;
+  wh.rim_points = n;
+  return b.addWheel(wh);
+}
+
 }  // namespace
 
 CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at) {
@@ -99,6 +179,14 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
 
   static const char* kWheelNames[4] = {"front_left", "front_right", "rear_left", "rear_right"};
   for (int w = 0; w < 4; ++w) {
+    if (p.deformable) {
+      h.wheels[w] = addDeformableWheel(b, name + "/" + kWheelNames[w], p, origin + R * centres[w], q, vel,
+                                       at.wheel_spin * R.col(1), h.body, first_axle + 2 * w,
+                                       w < 2 && p.max_steer > 0.0);
+      if (w < 2 && p.max_steer > 0.0)
+        for (int s = 0; s < 2; ++s) b.setSteered(first_axle + 2 * w + s, h.wheels[w], centres[w]);
+      continue;
+    }
     BodySpec ws;
     ws.name = name + "/" + kWheelNames[w];
     const bool rim_contact = p.wheel_contact == WheelContact::RimPoints;

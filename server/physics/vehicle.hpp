@@ -32,6 +32,14 @@ struct CarParams {
   double max_steer = 0.6;           // rad    front wheels
   double steer_rate = 1.0;          // rad/s  fastest steering change
   bool body_contact = true;         // -      axle points touch the ground too (rollover)
+  // Deformable tyre: the rim is a ring of free point masses, laced to a
+  // rigid hub by crossed spokes (so they carry drive and brake torque) and
+  // tied to its neighbours by tread springs; the hub turns on the bearing.
+  bool deformable = false;
+  double tyre_stiffness = 2e3;      // N/m    per spoke (4 per rim point)
+  double tyre_damping = 2.0;        // N s/m  per spoke
+  double tread_stiffness = 2e3;     // N/m    between rim neighbours (and next-but-one)
+  double hub_mass_fraction = 0.3;   // -      of wheel_mass in the hub, the rest in the rim
 };
 
 struct CarPlacement {

@@ -30,9 +30,13 @@ void readParams(ObjectReader& r, CarParams& p) {
   p.wheel_mass = r.number("wheel_mass", def.wheel_mass, Range::positive(1e6));
   p.rim_stiffness = r.number("rim_stiffness", def.rim_stiffness, Range::positive());
   p.rim_damping = r.number("rim_damping", def.rim_damping, Range::nonNegative());
-  p.wheel_contact = r.choice("wheel_model", "rim_points", {"rim_points", "circle"}) == "circle"
-                        ? WheelContact::Circle
-                        : WheelContact::RimPoints;
+  const std::string model = r.choice("wheel_model", "rim_points", {"rim_points", "circle", "deformable"});
+  p.wheel_contact = model == "circle" ? WheelContact::Circle : WheelContact::RimPoints;
+  p.deformable = model == "deformable";
+  p.tyre_stiffness = r.number("tyre_stiffness", def.tyre_stiffness, Range::positive());
+  p.tyre_damping = r.number("tyre_damping", def.tyre_damping, Range::nonNegative());
+  p.tread_stiffness = r.number("tread_stiffness", def.tread_stiffness, Range::positive());
+  p.hub_mass_fraction = r.number("hub_mass_fraction", def.hub_mass_fraction, Range::closed(0.05, 0.95));
   p.coupling = r.choice("coupling", "rim_springs", {"rim_springs", "bearing"}) == "bearing"
                    ? WheelCoupling::Bearing
                    : WheelCoupling::RimSprings;

@@ -2,6 +2,7 @@
 // against the analytic acceleration, and the report's four experiments.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "physics/diagnostics.hpp"
@@ -162,4 +163,52 @@ TEST(ReportExperiments, CosineCarFailsToClimbTheCrestAndSettlesInTheValley) {
   EXPECT_LT(xmax, 2 * kPi);              // but never reached it
   EXPECT_GT(xmin, 0.0);                  // nor the crest behind: it stays in the valley
   EXPECT_LT(late_vmax, 0.8 * vmax);      // rocking back and forth, losing motion
+}
+
+TEST(DeformableTyres, CarryTheCarOnAFlattenedPatchAndTransmitDriveTorque) {
+  Options o;
+  o.dt = 5e-5;
+  o.contact.damping = 20.0;
+  o.contact.friction = 0.9;
+  CarParams p;
+  p.deformable = true;
+  p.coupling = WheelCoupling::Bearing;
+  p.rim_points = 60;          // neighbours 5.5 mm above the lowest point
+  p.tyre_stiffness = 150.0;   // soft enough to flatten more than that
+  p.tread_stiffness = 150.0;
+  auto built = reportCar(o, makePlane(Vec3::UnitZ(), 0), p);
+  Simulator sim(built.model, built.initial);
+  ASSERT_TRUE(sim.step(40000));  // 2 s: settled on its tyres
+  // the tyres flatten: each wheel stands on more than one rim point, and
+  // together they carry the car's weight
+  std::array<int, 4> touching{};
+  const auto& ws = sim.workspace();
+  for (int c = 0; c < ws.ncontacts; ++c)
+    if (ws.contacts[c].wheel >= 0) ++touching[ws.contacts[c].wheel];
+  for (int w = 0; w < 4; ++w) EXPECT_GE(touching[w], 2) << "wheel " << w;
+  double normal = 0;
+  for (int c = 0; c < ws.ncontacts; ++c) normal += ws.contacts[c].normal;
+  EXPECT_NEAR(normal, 1.4 * 9.8, 0.02 * 1.4 * 9.8);
+  // torque through hub and spokes drives the car forward
+  for (auto& c : sim.controls()) c.drive_torque = 0.5;
+  const double x0 = bodyPos(sim.state().y, 0).x();
+  ASSERT_TRUE(sim.step(40000));
+  EXPECT_GT(bodyVel(sim.state().y, 0).x(), 0.5);
+  EXPECT_GT(bodyPos(sim.state().y, 0).x(), x0 + 0.5);
+}
+
+TEST(DeformableTyres, SpokesAndTreadConserveMomentumInSpace) {
+  CarParams p;
+  p.deformable = true;
+  p.coupling = WheelCoupling::Bearing;
+  CarPlacement at;
+  at.on_ground = false;
+  at.wheel_spin = 4.0;
+  auto built = reportCar(spaceOptions(5e-5), farGround(), p, at);
+  Simulator sim(built.model, built.initial);
+  for (auto& c : sim.controls()) c.drive_torque = 0.3;
+  const Vec3 L0 = angularMomentum(sim.model(), sim.state());
+  ASSERT_TRUE(sim.step(20000));
+  EXPECT_LT((angularMomentum(sim.model(), sim.state()) - L0).norm(), 1e-9 * (1 + L0.norm()));
+  EXPECT_LT(linearMomentum(sim.model(), sim.state()).norm(), 1e-10);
 }
