@@ -26,7 +26,7 @@ struct StiffMode {
 // ground contact and spring coupling. Empty for a model with neither.
 std::vector<StiffMode> stiffestModes(const Model& m);
 
-// Human-readable warnings for modes at or beyond 80% of their limit.
+// Human-readable warnings for modes at or beyond 90% of their limit.
 std::vector<std::string> stabilityWarnings(const Model& m);
 
 }  // namespace groundsim
