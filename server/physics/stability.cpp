@@ -74,6 +74,42 @@ std::vector<StiffMode> stiffestModes(const Model& m) {
       }
     if (any) out.push_back(best);
   }
+  // everything pushing on one part at once: a wheel between the ground and
+  // its bearing feels both stiffnesses and both dampers, and damping lowers
+  // the symplectic limit (a damped ground made a 'fast' car take off)
+  {
+    std::map<std::string, std::pair<double, double>> total;  // k, c per part
+    std::map<std::string, double> mass;
+    for (int k : m.contact_points) {
+      const std::string n = nameOfPoint(m, k);
+      if (total.count(n)) continue;
+      total[n] = {cp.stiffness, cp.damping_model == NormalDamping::KelvinVoigt ? cp.damping : 0.0};
+      mass[n] = massOfPoint(m, k);
+    }
+    for (const Wheel& w : m.wheels)
+      if (w.contact == WheelContact::Circle) {
+        const std::string n = "'" + m.bodies[w.body].name + "'";
+        total[n] = {cp.stiffness, cp.damping};
+        mass[n] = m.bodies[w.body].mass;
+      }
+    for (const Spring& s : m.springs)
+      for (int end : {s.a, s.b}) {
+        const std::string n = nameOfPoint(m, end);
+        if (nameOfPoint(m, s.a) == nameOfPoint(m, s.b)) break;
+        total[n].first += s.stiffness;
+        total[n].second += s.damping;
+        mass[n] = massOfPoint(m, end);
+      }
+    bool found = false;
+    StiffMode best;
+    for (const auto& [n, kc] : total) {
+      if (!(kc.first > 0)) continue;
+      const StiffMode s = makeMode(m, "ground and springs on " + n, kc.first, kc.second, mass[n]);
+      if (!found || worse(s, best)) best = s;
+      found = true;
+    }
+    if (found) out.push_back(best);
+  }
   // springs: parallel springs between the same two parts add up, and the
   // pair moves with its reduced mass
   std::map<std::pair<std::string, std::string>, std::pair<double, double>> pairs;  // k, c

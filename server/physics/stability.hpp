@@ -23,7 +23,8 @@ struct StiffMode {
 };
 
 // The stiffest mode (largest omega*dt relative to its limit) per kind:
-// ground contact and spring coupling. Empty for a model with neither.
+// ground contact alone, everything acting on one part together, and spring
+// coupling between two parts. Empty for a model with none of them.
 std::vector<StiffMode> stiffestModes(const Model& m);
 
 // Human-readable warnings for modes at or beyond 90% of their limit.
