@@ -41,6 +41,20 @@ double circleClearance(const Ground& g, const Vec3& c, const Vec3& axis, double 
   return best;
 }
 
+// The bearing: zero-length springs from the wheel's two axle points
+// (wheel_axle0, +1) to the carrier's (axle0, +1), a hinge by penalty.
+void addBearing(ModelBuilder& b, const CarParams& p, int wheel_axle0, int axle0) {
+  for (int side = 0; side < 2; ++side) {
+    Spring sp;
+    sp.a = wheel_axle0 + side;
+    sp.b = axle0 + side;
+    sp.stiffness = p.bearing_stiffness;
+    sp.damping = p.bearing_damping;
+    sp.isotropic = true;
+    b.addSpring(sp);
+  }
+}
+
 Spring spring(const ModelBuilder& b, int a, int c, double k, double d) {
   Spring s;
   s.a = a;
@@ -99,15 +113,7 @@ int addDeformableWheel(ModelBuilder& b, const std::string& name, const CarParams
     for (int step : {1, 2})
       b.addSpring(spring(b, first_rim + k, first_rim + (k + step) % n, p.tread_stiffness, p.tyre_damping));
   }
-  for (int side = 0; side < 2; ++side) {
-    Spring sp;
-    sp.a = first_hub + 2 * n + side;
-    sp.b = axle0 + side;
-    sp.stiffness = p.bearing_stiffness;
-    sp.damping = p.bearing_damping;
-    sp.isotropic = true;
-    b.addSpring(sp);
-  }
+  addBearing(b, p, first_hub + 2 * n, axle0);
   Wheel wh;
   wh.body = hub_body;
   wh.carrier = carrier;
@@ -230,15 +236,7 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
           b.addSpring(sp);
         }
     } else {
-      for (int s = 0; s < 2; ++s) {
-        Spring sp;
-        sp.a = first_rim + (rim_kept ? p.rim_points : 0) + s;
-        sp.b = axle0 + s;
-        sp.stiffness = p.bearing_stiffness;
-        sp.damping = p.bearing_damping;
-        sp.isotropic = true;
-        b.addSpring(sp);
-      }
+      addBearing(b, p, first_rim + (rim_kept ? p.rim_points : 0), axle0);
     }
     Wheel wh;
     wh.body = wb;

@@ -127,18 +127,6 @@ TEST(Adaptive, SubstepsCoverTheStepAndCarryTheTrialStep) {
 
 // ---- free rigid body ----
 
-BodySpec hoop(int n, double r, double m) {
-  BodySpec s;
-  s.name = "hoop";
-  for (int k = 0; k < n; ++k) {
-    const double phi = 2 * kPi * k / n;
-    s.points.push_back(Vec3(r * std::cos(phi), 0, r * std::sin(phi)));
-    s.masses.push_back(m / n);
-    s.contact.push_back(false);
-  }
-  return s;
-}
-
 struct TopCase {
   IntegratorKind kind;
   double h;

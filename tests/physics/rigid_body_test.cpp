@@ -11,18 +11,6 @@ using namespace groundsim::test;
 
 namespace {
 
-BodySpec ring(int n, double r, double m) {
-  BodySpec s;
-  s.name = "ring";
-  for (int k = 0; k < n; ++k) {
-    const double phi = 2 * kPi * k / n;
-    s.points.push_back(Vec3(r * std::cos(phi), 0, r * std::sin(phi)));
-    s.masses.push_back(m / n);
-    s.contact.push_back(false);
-  }
-  return s;
-}
-
 BodySpec box(double a, double b, double c, double m) {
   BodySpec s;
   s.name = "box";
@@ -38,7 +26,7 @@ BodySpec box(double a, double b, double c, double m) {
 
 TEST(Inertia, RingOfPointsIsAThinHoop) {
   ModelBuilder b(spaceOptions(1e-3), farGround());
-  b.addBody(ring(20, 1.5, 0.4));
+  b.addBody(hoop(20, 1.5, 0.4));
   const Mat3 I = b.model().bodies[0].inertia;
   const double mr2 = 0.4 * 1.5 * 1.5;
   EXPECT_NEAR(I(1, 1), mr2, 1e-12);        // about the axle
@@ -94,7 +82,7 @@ TEST(FreeRigidBody, SymmetricTopPrecessesAtTheAnalyticRate) {
   // angular momentum L at the rate |L| / I1, keeping its angle to L.
   const double h = 1e-4;
   ModelBuilder b(spaceOptions(h), farGround());
-  BodySpec s = ring(24, 1.0, 1.0);
+  BodySpec s = hoop(24, 1.0, 1.0);
   s.angular_velocity = Vec3(0.7, 3.0, 0.0);
   b.addBody(s);
   auto built = b.build();

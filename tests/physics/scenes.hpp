@@ -1,6 +1,7 @@
 // Small scenes shared by the physics tests, defined in code.
 #pragma once
 
+#include <cmath>
 #include <numbers>
 
 #include "physics/model_builder.hpp"
@@ -20,6 +21,20 @@ inline Options spaceOptions(double dt) {
   o.gravity = Vec3::Zero();
   o.limits.max_speed = 1e9;
   return o;
+}
+
+// A thin hoop of n points about the y axis (I = m r^2 about y, m r^2 / 2
+// about diameters).
+inline BodySpec hoop(int n, double r, double m) {
+  BodySpec s;
+  s.name = "hoop";
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2 * kPi * k / n;
+    s.points.push_back(Vec3(r * std::cos(phi), 0, r * std::sin(phi)));
+    s.masses.push_back(m / n);
+    s.contact.push_back(false);
+  }
+  return s;
 }
 
 // The report's car on flat ground, optionally in space.
