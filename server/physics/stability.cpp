@@ -150,6 +150,27 @@ std::vector<std::string> stabilityWarnings(const Model& m) {
       << s.limit << ")" << (ratio > 1 ? ": expect divergence" : ": expect poor accuracy");
     out.push_back(o.str());
   }
+  // a vehicle the ground cannot hold up: its static sag, weight per wheel
+  // over the penalty stiffness, runs into the penetration limit
+  const double g = m.opt.gravity.norm(), S = m.opt.contact.stiffness;
+  for (size_t v = 0; v < m.vehicle_body.size() && S > 0 && g > 0; ++v) {
+    double mass = m.vehicle_body[v] >= 0 ? m.bodies[m.vehicle_body[v]].mass : 0.0;
+    int wheels = 0;
+    for (size_t w = 0; w < m.wheels.size(); ++w)
+      if (m.vehicle_of_wheel[w] == static_cast<int>(v)) {
+        mass += m.bodies[m.wheels[w].body].mass;
+        ++wheels;
+      }
+    const double sag = mass * g / (std::max(wheels, 1) * S);
+    if (sag < 0.5 * m.opt.limits.max_penetration) continue;
+    std::ostringstream o;
+    o.precision(3);
+    o << "/contact/stiffness: " << S << " N/m lets vehicle '" << m.vehicle_names[v] << "' (" << mass
+      << " kg) sink about " << sag << " m, against a penetration limit of " << m.opt.limits.max_penetration
+      << " m: raise the stiffness to at least " << mass * g / (std::max(wheels, 1) * 0.1 * m.opt.limits.max_penetration)
+      << " N/m (a tenth of the limit)";
+    out.push_back(o.str());
+  }
   return out;
 }
 

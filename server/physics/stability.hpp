@@ -27,7 +27,8 @@ struct StiffMode {
 // coupling between two parts. Empty for a model with none of them.
 std::vector<StiffMode> stiffestModes(const Model& m);
 
-// Human-readable warnings for modes at or beyond 90% of their limit.
+// Human-readable warnings for modes at or beyond 90% of their limit, and
+// for vehicles whose static sag reaches half the penetration limit.
 std::vector<std::string> stabilityWarnings(const Model& m);
 
 }  // namespace groundsim

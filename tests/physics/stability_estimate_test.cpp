@@ -46,3 +46,19 @@ TEST(StabilityEstimate, WarnsNamingTheSettingAndTheLimit) {
   EXPECT_NE(w[0].find("/physics/dt"), std::string::npos);
   EXPECT_NE(w[0].find("beyond the stability limit"), std::string::npos);
 }
+
+TEST(StabilityEstimate, WarnsWhenTheGroundCannotHoldTheVehicleUp) {
+  Options o;
+  o.dt = 5e-5;
+  CarParams heavy;
+  heavy.body_mass = 1500.0;  // sag 1500 g / (4 * 2000) ~ 1.8 m against a 0.5 m limit
+  auto built = reportCar(o, makePlane(Vec3::UnitZ(), 0), heavy);
+  bool sag_warning = false;
+  for (const auto& w : stabilityWarnings(*built.model))
+    sag_warning |= w.find("/contact/stiffness") != std::string::npos;
+  EXPECT_TRUE(sag_warning);
+  // and the warning is right: the run hits the penetration limit
+  Simulator sim(built.model, built.initial);
+  EXPECT_FALSE(sim.step(20000));
+  EXPECT_EQ(sim.state().health, Health::Penetration);
+}
