@@ -57,6 +57,10 @@ void applyDrive(const Model& m, const std::vector<WheelControl>& controls, Works
     const Wheel& wh = m.wheels[w];
     const Vec3 a = ws.R[wh.body] * wh.axis;
     ws.body_torque[wh.body] += T * a;
+    if (wh.carrier < 0) {  // a lone wheel: an external torque
+      ws.drive_power += T * a.dot(ws.omega[wh.body]);
+      continue;
+    }
     ws.body_torque[wh.carrier] -= T * a;
     ws.drive_power += T * a.dot(ws.omega[wh.body] - ws.omega[wh.carrier]);
   }

@@ -97,7 +97,8 @@ struct Spring {
 // driven and braked by torques with the reaction on the carrier.
 struct Wheel {
   int body = -1;                   // the wheel's rigid body
-  int carrier = -1;                // the body its axle belongs to
+  int carrier = -1;                // the body its axle belongs to; -1: a lone wheel (drive
+                                   // torque is then external, and there is nothing to brake against)
   Vec3 axis = Vec3::UnitY();       // unit, wheel frame: positive spin drives forward
   double radius = 1.0;             // m
   WheelContact contact = WheelContact::RimPoints;

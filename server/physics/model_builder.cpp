@@ -99,7 +99,7 @@ int ModelBuilder::addSpring(const Spring& s) {
 
 int ModelBuilder::addWheel(const Wheel& w) {
   const int nb = static_cast<int>(m_.bodies.size());
-  if (w.body < 0 || w.body >= nb || w.carrier < 0 || w.carrier >= nb || w.body == w.carrier)
+  if (w.body < 0 || w.body >= nb || w.carrier < -1 || w.carrier >= nb || w.body == w.carrier)
     bad("wheel: invalid body or carrier");
   if (!(w.radius > 0.0)) bad("wheel: radius must be > 0");
   Wheel ww = w;

@@ -23,7 +23,8 @@ VehicleSample sampleVehicle(Simulator& sim, int vehicle, bool with_energy) {
     const Wheel& wh = m.wheels[w];
     const Vec3 axis = Quat(bodyRot(s.y, wh.body)).normalized() * wh.axis;
     WheelSample& ws_out = out.wheels[k++];
-    ws_out.spin = axis.dot(angularVelocity(m, s, wh.body) - angularVelocity(m, s, wh.carrier));
+    const Vec3 carrier = wh.carrier >= 0 ? angularVelocity(m, s, wh.carrier) : Vec3::Zero();
+    ws_out.spin = axis.dot(angularVelocity(m, s, wh.body) - carrier);
     ws_out.normal_force = ws.wheel_normal[w];
     ws_out.friction_force = ws.wheel_friction[w];
     ws_out.slip = ws.wheel_slip[w];

@@ -41,6 +41,39 @@ double circleClearance(const Ground& g, const Vec3& c, const Vec3& axis, double 
   return best;
 }
 
+// Orientation (x forward, y left, z up) and position of a vehicle's frame:
+// with on_ground, aligned with the ground normal below at.position and
+// lowered until the lowest of its wheels (centres in the frame, radius r)
+// has the requested clearance.
+std::pair<Mat3, Vec3> place(const ModelBuilder& b, const std::string& who, const CarPlacement& at, double r,
+                            const std::vector<Vec3>& centres) {
+  Mat3 R;
+  Vec3 origin = at.position;
+  if (!at.on_ground) {
+    R = (Eigen::AngleAxisd(at.yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(at.pitch, Vec3::UnitY()) *
+         Eigen::AngleAxisd(at.roll, Vec3::UnitX())).toRotationMatrix();
+    return {R, origin};
+  }
+  Vec3 surf, n;
+  if (!groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n))
+    throw std::invalid_argument(who + ": no ground surface below its position");
+  Vec3 f = Vec3(std::cos(at.yaw), std::sin(at.yaw), 0.0);
+  f = (f - f.dot(n) * n).normalized();
+  R.col(0) = f;
+  R.col(1) = n.cross(f);
+  R.col(2) = n;
+  origin = surf + R.col(2) * r;
+  // settle: move along the vertical until the lowest wheel has the clearance
+  for (int it = 0; it < 8; ++it) {
+    double low = std::numeric_limits<double>::infinity();
+    for (const Vec3& c : centres)
+      low = std::min(low, circleClearance(*b.model().ground, origin + R * c, R.col(1), r));
+    if (std::abs(low - at.clearance) < 1e-10) break;
+    origin.z() += (at.clearance - low) / std::max(R(2, 2), 0.1);
+  }
+  return {R, origin};
+}
+
 // The bearing: zero-length springs from the wheel's two axle points
 // (wheel_axle0, +1) to the carrier's (axle0, +1), a hinge by penalty.
 void addBearing(ModelBuilder& b, const CarParams& p, int wheel_axle0, int axle0) {
@@ -132,38 +165,10 @@ int addDeformableWheel(ModelBuilder& b, const std::string& name, const CarParams
 CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at) {
   if (p.rim_points < 3) throw std::invalid_argument("car: rim_points must be >= 3");
   const double r = p.wheel_radius, a = p.axle_half_length;
-  // body frame: x forward, y left, z up
-  Mat3 R;
-  if (at.on_ground) {
-    Vec3 surf, n;
-    if (!groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n))
-      throw std::invalid_argument("car '" + name + "': no ground surface below its position");
-    Vec3 f = Vec3(std::cos(at.yaw), std::sin(at.yaw), 0.0);
-    f = (f - f.dot(n) * n).normalized();
-    R.col(0) = f;
-    R.col(1) = n.cross(f);
-    R.col(2) = n;
-  } else {
-    R = (Eigen::AngleAxisd(at.yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(at.pitch, Vec3::UnitY()) *
-         Eigen::AngleAxisd(at.roll, Vec3::UnitX())).toRotationMatrix();
-  }
-  const Quat q(R);
   const std::array<Vec3, 4> centres = {Vec3(p.half_length, p.half_width, 0), Vec3(p.half_length, -p.half_width, 0),
                                        Vec3(-p.half_length, p.half_width, 0), Vec3(-p.half_length, -p.half_width, 0)};
-  Vec3 origin = at.position;
-  if (at.on_ground) {
-    Vec3 surf, n;
-    groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n);
-    origin = surf + R.col(2) * r;
-    // settle: move along the vertical until the lowest wheel has the clearance
-    for (int it = 0; it < 8; ++it) {
-      double low = std::numeric_limits<double>::infinity();
-      for (const Vec3& c : centres)
-        low = std::min(low, circleClearance(*b.model().ground, origin + R * c, R.col(1), r));
-      if (std::abs(low - at.clearance) < 1e-10) break;
-      origin.z() += (at.clearance - low) / std::max(R(2, 2), 0.1);
-    }
-  }
+  const auto [R, origin] = place(b, "car '" + name + "'", at, r, {centres.begin(), centres.end()});
+  const Quat q(R);
   const Vec3 vel = at.speed * R.col(0);
 
   CarHandle h;
@@ -253,6 +258,43 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
     if (wh.steerable)
       for (int s = 0; s < 2; ++s) b.setSteered(axle0 + s, h.wheels[w], centres[w]);
   }
+  return h;
+}
+
+}  // namespace groundsim
+
+namespace groundsim {
+
+CarHandle addLoneWheel(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at) {
+  if (p.rim_points < 3) throw std::invalid_argument("wheel: rim_points must be >= 3");
+  const auto [R, origin] = place(b, "wheel '" + name + "'", at, p.wheel_radius, {Vec3::Zero()});
+  CarHandle h;
+  h.vehicle = b.beginVehicle(name);
+  BodySpec ws;
+  ws.name = name;
+  const bool rim_contact = p.wheel_contact == WheelContact::RimPoints;
+  for (int k = 0; k < p.rim_points; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / p.rim_points;
+    ws.points.push_back(Vec3(p.wheel_radius * std::cos(phi), 0.0, p.wheel_radius * std::sin(phi)));
+    ws.masses.push_back(p.wheel_mass / p.rim_points);
+    ws.contact.push_back(rim_contact);
+    ws.simulate.push_back(rim_contact);
+  }
+  ws.origin = origin;
+  ws.orientation = Quat(R);
+  ws.velocity = at.speed * R.col(0);
+  ws.angular_velocity = at.wheel_spin * R.col(1);
+  int first = 0;
+  h.body = b.addBody(ws, &first);
+  b.setVehicleBody(h.body);
+  Wheel wh;
+  wh.body = h.body;
+  wh.carrier = -1;
+  wh.radius = p.wheel_radius;
+  wh.contact = p.wheel_contact;
+  wh.first_point = first;
+  wh.rim_points = rim_contact ? p.rim_points : 0;
+  h.wheels = {b.addWheel(wh), -1, -1, -1};
   return h;
 }
 

@@ -60,6 +60,11 @@ struct CarHandle {
 
 CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at);
 
+// A lone wheel (a hoop of rim_points, wheel_mass, wheel_radius; rim-point or
+// circle contact) standing upright, its axle along the placement's left.
+// It is its own vehicle body; its drive torque is external (no carrier).
+CarHandle addLoneWheel(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at);
+
 // Surface point below (x, y) (solving H(x, y, z) = 0 for z) and unit normal.
 bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal);
 

@@ -74,8 +74,8 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
     double change = 0.0, total = 0.0;
     for (size_t w = 0; w < m.wheels.size(); ++w) {
       const double B = controls[w].brake_torque;
-      if (!(B > 0.0)) continue;
       const Wheel& wh = m.wheels[w];
+      if (!(B > 0.0) || wh.carrier < 0) continue;
       const Vec3 a = ws.R[wh.body] * wh.axis;
       const Vec3 ia = ws.inv_inertia_world[wh.body] * a, ic = ws.inv_inertia_world[wh.carrier] * a;
       const double spin = a.dot(ws.w_pred[wh.body] - ws.w_pred[wh.carrier]);
@@ -131,8 +131,8 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
 
   // impulses over the step become forces for the integrator and telemetry
   for (size_t w = 0; w < m.wheels.size(); ++w) {
-    if (ws.brake_impulse[w] == 0.0) continue;
     const Wheel& wh = m.wheels[w];
+    if (ws.brake_impulse[w] == 0.0 || wh.carrier < 0) continue;
     const Vec3 tq = (ws.brake_impulse[w] / h) * (ws.R[wh.body] * wh.axis);
     ws.body_torque[wh.body] += tq;
     ws.body_torque[wh.carrier] -= tq;

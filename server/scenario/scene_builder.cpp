@@ -71,6 +71,7 @@ void setControls(const VehicleControlSpec& c, const CarHandle& car, std::vector<
   for (int k = 0; k < 4; ++k) {
     const bool driven = c.drive_wheels == DriveWheels::All || (c.drive_wheels == DriveWheels::Front && k < 2) ||
                         (c.drive_wheels == DriveWheels::Rear && k >= 2);
+    if (car.wheels[k] < 0) continue;  // a lone wheel has one
     WheelControl& w = controls.at(static_cast<size_t>(car.wheels[k]));
     w.drive_torque = driven ? c.drive_torque : 0.0;
     w.brake_torque = c.brake_torque;
@@ -91,7 +92,8 @@ Scene buildScene(const Scenario& s) {
   for (size_t i = 0; i < s.vehicles.size(); ++i) {
     const VehicleSpec& v = s.vehicles[i];
     try {
-      scene.cars.push_back(addCar(builder, v.name, v.params, v.placement));
+      scene.cars.push_back((v.lone_wheel ? addLoneWheel(builder, v.name, v.params, v.placement)
+                                    : addCar(builder, v.name, v.params, v.placement)));
       scene.vehicle_names.push_back(v.name);
     } catch (const std::invalid_argument& e) {
       issues.add(vehiclePath(s, i), e.what());

@@ -80,7 +80,10 @@ VehicleSpec readVehicle(ObjectReader r) {
   v.name = r.string("name", v.name);
   if (!validName(v.name))
     r.issue("name", "must be 1-32 letters, digits, '_' or '-', got \"" + v.name + "\"");
+  v.lone_wheel = r.choice("kind", "car", {"car", "wheel"}) == "wheel";
   readParams(r, v.params);
+  if (v.lone_wheel && v.params.deformable)
+    r.issue("wheel_model", "a lone wheel is \"rim_points\" or \"circle\"; \"deformable\" needs a car");
   // the inner axle point of a wheel must stay on its own side of the body
   if (v.params.axle_half_length >= v.params.half_width)
     r.issue("axle_half_length", "must be < half_width (" + formatNumber(v.params.half_width) + "), got " +

@@ -19,6 +19,7 @@ struct VehicleControlSpec {
 
 struct VehicleSpec {
   std::string name = "car";
+  bool lone_wheel = false;  // "kind": "wheel": one wheel, no body (wheel_* keys and initial only)
   CarParams params;
   CarPlacement placement;
   VehicleControlSpec control;

@@ -212,3 +212,24 @@ TEST(DeformableTyres, SpokesAndTreadConserveMomentumInSpace) {
   EXPECT_LT((angularMomentum(sim.model(), sim.state()) - L0).norm(), 1e-9 * (1 + L0.norm()));
   EXPECT_LT(linearMomentum(sim.model(), sim.state()).norm(), 1e-10);
 }
+
+TEST(LoneWheel, HoopRollsDownAnInclineAtHalfGSinTheta) {
+  // a hoop (I = m r^2) rolling without slip: a = g sin(theta) / (1 + I / m r^2)
+  const double theta = 25 * kPi / 180;
+  Options o;
+  o.dt = 1e-4;
+  o.contact.friction = 0.9;
+  o.contact.damping = 60.0;  // damping ratio ~0.5 for 2 kg on 2000 N/m: the set-down bounce dies out
+  ModelBuilder b(o, makeIncline(theta, Vec3::UnitX()));
+  CarParams p;
+  p.wheel_contact = WheelContact::Circle;
+  p.wheel_radius = 0.4;
+  p.wheel_mass = 2.0;
+  addLoneWheel(b, "hoop", p, CarPlacement{});
+  auto built = b.build();
+  Simulator sim(built.model, built.initial);
+  const double a = fittedAcceleration(sim, 0.5, 2.0);
+  EXPECT_NEAR(a, 9.8 * std::sin(theta) / 2, 1e-3 * 9.8 * std::sin(theta) / 2);
+  // rolling, not sliding: the contact point does not slip
+  EXPECT_LT(sampleVehicle(sim, 0, false).wheels[0].slip, 1e-6);
+}
