@@ -24,23 +24,12 @@
 #include "channels.hpp"
 #include "codec.hpp"
 #include "process.hpp"
+#include "test_env.hpp"
 
 namespace groundsim::itest {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-const std::string kServer = GROUNDSIM_SERVER_PATH;
-const std::string kCli = GROUNDSIM_CLI_PATH;
-const std::string kPlain = std::string(GROUNDSIM_CONFIG_DIR) + "/plain.json";
-const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
-
-std::string lastLine(const std::string& text) {
-  std::string s = text;
-  while (!s.empty() && s.back() == '\n') s.pop_back();
-  const auto nl = s.rfind('\n');
-  return nl == std::string::npos ? s : s.substr(nl + 1);
-}
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 

@@ -21,21 +21,10 @@
 #include "channels.hpp"
 #include "codec.hpp"
 #include "process.hpp"
+#include "test_env.hpp"
 
 namespace groundsim::itest {
 namespace {
-
-const std::string kServer = GROUNDSIM_SERVER_PATH;
-const std::string kCli = GROUNDSIM_CLI_PATH;
-const std::string kPlain = std::string(GROUNDSIM_CONFIG_DIR) + "/plain.json";
-const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
-
-std::string lastLine(const std::string& text) {
-  std::string s = text;
-  while (!s.empty() && s.back() == '\n') s.pop_back();
-  const auto nl = s.rfind('\n');
-  return nl == std::string::npos ? s : s.substr(nl + 1);
-}
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;

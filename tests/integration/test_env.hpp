@@ -1,0 +1,23 @@
+// What both integration test executables share: where the binaries and
+// configs are, the loopback-only LCM URL, and small output helpers.
+#pragma once
+
+#include <string>
+
+namespace groundsim::itest {
+
+inline const std::string kServer = GROUNDSIM_SERVER_PATH;
+inline const std::string kCli = GROUNDSIM_CLI_PATH;
+inline const std::string kPlain = std::string(GROUNDSIM_CONFIG_DIR) + "/plain.json";
+// ttl=0: packets never leave the host (and each test has its own namespace)
+inline const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+// The last line of a command's output (`create` prints the session id there).
+inline std::string lastLine(const std::string& text) {
+  std::string s = text;
+  while (!s.empty() && s.back() == '\n') s.pop_back();
+  const auto nl = s.rfind('\n');
+  return nl == std::string::npos ? s : s.substr(nl + 1);
+}
+
+}  // namespace groundsim::itest
