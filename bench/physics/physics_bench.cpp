@@ -34,10 +34,14 @@ void ReportCar(benchmark::State& st) {
   auto built = b.build();
   Simulator sim(built.model, built.initial);
   sim.step(2000);  // rolling, not the first touch
+  double sweeps = 0;
   for (auto _ : st) {
     if (!sim.step()) st.SkipWithError("diverged");
+    sweeps += sim.workspace().friction_sweeps;
   }
   report(st, o.dt);
+  // mean Gauss-Seidel sweeps of the friction solve: its share of the cost
+  st.counters["sweeps"] = sweeps / static_cast<double>(std::max<benchmark::IterationCount>(st.iterations(), 1));
 }
 BENCHMARK(ReportCar)->Arg(20)->Arg(40)->Arg(80)->Arg(160);
 

@@ -5,7 +5,7 @@
 namespace groundsim {
 
 __attribute__((target_clones("arch=x86-64-v3", "default")))
-void accumulateBodyForces(const Model& m, const Eigen::VectorXd& /*y*/, Workspace& ws) {
+void accumulateBodyForces(const Model& m, Workspace& ws) {
   const Vec3& g = m.opt.gravity;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     ws.body_force[i] = m.bodies[i].mass * g;

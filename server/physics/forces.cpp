@@ -11,7 +11,7 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   detectGroundContacts(m, ws);
   applyContactNormals(m, ws);
   applyExplicitFriction(m, ws);      // regularised / sign models only
-  accumulateBodyForces(m, y, ws);    // gravity + point forces -> body force and torque
+  accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
   // stick-slip friction and brakes need the velocities the other forces are
   // about to produce, so they come last

@@ -29,7 +29,7 @@ void applySprings(const Model& m, Workspace& ws);
 void detectGroundContacts(const Model& m, Workspace& ws);
 void applyContactNormals(const Model& m, Workspace& ws);
 void applyExplicitFriction(const Model& m, Workspace& ws);
-void accumulateBodyForces(const Model& m, const Eigen::VectorXd& y, Workspace& ws);
+void accumulateBodyForces(const Model& m, Workspace& ws);
 void applyDrive(const Model& m, const std::vector<WheelControl>& controls, Workspace& ws);
 void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
                               const std::vector<WheelControl>& controls, double h, Workspace& ws);

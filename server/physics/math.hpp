@@ -37,10 +37,4 @@ inline Quat integrateRotation(const Quat& q, const Vec3& omega, double h) {
   return (rotationFromVector(omega * h) * q).normalized();
 }
 
-inline Mat3 skew(const Vec3& v) {
-  Mat3 s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
 }  // namespace groundsim

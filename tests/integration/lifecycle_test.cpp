@@ -123,8 +123,7 @@ Row row(const std::string& list_out, const std::string& id) {
 class Lifecycle : public ::testing::Test {
  protected:
   void SetUp() override {
-    const char* dir = std::getenv("TMPDIR");
-    token_file_ = std::string(dir && *dir ? dir : "/tmp") + "/gs-itest-life-tokens-" + std::to_string(getpid()) + ".json";
+    token_file_ = tokenFile("life-tokens");
     std::remove(token_file_.c_str());
   }
   void TearDown() override {

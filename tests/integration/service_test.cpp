@@ -45,8 +45,7 @@ constexpr int kX = 4, kVx = 11, kVy = 12;
 class Service : public ::testing::Test {
  protected:
   void SetUp() override {
-    const char* dir = std::getenv("TMPDIR");
-    token_file_ = std::string(dir && *dir ? dir : "/tmp") + "/gs-itest-tokens-" + std::to_string(getpid()) + ".json";
+    token_file_ = tokenFile("tokens");
     std::remove(token_file_.c_str());
     startServer();
   }

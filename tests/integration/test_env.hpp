@@ -2,7 +2,10 @@
 // configs are, the loopback-only LCM URL, and small output helpers.
 #pragma once
 
+#include <cstdlib>
 #include <string>
+
+#include <unistd.h>
 
 namespace groundsim::itest {
 
@@ -11,6 +14,12 @@ inline const std::string kCli = GROUNDSIM_CLI_PATH;
 inline const std::string kPlain = std::string(GROUNDSIM_CONFIG_DIR) + "/plain.json";
 // ttl=0: packets never leave the host (and each test has its own namespace)
 inline const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+// A token file of this test process's own, so parallel tests never share one.
+inline std::string tokenFile(const std::string& tag) {
+  const char* dir = std::getenv("TMPDIR");
+  return std::string(dir && *dir ? dir : "/tmp") + "/gs-itest-" + tag + "-" + std::to_string(getpid()) + ".json";
+}
 
 // The last line of a command's output (`create` prints the session id there).
 inline std::string lastLine(const std::string& text) {
