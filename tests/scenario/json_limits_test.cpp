@@ -103,6 +103,13 @@ TEST(JsonLimits, DeepOverrideValueIsRefused) {
   }
 }
 
+TEST(JsonLimits, DeepOverridePathIsRefusedAtValidation) {
+  // --set a.a.a...=1 creates the objects it walks through: 10^5 of them
+  auto d = minimalDoc();
+  applyOverride(d, repeat("a.", 100000) + "a=1");
+  EXPECT_TRUE(hasIssue(issuesOf(d), "", "deeper than 64 levels"));
+}
+
 TEST(JsonLimits, MalformedTextStillNamesTheByte) {
   EXPECT_TRUE(hasIssue(issuesOf(std::string(R"({"ground": )")), "", "malformed JSON at byte"));
   EXPECT_TRUE(hasIssue(issuesOf(std::string(R"({"duration": 1e999})")), "", "number overflow"));
