@@ -72,10 +72,17 @@ void checkOverlaps(const Scenario& s, IssueList& issues) {
   double cell = 0.0;
   for (const VehicleSpec& v : s.vehicles) cell = std::max(cell, 2.0 * footprint(v.params));
   if (!(cell > 0.0)) return;
+  // a footprint may be tiny (1e-300 m) while positions reach 1e9: the cells
+  // are made at least 2^-50 of the farthest position, so every cell index
+  // is an exact integer in a double (a larger cell costs time, never a
+  // missed overlap)
+  double far = 0.0;
+  for (const VehicleSpec& v : s.vehicles)
+    far = std::max({far, std::abs(v.placement.position.x()), std::abs(v.placement.position.y())});
+  cell = std::max(cell, far * 0x1p-50);
+  auto index = [&](double x) { return static_cast<long long>(std::clamp(std::floor(x / cell), -0x1p52, 0x1p52)); };
   auto cellOf = [&](const VehicleSpec& v) {
-    // positions are bounded (|x| <= 1e9), so the cell indices fit
-    return std::pair<long long, long long>(static_cast<long long>(std::floor(v.placement.position.x() / cell)),
-                                           static_cast<long long>(std::floor(v.placement.position.y() / cell)));
+    return std::pair<long long, long long>(index(v.placement.position.x()), index(v.placement.position.y()));
   };
   std::map<std::pair<long long, long long>, std::vector<size_t>> grid;
   for (size_t j = 0; j < s.vehicles.size(); ++j) {
