@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -65,6 +66,15 @@ void readVehicles(ObjectReader& top, nlohmann::json& doc, IssueList& issues, Sce
   }
 }
 
+// Why a free text cannot be shown as it is, or nullopt.
+std::optional<std::string> badText(const std::string& text, size_t most) {
+  if (text.size() > most)
+    return std::to_string(text.size()) + " characters, at most " + std::to_string(most) + ", got " + quote(text);
+  for (unsigned char c : text)
+    if (c < 0x20 || c == 0x7f) return "must not contain control characters, got " + quote(text);
+  return std::nullopt;
+}
+
 }  // namespace
 
 nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget& budget) {
@@ -96,8 +106,11 @@ Scenario parseScenario(const nlohmann::json& input, const Budget& budget) {
   ObjectReader top(doc, "", issues);
   if (!top.valid()) issues.throwIfAny();
 
+  // both are printed and published as they are: bounded, no control characters
   s.name = top.string("name", "scenario");
+  if (auto why = badText(s.name, 256)) top.issue("name", *why);
   s.description = top.string("description", "");
+  if (auto why = badText(s.description, 4096)) top.issue("description", *why);
   if (top.has("preset")) s.preset = top.choice("preset", "balanced", {"fast", "balanced", "accurate"});
   else top.allow("preset");  // optional: absent means the explicit settings below
   s.duration = top.number("duration", 5.0, Range::positive(1e6));

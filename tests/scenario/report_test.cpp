@@ -47,6 +47,17 @@ TEST(Report, LongNameIsQuotedEscapedAndCut) {
   }
 }
 
+TEST(Report, ScenarioNameAndDescriptionAreBoundedPrintableText) {
+  // both are printed in summaries and published in session lists
+  auto d = minimalDoc();
+  d["name"] = std::string(1 << 20, 'n');
+  d["description"] = "two\nlines";
+  const auto issues = issuesOf(d);
+  EXPECT_TRUE(hasIssue(issues, "/name", "1048576 characters, at most 256, got \"nnn"));
+  EXPECT_TRUE(hasIssue(issues, "/description", "must not contain control characters, got \"two\\nlines\""));
+  for (const Issue& i : issues) EXPECT_LT(i.str().size(), 400u);
+}
+
 TEST(Report, LongUnknownKeyIsCutInThePath) {
   auto d = minimalDoc();
   d["vehicle"][std::string(1 << 20, 'k') + std::string("\n", 1)] = 1;
