@@ -25,9 +25,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     const groundsim::scenario::Scenario s = groundsim::scenario::parseScenario(text, budget);
-    (void)groundsim::scenario::estimateModelSize(s);
+    const groundsim::scenario::ModelSize size = groundsim::scenario::estimateModelSize(s);
     const groundsim::scenario::Scene scene = groundsim::scenario::buildScene(s);
-    (void)scene;
+    // the budget is only as good as the estimate: it must count what was built
+    const groundsim::Model& m = *scene.built.model;
+    if (size.points != static_cast<long long>(m.points.size()) ||
+        size.springs != static_cast<long long>(m.springs.size()) ||
+        size.particles != static_cast<long long>(m.particles.size()) || size.state != m.stateSize())
+      __builtin_trap();
   } catch (const groundsim::scenario::ScenarioError& e) {
     // a refusal: its report must stay short whatever the input
     if (std::string(e.what()).size() > 40000) __builtin_trap();
