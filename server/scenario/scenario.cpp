@@ -87,19 +87,38 @@ nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget&
   return nlohmann::json::parse(json_text);
 }
 
+namespace {
+
+Scenario validate(Scenario s, const Budget& budget);
+
+}  // namespace
+
 Scenario parseScenario(const std::string& json_text, const Budget& budget) {
   return parseScenario(parseScenarioDocument(json_text, budget), budget);
 }
 
 Scenario parseScenario(const nlohmann::json& input, const Budget& budget) {
-  {
-    // a tree built elsewhere: checked before the (recursive) copy below
-    IssueList limits;
-    checkTree(input, budget, limits);
-    limits.throwIfAny();
-  }
+  // a tree built elsewhere: checked before the (recursive) copy below
+  IssueList limits;
+  checkTree(input, budget, limits);
+  limits.throwIfAny();
   Scenario s;
   s.document = input;
+  return validate(std::move(s), budget);
+}
+
+Scenario parseScenario(nlohmann::json&& input, const Budget& budget) {
+  IssueList limits;
+  checkTree(input, budget, limits);
+  limits.throwIfAny();
+  Scenario s;
+  s.document = std::move(input);
+  return validate(std::move(s), budget);
+}
+
+namespace {
+
+Scenario validate(Scenario s, const Budget& budget) {
   nlohmann::json& doc = s.document;
   applyPreset(doc);  // its settings become ordinary keys, validated like any other
   IssueList issues;
@@ -134,6 +153,8 @@ Scenario parseScenario(const nlohmann::json& input, const Budget& budget) {
   return s;
 }
 
+}  // namespace
+
 nlohmann::json loadScenarioDocument(const std::string& path, const Budget& budget) {
   namespace fs = std::filesystem;
   const std::string name = quote(path);
@@ -165,7 +186,7 @@ Scenario loadScenarioFile(const std::string& path, const Budget& budget) {
   nlohmann::json doc = loadScenarioDocument(path, budget);
   // an unnamed scenario is called after its file
   if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(path).stem().string();
-  return parseScenario(doc, budget);
+  return parseScenario(std::move(doc), budget);
 }
 
 }  // namespace groundsim::scenario
