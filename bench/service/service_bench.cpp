@@ -22,8 +22,8 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 

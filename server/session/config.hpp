@@ -18,8 +18,13 @@ struct ServiceConfig {
   int max_vehicles = 32;               // per session: keeps a state message in one UDP datagram
   std::size_t max_scenario_bytes = 1 << 20;
   std::int64_t max_steps_per_request = 100'000'000;
+  double min_rate = 1e-3;              // smallest real-time factor (create, mode)
   double max_rate = 1000.0;            // largest real-time factor
-  double max_publish_rate = 10000.0;   // Hz
+  double min_publish_rate = 1e-3;      // Hz of simulation time
+  double max_publish_rate = 10000.0;   // Hz of simulation time
+  int max_build_jobs = 0;              // scene builds at once; 0: workers - 1 (at least 1)
+  double ended_linger = 10.0;          // s  a stopped or reclaimed session stays in the heartbeat, so that
+                                       //    subscribers learn its last seq even when its final state is lost
 };
 
 }  // namespace groundsim::session

@@ -21,8 +21,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "process.hpp"
 #include "test_env.hpp"
 

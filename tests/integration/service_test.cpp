@@ -18,8 +18,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/request_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "process.hpp"
 #include "test_env.hpp"
 
@@ -294,7 +294,7 @@ TEST_F(Service, CleanShutdownOnSigterm) {
   EXPECT_NE(lastLine(w.out).find("stopped"), std::string::npos) << w.out;
   // no server: clients say so instead of hanging
   const Result list = cli({"list", "--timeout", "0.5"}, false);
-  EXPECT_EQ(list.status, 2);
+  EXPECT_EQ(list.status, 4);  // kExitNoServer
   EXPECT_NE(list.err.find("no reply"), std::string::npos) << list.err;
 }
 

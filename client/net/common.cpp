@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <sstream>
 
-#include "channels.hpp"
 #include "commands.hpp"
-#include "net_commands.hpp"
-#include "net_tokens.hpp"
+#include "common.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/names.hpp"
+#include "protocol/text.hpp"
+#include "tokens.hpp"
 
 namespace groundsim::cli {
 namespace {
@@ -49,7 +51,8 @@ std::string tokenFor(const NetOptions& o, const std::string& session_id) {
 }
 
 void fail(int code, const std::string& message) {
-  std::fprintf(stderr, "groundsim: %s\n", message.c_str());
+  // messages quote what users and servers sent; escape what is left, cut nothing of ours
+  std::fprintf(stderr, "groundsim: %s\n", net::printable(message, 4000).c_str());
   throw CLI::RuntimeError(code);
 }
 
@@ -65,49 +68,17 @@ void guarded(const std::function<void()>& body) {
   }
 }
 
-const char* modeName(int mode) {
-  switch (mode) {
-    case groundsim::request_t::MODE_REALTIME: return "realtime";
-    case groundsim::request_t::MODE_FAST: return "fast";
-    case groundsim::request_t::MODE_LOCKSTEP: return "lockstep";
-  }
-  return "?";
-}
-
-int modeFromName(const std::string& name) {
-  if (name == "realtime") return groundsim::request_t::MODE_REALTIME;
-  if (name == "fast") return groundsim::request_t::MODE_FAST;
-  if (name == "lockstep") return groundsim::request_t::MODE_LOCKSTEP;
-  return 0;
-}
-
-const char* statusName(int status) {
-  switch (status) {
-    case groundsim::state_t::STATUS_RUNNING: return "running";
-    case groundsim::state_t::STATUS_PAUSED: return "paused";
-    case groundsim::state_t::STATUS_FINISHED: return "finished";
-    case groundsim::state_t::STATUS_DIVERGED: return "diverged";
-    case groundsim::state_t::STATUS_STOPPED: return "stopped";
-  }
-  return "?";
-}
-
-bool isFinal(int status) {
-  return status == groundsim::state_t::STATUS_FINISHED || status == groundsim::state_t::STATUS_DIVERGED ||
-         status == groundsim::state_t::STATUS_STOPPED;
-}
-
 std::string stateLine(const groundsim::state_t& s) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "t=%.3f tick=%lld seq=%lld %s", s.t, static_cast<long long>(s.tick),
-                static_cast<long long>(s.seq), statusName(s.status));
+                static_cast<long long>(s.seq), net::statusName(s.status));
   std::string out = buf;
   for (const auto& v : s.vehicles) {
-    std::snprintf(buf, sizeof buf, "  %s: x=%.3f y=%.3f z=%.3f speed=%.3f m/s", v.name.c_str(), v.position[0],
+    std::snprintf(buf, sizeof buf, "  %s: x=%.3f y=%.3f z=%.3f speed=%.3f m/s", net::printable(v.name, 40).c_str(), v.position[0],
                   v.position[1], v.position[2], v.speed);
     out += buf;
   }
-  if (!s.status_reason.empty()) out += "  (" + s.status_reason + ")";
+  if (!s.status_reason.empty()) out += "  (" + net::printable(s.status_reason) + ")";
   return out;
 }
 
