@@ -60,7 +60,9 @@ void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional) {
   cmd->add_option("--rate", o.rate, "real-time factor")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--publish-rate", o.publish_rate,
                   "state messages per simulated second (default: the scenario's output_rate)");
-  cmd->add_option("--duration", o.duration, "s of simulation; 0: the scenario's; < 0: until stopped")
+  // `log` has a --duration of its own (wall seconds to record)
+  cmd->add_option(positional ? "--duration" : "--session-duration", o.duration,
+                  "s of simulation; 0: the scenario's; < 0: until stopped")
       ->capture_default_str();
   cmd->add_option("--preset", o.preset, "speed/accuracy preset (" + presetList() + "), as `groundsim run --preset`")
       ->check(CLI::IsMember(scenario::presetNames()));

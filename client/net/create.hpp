@@ -19,7 +19,8 @@ struct CreateOptions {
   std::vector<std::string> overrides;
 };
 
-// SCENARIO is positional when `positional`, else the option --create.
+// SCENARIO is positional when `positional`, else the option --create (and
+// the simulated duration is --session-duration).
 void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional);
 // The OP_CREATE request; ends the command (kExitRefused) when the file
 // cannot be read or prepared, or is too large for the transport.

@@ -36,6 +36,9 @@ class LcmServer final : public session::Output {
   void heartbeat();
 
   const std::string& url() const { return url_; }
+  // The server's LCM instance: with memq:// a test publishes into it and
+  // hears the answers in the same process.
+  lcm::LCM& lcm() { return lcm_; }
   int workers() const { return service_->config().workers; }
 
  private:
