@@ -152,6 +152,7 @@ void run(const DriveOpts& o) {
       net::stateChannel(o.session),
       +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_state)* h) { (*h)(rbuf, ch); }, &on_state);
 
+  std::fprintf(stderr, "drive %s: sending on %s\n", net::printable(o.session).c_str(), client.url().c_str());
   Intent intent;
   int refusals = 0;
   const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / o.hz));

@@ -147,6 +147,8 @@ void registerLogCommand(CLI::App& app) {
       for (const auto& m : early) record(m);
       early.clear();
 
+      // ready line (tests and scripts wait for it instead of sleeping)
+      std::fprintf(stderr, "log: recording %zu session(s) on %s\n", streams.size(), client.url().c_str());
       // the heartbeat tells of ends whose final state was lost
       const long long beats_at_start = client.server().heartbeats();
       auto checkHeartbeat = [&] {

@@ -63,6 +63,7 @@ void registerWatchCommand(CLI::App& app) {
           +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(handler)* h) { (*h)(rbuf, ch); },
           &handler);
       sub->setQueueCapacity(net::kDeepQueue);
+      std::fprintf(stderr, "watch %s: subscribed on %s\n", net::printable(o->session).c_str(), client.url().c_str());
       const auto start = std::chrono::steady_clock::now();
       const long long beats_at_start = client.server().heartbeats();
       std::optional<std::chrono::steady_clock::time_point> final_listed;

@@ -120,7 +120,7 @@ TEST_F(Service, SubscribersReceiveIdenticalStreams) {
     loggers.push_back(std::make_unique<Process>(std::vector<std::string>{
         kCli, "log", id, "--csv", files.back(), "--duration", "60", "--lcm-url", kUrl}));
   }
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // generous: let them subscribe
+  for (auto& l : loggers) ASSERT_TRUE(l->waitForError("log: recording", 30));  // subscribed
   ASSERT_EQ(cli({"mode", id, "fast"}, true).status, 0);
   std::vector<std::string> csv;
   for (int i = 0; i < 3; ++i) {
