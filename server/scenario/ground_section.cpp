@@ -19,8 +19,13 @@ const std::vector<std::string> kAllKeys = {"normal",     "offset",       "angle_
 // contact meaningless and one far above is a plane.
 const Range kWavelength{1e-3, 1e6, false, false};
 
-void readExpression(ObjectReader& r, GroundSpec& g) {
+void readExpression(ObjectReader& r, GroundSpec& g, const Budget& budget) {
   auto text = r.requiredString("expression");
+  if (text && text->size() > budget.max_expression_length) {
+    r.issue("expression", std::to_string(text->size()) + " characters, at most " +
+                              std::to_string(budget.max_expression_length) + " " + budget.flag("max-expression-length"));
+    text.reset();
+  }
   const bool has_bound = r.has("gradient_bound");
   if (has_bound) {
     if (auto b = r.requiredNumber("gradient_bound", Range::positive())) g.gradient_bound = *b;
@@ -34,7 +39,7 @@ void readExpression(ObjectReader& r, GroundSpec& g) {
     if (has_bound && std::isfinite(g.gradient_bound))
       if (auto why = refuteGradientBound(ground, g.gradient_bound)) r.issue("gradient_bound", *why);
   } catch (const ExpressionError& e) {
-    r.issue("expression", std::string(e.what()) + " (in \"" + g.expression + "\")");
+    r.issue("expression", std::string(e.what()) + " (in " + quote(g.expression) + ")");
   }
 }
 
@@ -44,7 +49,7 @@ const char* groundKindName(GroundKind k) {
   return kKinds.at(static_cast<size_t>(k)).c_str();
 }
 
-GroundSpec readGround(ObjectReader r) {
+GroundSpec readGround(ObjectReader r, const Budget& budget) {
   GroundSpec g;
   const auto type = r.requiredChoice("type", kKinds);
   if (!type) {
@@ -86,7 +91,7 @@ GroundSpec readGround(ObjectReader r) {
       if (auto w = r.requiredNumber("wavelength_y", kWavelength)) g.wavelength_y = *w;
       break;
     case GroundKind::Expression:
-      readExpression(r, g);
+      readExpression(r, g, budget);
       break;
   }
   r.finish();

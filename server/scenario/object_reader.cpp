@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <cstdio>
 
 namespace groundsim::scenario {
 
+// %g: 6 significant digits, so DBL_MAX reads 1.79769e+308, not 309 digits
 std::string formatNumber(double v) {
-  std::ostringstream s;
-  s.precision(12);
-  s << v;
-  return s.str();
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
 }
 
 std::string jsonTypeName(const nlohmann::json& v) {
@@ -20,8 +20,10 @@ std::string jsonTypeName(const nlohmann::json& v) {
 }
 
 std::string pointerToken(const std::string& key) {
+  // a key is user text: cut like any quoted string (IssueList escapes)
+  const std::string k = key.size() > kMaxQuotedChars ? sanitized(key, kMaxQuotedChars) : key;
   std::string out;
-  for (char c : key) {
+  for (char c : k) {
     if (c == '~') out += "~0";
     else if (c == '/') out += "~1";
     else out += c;
@@ -46,6 +48,8 @@ size_t editDistance(const std::string& a, const std::string& b) {
 }  // namespace
 
 std::string closestKey(const std::string& key, const std::vector<std::string>& known) {
+  // the distance costs |key| x |known key|: no typo of a short key is long
+  if (key.size() > 64) return {};
   std::string best;
   size_t best_d = std::string::npos;
   for (const std::string& k : known) {
@@ -189,7 +193,7 @@ std::string ObjectReader::choice(const std::string& key, const std::string& def,
     // a wrong type was already reported by string()
     if ((*obj_)[key].is_string()) {
       const std::string hint = closestKey(v, allowed);
-      issue(key, "must be one of " + listOf(allowed) + ", got \"" + v + "\"" +
+      issue(key, "must be one of " + listOf(allowed) + ", got " + quote(v) +
                      (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
     }
     return def;
@@ -203,7 +207,7 @@ std::optional<std::string> ObjectReader::requiredChoice(const std::string& key,
   if (!v) return std::nullopt;
   if (std::find(allowed.begin(), allowed.end(), *v) == allowed.end()) {
     const std::string hint = closestKey(*v, allowed);
-    issue(key, "must be one of " + listOf(allowed) + ", got \"" + *v + "\"" +
+    issue(key, "must be one of " + listOf(allowed) + ", got " + quote(*v) +
                    (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
     return std::nullopt;
   }
@@ -268,6 +272,12 @@ void ObjectReader::finish() {
   if (!valid_) return;
   for (auto it = obj_->begin(); it != obj_->end(); ++it) {
     if (std::find(known_.begin(), known_.end(), it.key()) != known_.end()) continue;
+    // an object of a million unknown keys: the report lists 20, the rest
+    // are only counted (and need no edit distances)
+    if (issues_->full()) {
+      issue(it.key(), "unknown key");
+      continue;
+    }
     const std::string hint = closestKey(it.key(), known_);
     issue(it.key(), "unknown key" + (hint.empty() ? std::string() : " (did you mean \"" + hint + "\"?)"));
   }

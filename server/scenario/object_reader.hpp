@@ -25,6 +25,8 @@ namespace groundsim::scenario {
 // Every number in a scenario is bounded, so that arithmetic on it (masses
 // times g, stiffness times depth) stays finite: 1e308 kg is a typo, not a car.
 inline constexpr double kMaxMagnitude = 1e9;
+// The smallest physics.dt (s).
+inline constexpr double kMinDt = 1e-9;
 
 // Allowed interval for a number; each end open or closed.
 struct Range {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 
+#include "scenario/json_limits.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
 
@@ -20,34 +21,43 @@ bool isIndex(const std::string& s) {
 
 }  // namespace
 
-void applyOverride(nlohmann::json& doc, const std::string& assignment) {
+void applyOverride(nlohmann::json& doc, const std::string& assignment, const Budget& budget) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    fail("", "override \"" + assignment + "\": expected key.path=value");
+    fail("", "override " + quote(assignment) + ": expected key.path=value");
   const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  const std::string name = "override " + quote(key);
 
   // the value: JSON when it parses ("0.5", "[1,0]", "true", "\"x\""), else the
-  // text itself, so `--set ground.type=cone` needs no quotes
-  nlohmann::json value = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded()) value = text;
+  // text itself, so `--set ground.type=cone` needs no quotes. Valid JSON is
+  // held to the document limits before its tree is built.
+  nlohmann::json value;
+  if (nlohmann::json::accept(text)) {
+    IssueList limits;
+    scanText(text, budget, limits);
+    if (!limits.empty()) fail("", name + ": " + limits.items().front().message);
+    value = nlohmann::json::parse(text);
+  } else {
+    value = text;
+  }
 
-  if (!doc.is_object()) fail("", "override \"" + key + "\": the document is not an object");
+  if (!doc.is_object()) fail("", name + ": the document is not an object");
   nlohmann::json* at = &doc;
   std::string path;
   size_t start = 0;
   while (true) {
     const size_t dot = key.find('.', start);
     const std::string seg = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (seg.empty()) fail("", "override \"" + key + "\": empty key segment");
+    if (seg.empty()) fail("", name + ": empty key segment");
     path += '/';
     path += pointerToken(seg);
     const bool last = dot == std::string::npos;
     nlohmann::json* next = nullptr;
     if (at->is_array()) {
-      if (!isIndex(seg)) fail(path, "override \"" + key + "\": expected an array index, got \"" + seg + "\"");
+      if (!isIndex(seg)) fail(path, name + ": expected an array index, got " + quote(seg));
       const size_t i = std::stoul(seg);
       if (i >= at->size())
-        fail(path, "override \"" + key + "\": index " + seg + " is past the end (" + std::to_string(at->size()) +
+        fail(path, name + ": index " + seg + " is past the end (" + std::to_string(at->size()) +
                        " elements)");
       next = &(*at)[i];
     } else if (at->is_object()) {
@@ -56,7 +66,7 @@ void applyOverride(nlohmann::json& doc, const std::string& assignment) {
       next = &(*at)[seg];
       if (!last && next->is_null()) *next = nlohmann::json::object();
     } else {
-      fail(path, "override \"" + key + "\": cannot set a key inside a value of type " + jsonTypeName(*at));
+      fail(path, name + ": cannot set a key inside a value of type " + jsonTypeName(*at));
     }
     if (last) {
       *next = std::move(value);

@@ -25,8 +25,10 @@ void readPhysics(ObjectReader r, Options& opt) {
   // whether the chosen integrator exists is checked by buildScene: it is a
   // property of this build, not of the document
   opt.integrator = integratorKind(r.choice("integrator", integratorName(def.integrator), kIntegrators));
-  // dt beyond 0.1 s cannot resolve any contact of a 2000 N/m ground
-  opt.dt = r.number("dt", def.dt, Range{0.0, 0.1, true, false});
+  // dt beyond 0.1 s cannot resolve any contact of a 2000 N/m ground; below
+  // 1 ns it resolves nothing a vehicle does, and duration / dt would be
+  // beyond any step budget (1e-20 used to run 0 steps and report "ok")
+  opt.dt = r.number("dt", def.dt, Range::closed(kMinDt, 0.1));
   opt.substeps = r.integer("substeps", def.substeps, 1, 10000);
   opt.tolerance = r.number("tolerance", def.tolerance, Range{0.0, 1.0, true, false});
   opt.gravity = r.vec3("gravity", def.gravity, Range::closed(-1000.0, 1000.0));

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "scenario/json_limits.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario_error.hpp"
@@ -19,7 +20,7 @@ namespace {
   throw ScenarioError({Issue{path, message}});
 }
 
-void readVehicles(ObjectReader& top, nlohmann::json& doc, IssueList& issues, Scenario& s) {
+void readVehicles(ObjectReader& top, nlohmann::json& doc, IssueList& issues, Scenario& s, const Budget& budget) {
   const bool one = top.has("vehicle"), many = top.has("vehicles");
   top.allow("vehicle");
   top.allow("vehicles");
@@ -44,6 +45,13 @@ void readVehicles(ObjectReader& top, nlohmann::json& doc, IssueList& issues, Sce
     issues.add("/vehicles", "must hold at least one vehicle");
     return;
   }
+  // before reading any: 50,000 vehicles are refused in one line, not
+  // validated one by one and then built
+  if (arr.size() > static_cast<size_t>(budget.max_vehicles)) {
+    issues.add("/vehicles", std::to_string(arr.size()) + " vehicles, at most " + std::to_string(budget.max_vehicles) +
+                                " " + budget.flag("max-vehicles"));
+    return;
+  }
   std::set<std::string> names;
   for (size_t i = 0; i < arr.size(); ++i) {
     const std::string path = "/vehicles/" + std::to_string(i);
@@ -52,35 +60,34 @@ void readVehicles(ObjectReader& top, nlohmann::json& doc, IssueList& issues, Sce
       issues.add(path + "/name", "missing required key (each of several vehicles needs a unique name)");
     VehicleSpec v = readVehicle(ObjectReader(arr[i], path, issues));
     if (arr[i].is_object() && arr[i].contains("name") && !names.insert(v.name).second)
-      issues.add(path + "/name", "duplicate vehicle name \"" + v.name + "\"");
+      issues.add(path + "/name", "duplicate vehicle name " + quote(v.name));
     s.vehicles.push_back(std::move(v));
   }
 }
 
 }  // namespace
 
-nlohmann::json parseScenarioDocument(const std::string& json_text) {
-  if (json_text.find_first_not_of(" \t\r\n") == std::string::npos) fail("", "empty document (expected a JSON object)");
-  try {
-    return nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // nlohmann's what() starts with "[json.exception.parse_error.101] "
-    std::string why = e.what();
-    if (const auto p = why.find("] "); why.rfind("[json.exception", 0) == 0 && p != std::string::npos)
-      why = why.substr(p + 2);
-    fail("", "malformed JSON at byte " + std::to_string(e.byte) + ": " + why);
-  } catch (const nlohmann::json::exception& e) {
-    // e.g. out_of_range.406 "number overflow parsing '1e999'": the number
-    // is not representable, so it cannot be validated either
-    std::string why = e.what();
-    if (const auto p = why.find("] "); p != std::string::npos) why = why.substr(p + 2);
-    fail("", "invalid JSON: " + why);
-  }
+nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget& budget) {
+  if (json_text.size() <= budget.max_document_bytes && json_text.find_first_not_of(" \t\r\n") == std::string::npos)
+    fail("", "empty document (expected a JSON object)");
+  IssueList issues;
+  scanText(json_text, budget, issues);
+  issues.throwIfAny();
+  // the text is within every limit now, so the tree is too
+  return nlohmann::json::parse(json_text);
 }
 
-Scenario parseScenario(const std::string& json_text) { return parseScenario(parseScenarioDocument(json_text)); }
+Scenario parseScenario(const std::string& json_text, const Budget& budget) {
+  return parseScenario(parseScenarioDocument(json_text, budget), budget);
+}
 
-Scenario parseScenario(const nlohmann::json& input) {
+Scenario parseScenario(const nlohmann::json& input, const Budget& budget) {
+  {
+    // a tree built elsewhere: checked before the (recursive) copy below
+    IssueList limits;
+    checkTree(input, budget, limits);
+    limits.throwIfAny();
+  }
   Scenario s;
   s.document = input;
   nlohmann::json& doc = s.document;
@@ -105,41 +112,47 @@ Scenario parseScenario(const nlohmann::json& input) {
     top.allow("ground");
     issues.add("/ground", "missing required key (an object with \"type\")");
   } else {
-    s.ground = readGround(top.object("ground"));
+    s.ground = readGround(top.object("ground"), budget);
   }
-  readVehicles(top, doc, issues, s);
+  readVehicles(top, doc, issues, s, budget);
   top.finish();
   issues.throwIfAny();
+  checkBudget(s, budget);
   return s;
 }
 
-nlohmann::json loadScenarioDocument(const std::string& path) {
+nlohmann::json loadScenarioDocument(const std::string& path, const Budget& budget) {
   namespace fs = std::filesystem;
-  const std::string quoted = "\"" + path + "\"";
+  const std::string name = quote(path);
   std::error_code ec;
-  if (!fs::exists(path, ec)) fail("", quoted + ": no such file");
-  if (fs::is_directory(path, ec)) fail("", quoted + ": is a directory, not a scenario file");
+  if (!fs::exists(path, ec)) fail("", name + ": no such file");
+  if (fs::is_directory(path, ec)) fail("", name + ": is a directory, not a scenario file");
+  // refused before reading: a 50 MB file is not read into memory to be refused
+  if (const auto size = fs::file_size(path, ec); !ec && size > budget.max_document_bytes)
+    fail("", name + ": file of " + std::to_string(size) + " bytes, at most " +
+                 std::to_string(budget.max_document_bytes) + " " + budget.flag("max-document-bytes"));
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail("", quoted + ": cannot open for reading");
+  if (!in) fail("", name + ": cannot open for reading");
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) fail("", quoted + ": read error");
+  if (in.bad()) fail("", name + ": read error");
   const std::string s = text.str();
-  if (s.find_first_not_of(" \t\r\n") == std::string::npos) fail("", quoted + ": file is empty");
+  if (s.find_first_not_of(" \t\r\n") == std::string::npos) fail("", name + ": file is empty");
   try {
-    return parseScenarioDocument(s);
+    return parseScenarioDocument(s, budget);
   } catch (const ScenarioError& e) {
     std::vector<Issue> named = e.issues();
-    for (Issue& i : named) i.message = quoted + ": " + i.message;
-    throw ScenarioError(std::move(named));
+    for (Issue& i : named)
+      if (i.path.empty()) i.message = name + ": " + i.message;
+    throw ScenarioError(std::move(named), e.omitted());
   }
 }
 
-Scenario loadScenarioFile(const std::string& path) {
-  nlohmann::json doc = loadScenarioDocument(path);
+Scenario loadScenarioFile(const std::string& path, const Budget& budget) {
+  nlohmann::json doc = loadScenarioDocument(path, budget);
   // an unnamed scenario is called after its file
   if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(path).stem().string();
-  return parseScenario(doc);
+  return parseScenario(doc, budget);
 }
 
 }  // namespace groundsim::scenario

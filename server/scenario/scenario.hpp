@@ -2,7 +2,11 @@
 // state). All validation happens here, once, at load; every problem is
 // reported with its JSON pointer path and the reason, e.g.
 //   /vehicle/wheel_radius: must be > 0, got -1
-// Unknown keys are errors. The physics core never sees JSON.
+// Unknown keys are errors, and so are duplicate keys. Every limit of the
+// model budget (budget.hpp) is checked during validation, before anything
+// is built. Error reports are capped (kMaxListedIssues, then "and N more"),
+// and user strings in them are quoted, escaped and cut (quote()). The
+// physics core never sees JSON.
 #pragma once
 
 #include <stdexcept>
@@ -15,6 +19,7 @@
 #include "physics/model_builder.hpp"
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
+#include "scenario/budget.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -31,13 +36,31 @@ struct Issue {
   }
 };
 
+// A report lists at most this many problems, then "and N more".
+inline constexpr std::size_t kMaxListedIssues = 20;
+// User strings (names, keys, expressions, file names) in messages are cut
+// to this many characters.
+inline constexpr std::size_t kMaxQuotedChars = 200;
+
+// `s` in double quotes, with quotes, backslashes and control characters
+// escaped (\n, \t, \x00), cut to max_chars with "..." and its full length.
+std::string quote(const std::string& s, std::size_t max_chars = kMaxQuotedChars);
+
 class ScenarioError : public std::runtime_error {
  public:
-  explicit ScenarioError(std::vector<Issue> issues);
+  // `omitted`: problems found beyond those listed (see kMaxListedIssues).
+  explicit ScenarioError(std::vector<Issue> issues, std::size_t omitted = 0);
+  // At most kMaxListedIssues, in the order found.
   const std::vector<Issue>& issues() const { return issues_; }
+  std::size_t omitted() const { return omitted_; }
+  // Every listed issue, then "and N more problems" when some were omitted,
+  // joined by `separator`; what() is lines("\n").
+  std::string lines(const std::string& separator) const;
 
  private:
+  ScenarioError(std::vector<Issue> capped, std::size_t omitted, int);
   std::vector<Issue> issues_;
+  std::size_t omitted_ = 0;
 };
 
 // A validated scenario: the document with every default filled in, plus the
@@ -54,22 +77,44 @@ struct Scenario {
   std::vector<VehicleSpec> vehicles;  // document order (`vehicle` is one)
 };
 
-// Parses and validates; throws ScenarioError listing every problem found.
-Scenario parseScenario(const std::string& json_text);
-Scenario parseScenario(const nlohmann::json& doc);
-// Reads a file; a missing, empty or unreadable file is a ScenarioError too.
-Scenario loadScenarioFile(const std::string& path);
+// Parses and validates against the budget; throws ScenarioError listing
+// the problems found (the first kMaxListedIssues). A Scenario returned is
+// within the budget: buildScene(s) costs at most what the budget allows.
+Scenario parseScenario(const std::string& json_text, const Budget& budget = Budget{});
+// The tree's nesting depth and size are checked (without recursion) before
+// anything else.
+Scenario parseScenario(const nlohmann::json& doc, const Budget& budget = Budget{});
+// Reads a file; a missing, empty, unreadable or oversized file is a
+// ScenarioError too.
+Scenario loadScenarioFile(const std::string& path, const Budget& budget = Budget{});
 // Reads and parses a file's JSON without validating it (for overrides
 // before validation); the same file errors as loadScenarioFile.
-nlohmann::json loadScenarioDocument(const std::string& path);
-// Parses JSON text; malformed text is a ScenarioError at path "" naming
-// the byte position and the reason.
-nlohmann::json parseScenarioDocument(const std::string& json_text);
+nlohmann::json loadScenarioDocument(const std::string& path, const Budget& budget = Budget{});
+// Parses JSON text. Before any tree is built, one streaming pass checks the
+// size (max_document_bytes), nesting depth (max_depth), number of values
+// (max_json_values) and duplicate keys (refused, each with its path), so no
+// tree too deep for the recursive parts of nlohmann (copy, dump) is ever
+// built. Malformed text is a ScenarioError at path "" naming the byte
+// position and the reason.
+nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget& budget = Budget{});
+
+// The counts the scene of a validated scenario will have, from its specs
+// (no building): exact for points, particles, springs, bodies and state.
+ModelSize estimateModelSize(const Scenario& s);
+// Throws ScenarioError for every limit of the budget the scenario exceeds
+// (parseScenario calls it; exposed for callers that change the budget).
+void checkBudget(const Scenario& s, const Budget& budget);
+// The run-length limits (max_steps, max_work) for a run of `duration`
+// seconds of scenario s, e.g. a server session whose request overrides the
+// scenario's duration; throws ScenarioError at "/duration". A duration <= 0
+// or infinite (run until stopped) is not bounded here: pacing bounds it.
+void checkRunLength(const Scenario& s, double duration, const Budget& budget);
 
 // Applies "a.b.c=value" to a document before validation (value parsed as
-// JSON when it is valid JSON, else taken as a string). Throws ScenarioError
-// naming the key when the path cannot be set.
-void applyOverride(nlohmann::json& doc, const std::string& assignment);
+// JSON when it is valid JSON, within the budget's depth and size, else
+// taken as a string). Throws ScenarioError naming the key when the path
+// cannot be set.
+void applyOverride(nlohmann::json& doc, const std::string& assignment, const Budget& budget = Budget{});
 
 struct Scene {
   BuiltModel built;               // model and initial state (controls set)

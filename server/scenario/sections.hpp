@@ -14,8 +14,9 @@ namespace groundsim::scenario {
 // `contact` (ground stiffness, damping, friction).
 void readPhysics(ObjectReader physics, Options& opt);
 void readContact(ObjectReader contact, ContactParams& c);
-// ground_section.cpp
-GroundSpec readGround(ObjectReader ground);
+// ground_section.cpp: the budget bounds the expression's length (checked
+// before muParser sees it).
+GroundSpec readGround(ObjectReader ground, const Budget& budget);
 // vehicle_section.cpp: one vehicle object.
 VehicleSpec readVehicle(ObjectReader vehicle);
 

@@ -79,7 +79,7 @@ VehicleSpec readVehicle(ObjectReader r) {
   VehicleSpec v;
   v.name = r.string("name", v.name);
   if (!validName(v.name))
-    r.issue("name", "must be 1-32 letters, digits, '_' or '-', got \"" + v.name + "\"");
+    r.issue("name", "must be 1-32 letters, digits, '_' or '-', got " + quote(v.name));
   v.lone_wheel = r.choice("kind", "car", {"car", "wheel"}) == "wheel";
   readParams(r, v.params);
   if (v.lone_wheel && v.params.deformable)

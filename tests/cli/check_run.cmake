@@ -1,5 +1,6 @@
 # Runs EXE with ARGS ('|'-separated), then checks the exit code (CODE), that
-# stdout+stderr match OUTPUT (a regex, optional) and, when CSV is given,
+# stdout+stderr match OUTPUT (a regex, optional) and are at most MAX_OUTPUT
+# bytes (optional) and, when CSV is given,
 # that the file starts with the telemetry header and holds FRAMES frames of
 # ROWS_PER_FRAME rows each.
 string(REPLACE "|" ";" args "${ARGS}")
@@ -13,6 +14,10 @@ if(NOT "${rc}" STREQUAL "${CODE}")
 endif()
 if(OUTPUT AND NOT all MATCHES "${OUTPUT}")
   message(FATAL_ERROR "output does not match '${OUTPUT}'\n--- output:\n${all}")
+endif()
+string(LENGTH "${all}" all_length)
+if(MAX_OUTPUT AND all_length GREATER MAX_OUTPUT)
+  message(FATAL_ERROR "${all_length} bytes of output, at most ${MAX_OUTPUT} expected\n--- output:\n${all}")
 endif()
 if(all MATCHES "[Ss]egmentation|terminate called|Aborted")
   message(FATAL_ERROR "crashed\n--- output:\n${all}")

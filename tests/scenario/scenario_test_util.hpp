@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "scenario/scenario.hpp"
@@ -16,16 +18,35 @@ inline nlohmann::json minimalDoc() {
   return nlohmann::json::parse(R"({"ground": {"type": "plane"}, "vehicle": {}})");
 }
 
+// Text with the budget to parse it under (issuesOf(parseScenarioText(t, b))).
+struct TextWithBudget {
+  std::string text;
+  Budget budget;
+};
+inline TextWithBudget parseScenarioText(std::string text, Budget budget) { return {std::move(text), std::move(budget)}; }
+
 // The issues parseScenario reports; fails the test when it accepts the document.
 template <class Input>
 std::vector<Issue> issuesOf(const Input& input) {
   try {
-    parseScenario(input);
+    if constexpr (std::is_same_v<Input, TextWithBudget>) parseScenario(input.text, input.budget);
+    else parseScenario(input);
   } catch (const ScenarioError& e) {
     return e.issues();
   }
   ADD_FAILURE() << "document was accepted";
   return {};
+}
+
+// The error parseScenario throws (its issues, omitted count and what()).
+template <class Input>
+std::optional<ScenarioError> errorOf(const Input& input, const Budget& budget = Budget{}) {
+  try {
+    parseScenario(input, budget);
+  } catch (const ScenarioError& e) {
+    return e;
+  }
+  return std::nullopt;
 }
 
 inline std::string listed(const std::vector<Issue>& issues) {

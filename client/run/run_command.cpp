@@ -2,11 +2,15 @@
 // it in this process with groundsim::Simulator, writes frames at the output
 // rate to CSV, optionally plots speed per frame, and prints a summary.
 //
-// Exit codes: 0 done, 1 output file problem, 2 invalid scenario or
-// arguments, 3 the simulation diverged (the summary gives the reason).
+// Exit codes (also in `run --help` and docs/reliability.md): 0 done, 1
+// output file problem, 2 invalid scenario or arguments (including a model
+// over the budget), 3 the simulation diverged (the summary gives the
+// reason), 4 out of memory or an internal error (the message says which).
 #include <unistd.h>
 
 #include <chrono>
+#include <climits>
+#include <new>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -19,7 +23,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "commands.hpp"
+#include "../commands.hpp"
 #include "physics/integrator.hpp"
 #include "physics/simulator.hpp"
 #include "physics/telemetry.hpp"
@@ -33,7 +37,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kExitOutput = 1, kExitInvalid = 2, kExitDiverged = 3;
+constexpr int kExitOutput = 1, kExitInvalid = 2, kExitDiverged = 3, kExitInternal = 4;
+
+constexpr const char* kExitCodes =
+    "Exit codes: 0 done; 1 an output file (CSV, plot) could not be written; 2 invalid scenario, file or\n"
+    "arguments, or a model over the budget (--max-*); 3 the simulation diverged; 4 out of memory or\n"
+    "an internal error.\n";
 
 struct RunOptions {
   std::string scenario_path;
@@ -44,7 +53,18 @@ struct RunOptions {
   std::string csv_path;
   std::string plot_path;
   bool quiet = false;
+  scenario::Budget budget;  // raised by the --max-* flags
 };
+
+// A step count from a double, saturating instead of overflowing: the
+// validated ranges keep every count far below 2^62, this keeps the
+// conversion defined whatever the inputs.
+long long toCount(double x) {
+  constexpr double kMax = 4.6e18;  // < 2^62
+  if (!(x > 0.0)) return 0;
+  if (!(x < kMax)) return static_cast<long long>(kMax);
+  return std::llround(x);
+}
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -80,17 +100,21 @@ class Progress {
 };
 
 void printIssues(const std::string& file, const scenario::ScenarioError& e) {
+  const std::string name = scenario::quote(file);
   for (const scenario::Issue& i : e.issues()) {
     // file-level problems (missing, empty, malformed) already name the file
-    if (i.path.empty() && i.message.find(file) != std::string::npos)
+    if (i.path.empty() && i.message.rfind(name, 0) == 0)
       std::cerr << "error: " << i.message << "\n";
     else
-      std::cerr << "error: " << file << ": " << i.str() << "\n";
+      std::cerr << "error: " << name << ": " << i.str() << "\n";
   }
+  if (e.omitted() > 0)
+    std::cerr << "error: " << name << ": and " << e.omitted() << " more problem" << (e.omitted() == 1 ? "" : "s")
+              << "\n";
 }
 
 // Frames at t = k / rate, each at the step nearest to it.
-long long frameTick(long long k, double rate, double dt) { return std::llround(static_cast<double>(k) / (rate * dt)); }
+long long frameTick(long long k, double rate, double dt) { return toCount(static_cast<double>(k) / (rate * dt)); }
 
 struct RunResult {
   long long steps = 0;
@@ -102,8 +126,8 @@ struct RunResult {
 // The frame loop: step to each frame's tick, sample every vehicle, write.
 RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* csv, bool progress) {
   const double dt = sim.model().opt.dt;
-  const long long last_frame = static_cast<long long>(std::floor(scene.duration * scene.output_rate + 1e-9));
-  const long long end_tick = std::llround(scene.duration / dt);
+  const long long last_frame = toCount(std::floor(scene.duration * scene.output_rate + 1e-9));
+  const long long end_tick = toCount(scene.duration / dt);
   RunResult r;
   r.energy_start = sim.state().initial_energy;
   Progress bar(progress, scene.duration);
@@ -169,10 +193,11 @@ void printSummary(const scenario::Scenario& s, const Simulator& sim, const scena
 }
 
 int run(const RunOptions& o) {
-  // load, override, validate: every problem of the file is reported at once
+  // load, override, validate: the problems of the file are reported at once
+  const scenario::Budget& budget = o.budget;
   scenario::Scenario s;
   try {
-    nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path);
+    nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path, budget);
     if (doc.is_object() && !doc.contains("name"))
       doc["name"] = std::filesystem::path(o.scenario_path).stem().string();
     // precedence: file < --preset < --integrator/--dt < --set
@@ -180,11 +205,11 @@ int run(const RunOptions& o) {
       doc["preset"] = o.preset;
       scenario::applyPreset(doc, /*force=*/true);
     }
-    if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"");
-    if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump());
-    for (const std::string& a : o.overrides) scenario::applyOverride(doc, a);
-    if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump());
-    s = scenario::parseScenario(doc);
+    if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"", budget);
+    if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump(), budget);
+    for (const std::string& a : o.overrides) scenario::applyOverride(doc, a, budget);
+    if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump(), budget);
+    s = scenario::parseScenario(doc, budget);
   } catch (const scenario::ScenarioError& e) {
     printIssues(o.scenario_path, e);
     return kExitInvalid;
@@ -216,7 +241,7 @@ int run(const RunOptions& o) {
   if (!csv_path.empty()) {
     csv.open(csv_path, std::ios::binary | std::ios::trunc);
     if (!csv) {
-      std::cerr << "error: cannot write \"" << csv_path << "\"\n";
+      std::cerr << "error: cannot write " << scenario::quote(csv_path) << "\n";
       return kExitOutput;
     }
     csv << csvHeader() << '\n';
@@ -228,7 +253,7 @@ int run(const RunOptions& o) {
   if (csv.is_open()) {
     csv.close();
     if (!csv) {
-      std::cerr << "error: writing \"" << csv_path << "\" failed\n";
+      std::cerr << "error: writing " << scenario::quote(csv_path) << " failed\n";
       code = kExitOutput;
     }
   }
@@ -237,7 +262,7 @@ int run(const RunOptions& o) {
     const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,
                                            s.name + ": speed of the body per frame"});
     if (!err.empty()) {
-      std::cerr << "error: plot \"" << o.plot_path << "\": " << err << "\n";
+      std::cerr << "error: plot " << scenario::quote(o.plot_path) << ": " << err << "\n";
       code = kExitOutput;
     }
   }
@@ -248,6 +273,42 @@ int run(const RunOptions& o) {
     return kExitDiverged;
   }
   return code;
+}
+
+// No exception leaves the runner as an abort: out of memory and anything
+// unexpected become a message and exit 4.
+int guardedRun(const RunOptions& o) {
+  try {
+    return run(o);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (lower the model's size, or the --max-* limits)\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: internal error: %s\n", scenario::quote(e.what(), 1000).c_str());
+  }
+  return kExitInternal;
+}
+
+void addBudgetOptions(CLI::App* cmd, scenario::Budget& b) {
+  const std::string g = "Model budget (docs/reliability.md)";
+  auto add = [&](const char* name, auto& field, const char* what) {
+    cmd->add_option(std::string("--") + name, field, what)->capture_default_str()->group(g);
+  };
+  add("max-document-bytes", b.max_document_bytes, "largest scenario file, bytes");
+  cmd->add_option("--max-depth", b.max_depth, "deepest nesting of JSON objects and arrays")
+      ->capture_default_str()->group(g)->check(CLI::Range(1, 1000));
+  add("max-json-values", b.max_json_values, "most JSON values in the document");
+  add("max-expression-length", b.max_expression_length, "longest ground expression, characters");
+  cmd->add_option("--max-vehicles", b.max_vehicles, "most vehicles")->capture_default_str()->group(g)
+      ->check(CLI::PositiveNumber);
+  add("max-points", b.max_points, "most mass/attachment points in the model");
+  add("max-springs", b.max_springs, "most springs");
+  add("max-particles", b.max_particles, "most free point masses");
+  add("max-state", b.max_state, "largest state vector (13 per body, 6 per particle)");
+  add("max-implicit-state", b.max_implicit_state, "largest state for implicit_euler (dense matrices)");
+  cmd->add_option("--max-steps", b.max_steps, "most integrator steps (duration / dt x substeps)")
+      ->capture_default_str()->group(g)->check(CLI::PositiveNumber);
+  cmd->add_option("--max-work", b.max_work, "most work units (steps x cost of a step)")
+      ->capture_default_str()->group(g)->check(CLI::PositiveNumber);
 }
 
 }  // namespace
@@ -268,8 +329,10 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("--csv", opts->csv_path, "Write frames at the output rate to this CSV file");
   cmd->add_option("--plot", opts->plot_path, "Plot speed per frame to this PNG (needs gnuplot)");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress line and no summary");
+  addBudgetOptions(cmd, opts->budget);
+  cmd->footer(kExitCodes);
   cmd->callback([opts]() {
-    const int code = run(*opts);
+    const int code = guardedRun(*opts);
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

@@ -1,8 +1,0 @@
-# `groundsim run`: the embedded runner (no network). Included by
-# client/CMakeLists.txt.
-target_sources(groundsim PRIVATE
-  ${CMAKE_CURRENT_LIST_DIR}/run_command.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/speed_plot.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/telemetry_csv.cpp
-)
-target_link_libraries(groundsim PRIVATE groundsim_scenario CLI11::CLI11)
