@@ -13,6 +13,6 @@ target_sources(groundsim PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/net/tokens.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/watch.cpp
 )
-# commands.hpp and the CSV writer shared with `run` are in client/
+# commands.hpp and the CSV writer shared with `run` (run/telemetry_csv.hpp) are in client/
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
 target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario CLI11::CLI11 nlohmann_json::nlohmann_json)

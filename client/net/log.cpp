@@ -23,7 +23,7 @@
 #include "protocol/names.hpp"
 #include "protocol/sample.hpp"
 #include "protocol/text.hpp"
-#include "telemetry_csv.hpp"
+#include "run/telemetry_csv.hpp"
 #include "tokens.hpp"
 
 namespace groundsim::cli {

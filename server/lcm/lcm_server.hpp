@@ -40,6 +40,7 @@ class LcmServer final : public session::Output {
   // hears the answers in the same process.
   lcm::LCM& lcm() { return lcm_; }
   int workers() const { return service_->config().workers; }
+  const session::ServiceConfig& config() const { return service_->config(); }
 
  private:
   void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);

@@ -42,6 +42,27 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, groundsim::net::kMaxScenarioBytes));
   app.add_option("--max-build-jobs", cfg.max_build_jobs, "scene builds at once (0: workers - 1, at least 1)")
       ->capture_default_str()->check(CLI::Range(0, 1024));
+  // the model budget (scenario/budget.hpp, docs/reliability.md): every create is checked before building
+  auto& b = cfg.budget;
+  app.add_option("--max-depth", b.max_depth, "nesting depth of a scenario document")->capture_default_str()
+      ->check(CLI::Range(2, 10000));
+  app.add_option("--max-json-values", b.max_json_values, "values in a scenario document")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-expression-length", b.max_expression_length, "characters of an expression ground")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-points", b.max_points, "mass and attachment points per session")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-springs", b.max_springs, "springs per session")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-particles", b.max_particles, "free point masses per session")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-state", b.max_state, "doubles in a session's state")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-implicit-state", b.max_implicit_state, "state size implicit_euler may factor densely")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-steps", b.max_steps, "integrator steps over a session's duration")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-work", b.max_work, "estimated work over a session's duration")->capture_default_str()
+      ->check(CLI::PositiveNumber);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -64,6 +85,12 @@ int main(int argc, char** argv) {
     groundsim::net::LcmServer server(url, cfg, !quiet);
     std::printf("groundsim-server ready on %s with %d workers, up to %d sessions\n", server.url().c_str(),
                 server.workers(), cfg.max_sessions);
+    const auto& lim = server.config().budget;
+    std::printf("limits: scenario %zu bytes, depth %d, %d vehicles, %lld points, %lld springs, %lld particles, "
+                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz\n",
+                lim.max_document_bytes, lim.max_depth, lim.max_vehicles, lim.max_points, lim.max_springs,
+                lim.max_particles, lim.max_state, lim.max_implicit_state, lim.max_steps, lim.max_work, cfg.min_rate,
+                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate);
     std::fflush(stdout);
     server.run(g_stop);
     std::printf("groundsim-server stopped\n");

@@ -1,5 +1,6 @@
 #include "service.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <new>
@@ -18,12 +19,10 @@ int workerCount(int requested) {
   return hw > 0 ? static_cast<int>(hw) : 2;
 }
 
+// The scenario layer caps the list (the first 20, then "and N more") and
+// quotes user strings.
 std::string joinIssues(const scenario::ScenarioError& e) {
-  std::string out;
-  for (const auto& issue : e.issues()) {
-    if (!out.empty()) out += "; ";
-    out += issue.str();
-  }
+  const std::string out = e.lines("; ");
   return out.empty() ? std::string(e.what()) : out;
 }
 
@@ -44,6 +43,8 @@ std::string outside(const char* field, double x, double lo, double hi, const cha
 SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
     : cfg_(cfg), out_(out), clock_(clock), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
   cfg_.workers = pool_.workers();
+  cfg_.budget.max_vehicles = std::min(cfg_.budget.max_vehicles, cfg_.max_vehicles);
+  cfg_.budget.max_document_bytes = std::min(cfg_.budget.max_document_bytes, cfg_.max_scenario_bytes);
 }
 
 SessionService::~SessionService() { shutdown("server stopping"); }
@@ -191,7 +192,9 @@ void SessionService::create(const Request& r) {
 void SessionService::build(const Request& r) {
   std::shared_ptr<Session> session;
   try {
-    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json);
+    // the budget is checked in validation, before anything is built
+    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json, cfg_.budget);
+    if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
     const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
     if (nveh < 1 || nveh > cfg_.max_vehicles)
