@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
 #include <groundsim/request_t.hpp>
@@ -60,6 +61,33 @@ TEST_F(Adapter, GarbageIsAnsweredWithAnEventNamingTheChannel) {
   EXPECT_EQ(ear_.events[0].code, groundsim::event_t::ERR_FINGERPRINT);
   EXPECT_EQ(ear_.events[0].channel, kRequestChannel);
   EXPECT_EQ(ear_.events[1].code, groundsim::event_t::ERR_DECODE);
+}
+
+TEST_F(Adapter, HostileLengthsAreRefusedNotTrusted) {
+  // found by fuzz/datagram_fuzz.cpp: lcm-gen's decoder took a string length
+  // of INT32_MIN, computed len - 1 in int32 (INT32_MAX) and copied 2 GB past
+  // the datagram; an array count is resized to before any check
+  groundsim::request_t r{};
+  r.op = groundsim::request_t::OP_LIST;
+  r.client_id = "c";
+  std::vector<std::uint8_t> buf(r.getEncodedSize());
+  r.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  const std::size_t len_at = 8 + 3 * 8;  // hash, utime, seq, request_id, then client_id's length
+  for (std::uint32_t bad : {0x80000000u, 0u, 0xffffffffu}) {
+    for (int i = 0; i < 4; ++i) buf[len_at + i] = static_cast<std::uint8_t>(bad >> (24 - 8 * i));
+    send(kRequestChannel, buf.data(), static_cast<int>(buf.size()));
+  }
+  groundsim::drive_t d{};
+  d.nwheels = 100;
+  d.drive_torque.assign(100, 0.0);
+  d.brake_torque.assign(100, 0.0);
+  d.steer.assign(100, 0.0);
+  std::vector<std::uint8_t> dbuf(d.getEncodedSize());
+  d.encode(dbuf.data(), 0, static_cast<int>(dbuf.size()));
+  send(kDriveChannel, dbuf.data(), 8 + 16 + 3 * 5 + 4 + 1 + 16);  // cut: 100 wheels announced, 2 sent
+  ASSERT_EQ(ear_.events.size(), 4u);
+  for (const auto& e : ear_.events) EXPECT_EQ(e.code, groundsim::event_t::ERR_DECODE) << e.reason;
+  EXPECT_TRUE(ear_.replies.empty());
 }
 
 TEST_F(Adapter, HugeOrControlCharacterIdsAreRefusedQuotedAndCut) {

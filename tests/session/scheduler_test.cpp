@@ -52,9 +52,20 @@ TEST(Scheduler, TasksDueInThePastTakeTurnsWithOthers) {
   auto greedy2 = std::make_shared<Repeating>(c, TimePoint{});
   auto normal = std::make_shared<Repeating>(c, std::nullopt);
   Scheduler pool(1);
+  // hold the one worker until all three are queued
+  std::atomic<bool> go{false};
+  pool.post([&] {
+    std::unique_lock<std::mutex> lk(c.m);
+    c.cv.wait(lk, [&] { return go.load(); });
+  });
   pool.wake(greedy1);
   pool.wake(greedy2);
   pool.wake(normal);
+  {
+    std::lock_guard<std::mutex> lk(c.m);
+    go = true;
+  }
+  c.cv.notify_all();
   ASSERT_TRUE(c.waitFor([&] { return greedy1->runs >= 300; }));
   pool.stop();
   // round robin: the normal task ran about as often as each greedy one
