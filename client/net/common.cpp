@@ -2,6 +2,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "commands.hpp"
@@ -34,11 +35,23 @@ void registerNetworkCommands(CLI::App& app) {
   registerDriveCommand(app);
 }
 
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !(x > 0))
+          return "must be a number > 0, got " + net::quoted(text, 40);
+        return "";
+      },
+      "POSITIVE");
+}
+
 void addNetOptions(CLI::App* cmd, NetOptions& o, bool with_token) {
   o.url = net::defaultUrl();
   cmd->add_option("--lcm-url", o.url, "LCM URL of the server")->capture_default_str();
   cmd->add_option("--timeout", o.timeout, "s to wait for the server's reply")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   if (with_token) {
     cmd->add_option("--token-file", o.token_file, "session tokens (default " + defaultTokenFile() + ")");
     cmd->add_option("--token", o.token, "the session's token (instead of the token file)");

@@ -28,6 +28,10 @@ struct NetOptions {
   std::string token;         // explicit token, overrides the file
 };
 
+// CLI11's PositiveNumber says "not in range 0.000000 to 1797...(309 digits)":
+// this says "must be a number > 0" and names the value, quoted and cut.
+CLI::Validator positive();
+
 // --lcm-url and --timeout on every command; --token-file / --token on those
 // that need ownership (with_token).
 void addNetOptions(CLI::App* cmd, NetOptions& o, bool with_token);

@@ -57,7 +57,7 @@ void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional) {
   else cmd->add_option("--create", o.file, "create the session from this scenario file first, then log it from seq 0");
   cmd->add_option("--mode", o.mode, "realtime | fast | lockstep")->capture_default_str()
       ->check(CLI::IsMember({"realtime", "fast", "lockstep"}));
-  cmd->add_option("--rate", o.rate, "real-time factor")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--rate", o.rate, "real-time factor")->capture_default_str()->check(positive());
   cmd->add_option("--publish-rate", o.publish_rate,
                   "state messages per simulated second (default: the scenario's output_rate)");
   // `log` has a --duration of its own (wall seconds to record)

@@ -135,8 +135,8 @@ void addMode(CLI::App& app) {
   cmd->add_option("SESSION", o->session, "session id")->required();
   cmd->add_option("MODE", o->mode, "realtime | fast | lockstep (default: unchanged)")
       ->check(CLI::IsMember({"realtime", "fast", "lockstep"}));
-  cmd->add_option("--rate", o->rate, "real-time factor")->check(CLI::PositiveNumber);
-  cmd->add_option("--publish-rate", o->publish_rate, "state messages per simulated second")->check(CLI::PositiveNumber);
+  cmd->add_option("--rate", o->rate, "real-time factor")->check(positive());
+  cmd->add_option("--publish-rate", o->publish_rate, "state messages per simulated second")->check(positive());
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     guarded([&] {
@@ -163,9 +163,9 @@ void addStep(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("step", "advance a lockstep session by N steps and print its state");
   cmd->add_option("SESSION", o->session, "session id")->required();
-  cmd->add_option("N", o->steps, "steps per request")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("N", o->steps, "steps per request")->required()->check(positive());
   cmd->add_option("--repeat", o->repeat, "requests to send, one after the other")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_flag("--exact", o->exact, "print every state number exactly (%.17g), one line per vehicle");
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
