@@ -1,13 +1,18 @@
 # `groundsim create|list|stop|reset|pause|resume|mode|step|watch|log|drive`:
-# the LCM clients of groundsim-server. Included by client/CMakeLists.txt.
+# the LCM clients of groundsim-server (client/net/). They share the protocol
+# library with the server and do not link the session layer. Included by
+# client/CMakeLists.txt.
 target_sources(groundsim PRIVATE
-  ${CMAKE_CURRENT_LIST_DIR}/net_client.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_common.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_drive.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_log.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_session.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_terminal.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_tokens.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/net_watch.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/client.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/common.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/create.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/drive.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/log.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/session_commands.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/terminal.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/tokens.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/watch.cpp
 )
-target_link_libraries(groundsim PRIVATE groundsim_lcm groundsim_scenario CLI11::CLI11 nlohmann_json::nlohmann_json)
+# commands.hpp and the CSV writer shared with `run` (run/telemetry_csv.hpp) are in client/
+target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
+target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario CLI11::CLI11 nlohmann_json::nlohmann_json)

@@ -3,6 +3,9 @@
 //   service_bench roundtrip SCENARIO [--n N]       lockstep step-1 round trip p50/p99
 //   service_bench sessions SCENARIO --count N ...  N real time sessions at 50 Hz, 3 subscribers:
 //                                                  delivered rate, loss and server load
+//   service_bench fairness SCENARIO --greedy N     one 50 Hz real time session beside N fast
+//                                                  sessions that want every worker: its states
+//   service_bench ratefactor SCENARIO --rate R     simulated seconds per wall second achieved
 // Prints one "figure: value" line per result (docs/performance-service.md).
 #include <algorithm>
 #include <atomic>
@@ -22,8 +25,8 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
@@ -215,6 +218,80 @@ int sessions(const std::string& url, const std::string& file, int count, double 
   return 0;
 }
 
+// Counts one session's states (and its simulated time) on its own thread.
+struct Counter {
+  Counter(const std::string& url, const std::string& id) : lcm(groundsim::net::withReceiveBuffer(url)) {
+    lcm.subscribe(groundsim::net::stateChannel(id), &Counter::onState, this)
+        ->setQueueCapacity(groundsim::net::kDeepQueue);
+    thread = std::thread([this] {
+      while (!done) lcm.handleTimeout(50);
+    });
+  }
+  ~Counter() {
+    done = true;
+    thread.join();
+  }
+  void onState(const lcm::ReceiveBuffer*, const std::string&, const groundsim::state_t* m) {
+    ++received;
+    t = m->t;
+  }
+  lcm::LCM lcm;
+  std::atomic<bool> done{false};
+  std::atomic<long long> received{0};
+  std::atomic<double> t{0.0};
+  std::thread thread;
+};
+
+groundsim::reply_t createWith(Caller& c, const std::string& json, int mode, double rate) {
+  request_t req{};
+  req.op = request_t::OP_CREATE;
+  req.scenario_json = json;
+  req.mode = static_cast<int8_t>(mode);
+  req.rate = rate;
+  req.duration = -1;
+  auto r = c.call(req);
+  if (!r.ok) throw std::runtime_error("create refused: " + r.error);
+  return r;
+}
+
+int fairness(const std::string& url, const std::string& file, int greedy, double seconds) {
+  const std::string json = readFile(file);
+  Caller c(url);
+  std::vector<groundsim::reply_t> hogs;
+  for (int i = 0; i < greedy; ++i) hogs.push_back(createWith(c, json, request_t::MODE_FAST, 0));
+  const auto normal = createWith(c, json, request_t::MODE_REALTIME, 1.0);
+  Counter counter(url, normal.session_id);
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // settle
+  const long long n0 = counter.received;
+  const auto t0 = Clock::now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+  const long long got = counter.received - n0;
+  stop(c, normal);
+  for (auto& h : hogs) stop(c, h);
+  std::printf("fairness: 1 real time session at 50 Hz beside %d fast sessions, %.1f s\n", greedy, elapsed);
+  std::printf("states received: %lld of %.0f expected (%.1f%%)\n", got, 50 * elapsed, 100.0 * got / (50 * elapsed));
+  return 0;
+}
+
+int ratefactor(const std::string& url, const std::string& file, double rate, double seconds) {
+  const std::string json = readFile(file);
+  Caller c(url);
+  const auto s = createWith(c, json, request_t::MODE_REALTIME, rate);
+  Counter counter(url, s.session_id);
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const double sim0 = counter.t;
+  const auto t0 = Clock::now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+  const double sim1 = counter.t;
+  stop(c, s);
+  std::printf("ratefactor asked: %g\n", rate);
+  std::printf("ratefactor achieved: %.3f (%.2f simulated s in %.2f wall s)\n", (sim1 - sim0) / elapsed, sim1 - sim0,
+              elapsed);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -232,9 +309,21 @@ int main(int argc, char** argv) {
   ss->add_option("--count", count);
   ss->add_option("--seconds", seconds);
   ss->add_option("--publish-rate", rate);
+  int greedy = 4;
+  double factor = 1.0;
+  auto* fs = app.add_subcommand("fairness", "one real time session beside greedy fast ones");
+  fs->add_option("SCENARIO", file)->required();
+  fs->add_option("--greedy", greedy);
+  fs->add_option("--seconds", seconds);
+  auto* rf = app.add_subcommand("ratefactor", "real-time factor achieved");
+  rf->add_option("SCENARIO", file)->required();
+  rf->add_option("--rate", factor);
+  rf->add_option("--seconds", seconds);
   CLI11_PARSE(app, argc, argv);
   try {
     if (*rt) return roundtrip(url, file, n);
+    if (*fs) return fairness(url, file, greedy, seconds);
+    if (*rf) return ratefactor(url, file, factor, seconds);
     return sessions(url, file, count, seconds, rate);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "service_bench: %s\n", e.what());

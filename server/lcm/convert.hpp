@@ -1,4 +1,5 @@
-// Wire types (lcmtypes/) <-> session types. The only place that knows both.
+// Wire types (lcmtypes/) <-> session types. The only place that knows both
+// (what clients need of the wire types is in groundsim_protocol).
 #pragma once
 
 #include <groundsim/drive_t.hpp>
@@ -9,12 +10,21 @@
 #include <groundsim/session_info_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "physics/telemetry.hpp"
+#include <cmath>
+#include <cstdint>
+
 #include "session/types.hpp"
 
 namespace groundsim::net {
 
-inline std::int64_t toUtime(double t) { return static_cast<std::int64_t>(std::llround(t * 1e6)); }
+// Seconds as microseconds, saturating (no overflow for any double; NaN is 0).
+inline std::int64_t toUtime(double t) {
+  const double us = t * 1e6;
+  if (!(us == us)) return 0;
+  if (us >= 9.2e18) return INT64_MAX;
+  if (us <= -9.2e18) return INT64_MIN;
+  return static_cast<std::int64_t>(std::llround(us));
+}
 
 session::Request fromMessage(const groundsim::request_t& m);
 session::Drive fromMessage(const groundsim::drive_t& m);
@@ -23,8 +33,5 @@ groundsim::state_t toMessage(const session::Frame& f);
 groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq);
 groundsim::event_t toMessage(const session::Event& e, std::int64_t seq);
 groundsim::session_info_t toMessage(const session::SessionInfo& s);
-
-// A received state as the VehicleSample `groundsim run` writes to CSV.
-VehicleSample toSample(const groundsim::state_t& m, int vehicle);
 
 }  // namespace groundsim::net

@@ -5,9 +5,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "channels.hpp"
-#include "codec.hpp"
 #include "convert.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/text.hpp"
+#include "session/answers.hpp"
 #include "session/token.hpp"
 
 namespace groundsim::net {
@@ -20,6 +23,16 @@ std::int64_t wallMicros() {
 
 session::ErrorCode codeFor(DecodeStatus s) {
   return s == DecodeStatus::Fingerprint ? session::ErrorCode::Fingerprint : session::ErrorCode::Decode;
+}
+
+// Ids and tokens are echoed in replies, events and logs: they must be short
+// and printable. "" when fine, else the reason naming the field.
+std::string badId(const char* field, const std::string& v) {
+  bool printable = true;
+  for (unsigned char c : v) printable = printable && c >= 0x20 && c != 0x7f;
+  if (v.size() <= kMaxIdBytes && printable) return "";
+  return std::string(field) + ": " + quoted(v) + (printable ? "" : " holds control characters") +
+         (v.size() > kMaxIdBytes ? ", longer than " + std::to_string(kMaxIdBytes) + " bytes" : "");
 }
 
 }  // namespace
@@ -50,16 +63,30 @@ void LcmServer::publish(const std::string& channel, const T& msg) {
 }
 
 void LcmServer::publishState(const session::Frame& f) {
-  publish(stateChannel(f.session_id), toMessage(f));
-  ++frames_;
+  try {
+    publish(stateChannel(f.session_id), toMessage(f));
+    ++frames_;
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish a state of %s: %s\n", f.session_id.c_str(), e.what());
+  }
 }
 
-void LcmServer::publishReply(const session::Reply& r) { publish(kReplyChannel, toMessage(r, reply_seq_++)); }
+void LcmServer::publishReply(const session::Reply& r) {
+  try {
+    publish(kReplyChannel, toMessage(r, reply_seq_++));
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish a reply: %s\n", e.what());
+  }
+}
 
-void LcmServer::publishEvent(const session::Event& e) {
+void LcmServer::publishEvent(const session::Event& e) try {
   publish(kEventChannel, toMessage(e, event_seq_++));
   if (e.severity == session::Severity::Info) {
-    if (verbose_) std::fprintf(stderr, "groundsim-server: %s%s%s\n", e.session_id.c_str(), e.session_id.empty() ? "" : ": ", e.reason.c_str());
+    if (verbose_)
+      std::fprintf(stderr, "groundsim-server: %s%s%s\n", e.session_id.c_str(), e.session_id.empty() ? "" : ": ",
+                   printable(e.reason, 2000).c_str());
     return;
   }
   ++errors_;
@@ -67,22 +94,69 @@ void LcmServer::publishEvent(const session::Event& e) {
     std::fprintf(stderr, "groundsim-server: %s %d%s%s%s%s: %s\n",
                  e.severity == session::Severity::Warning ? "warning" : "error", static_cast<int>(e.code),
                  e.session_id.empty() ? "" : " session ", e.session_id.c_str(),
-                 e.channel.empty() ? "" : " on ", e.channel.c_str(), e.reason.c_str());
+                 e.channel.empty() ? "" : " on ", e.channel.c_str(), printable(e.reason, 2000).c_str());
+} catch (const std::exception& x) {
+  ++errors_;
+  std::fprintf(stderr, "groundsim-server: cannot publish an event: %s\n", x.what());
 }
 
 void LcmServer::onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  ++inputs_;
-  groundsim::request_t msg;
-  const DecodeResult d = decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), msg, "groundsim.request_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  service_->handleRequest(fromMessage(msg));
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 
 void LcmServer::onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  ++inputs_;
-  groundsim::drive_t msg;
-  const DecodeResult d = decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), msg, "groundsim.drive_t");
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
+// Handlers run inside lcm_handle(), which is C: an exception must stop here
+// (as Drake's DrakeLcm stores it) and become an event, never unwind.
+void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
+  try {
+    ++inputs_;
+    if (channel == kRequestChannel) handleRequest(channel, data, size);
+    else if (channel == kDriveChannel) handleDrive(channel, data, size);
+  } catch (const std::exception& e) {
+    try {
+      service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
+    } catch (...) {
+    }
+  } catch (...) {
+    try {
+      service_->reportBadInput(session::ErrorCode::Internal, channel, "internal error: unknown exception");
+    } catch (...) {
+    }
+  }
+}
+
+void LcmServer::handleRequest(const std::string& channel, const void* data, int size) {
+  groundsim::request_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.request_t");
   if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
+  for (const auto& [field, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
+    if (why.empty()) why = badId(field, *v);
+  session::Request r = fromMessage(msg);
+  if (!why.empty()) {
+    // answerable: the client id is fine, so the client hears why
+    session::Reply reply = session::makeReply(session::replyTo(r), "", false, session::ErrorCode::BadRequest, why);
+    session::Event e = session::refusalEvent(session::replyTo(r), "", reply.code, why);
+    e.channel = channel;
+    publishEvent(e);
+    publishReply(reply);
+    return;
+  }
+  service_->handleRequest(r);
+}
+
+void LcmServer::handleDrive(const std::string& channel, const void* data, int size) {
+  groundsim::drive_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.drive_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (why.empty()) why = badId("session_id", msg.session_id);
+  if (why.empty()) why = badId("token", msg.token);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
   service_->handleDrive(fromMessage(msg));
 }
 
@@ -98,8 +172,11 @@ void LcmServer::heartbeat() {
   m.frames_published = frames_.load();
   m.requests_handled = inputs_.load();
   m.errors = errors_.load();
-  m.nsessions = static_cast<int32_t>(st.sessions.size());
+  // ended sessions too (final status, last seq): subscribers whose final
+  // state was lost learn from here that the session ended and at which seq
   for (const auto& s : st.sessions) m.sessions.push_back(toMessage(s));
+  for (const auto& s : st.ended) m.sessions.push_back(toMessage(s));
+  m.nsessions = static_cast<int32_t>(m.sessions.size());
   publish(kStatusChannel, m);
 }
 

@@ -25,17 +25,28 @@ class LcmServer final : public session::Output {
   // publishes a final frame with status stopped).
   void run(const std::atomic<bool>& stop);
 
+  // Never throw: a message that cannot be encoded or sent is counted and logged.
   void publishState(const session::Frame& f) override;
   void publishReply(const session::Reply& r) override;
   void publishEvent(const session::Event& e) override;
 
+  // One received datagram, as LCM's handler gets it (also the entry of the
+  // datagram fuzz target). Never throws: LCM's C code must not unwind.
+  void handleDatagram(const std::string& channel, const void* data, int size) noexcept;
+  void heartbeat();
+
   const std::string& url() const { return url_; }
+  // The server's LCM instance: with memq:// a test publishes into it and
+  // hears the answers in the same process.
+  lcm::LCM& lcm() { return lcm_; }
   int workers() const { return service_->config().workers; }
+  const session::ServiceConfig& config() const { return service_->config(); }
 
  private:
   void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void heartbeat();
+  void handleRequest(const std::string& channel, const void* data, int size);
+  void handleDrive(const std::string& channel, const void* data, int size);
   template <class T>
   void publish(const std::string& channel, const T& msg);
 

@@ -5,7 +5,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "channels.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/text.hpp"
 #include "lcm_server.hpp"
 
 namespace {
@@ -25,9 +27,10 @@ int main(int argc, char** argv) {
 
   CLI::App app{"groundsim-server: simulation sessions over LCM"};
   app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
-  app.add_option("--workers", cfg.workers, "stepping threads (0: one per core)")->capture_default_str();
+  app.add_option("--workers", cfg.workers, "stepping threads (0: one per core)")->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   app.add_option("--max-sessions", cfg.max_sessions, "concurrent sessions")->capture_default_str()->check(CLI::Range(1, 100000));
-  app.add_option("--idle-timeout", cfg.idle_timeout, "s without owner activity before a session is reclaimed (0: never)")->capture_default_str();
+  app.add_option("--idle-timeout", cfg.idle_timeout, "s without owner activity before a session is reclaimed (0: never)")->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--command-timeout", cfg.command_timeout, "s real time mode holds a drive command before zero torque")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-torque", cfg.max_torque, "N m, largest accepted drive or brake torque")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--slice-ms", slice_ms, "ms a session may step before yielding its worker")->capture_default_str()->check(CLI::Range(0.05, 1000.0));
@@ -35,7 +38,40 @@ int main(int argc, char** argv) {
   app.add_option("--max-lag", cfg.max_lag, "s behind the wall clock before a real time session skips ahead")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-vehicles", cfg.max_vehicles, "vehicles per session")->capture_default_str()->check(CLI::Range(1, 64));
   app.add_flag("--quiet", quiet, "do not log events on stderr");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--max-scenario-bytes", cfg.max_scenario_bytes, "largest scenario a create may carry")
+      ->capture_default_str()->check(CLI::Range(std::size_t{1}, groundsim::net::kMaxScenarioBytes));
+  app.add_option("--max-build-jobs", cfg.max_build_jobs, "scene builds at once (0: workers - 1, at least 1)")
+      ->capture_default_str()->check(CLI::Range(0, 1024));
+  // the model budget (scenario/budget.hpp, docs/reliability.md): every create is checked before building
+  auto& b = cfg.budget;
+  app.add_option("--max-depth", b.max_depth, "nesting depth of a scenario document")->capture_default_str()
+      ->check(CLI::Range(2, 10000));
+  app.add_option("--max-json-values", b.max_json_values, "values in a scenario document")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-expression-length", b.max_expression_length, "characters of an expression ground")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-points", b.max_points, "mass and attachment points per session")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-springs", b.max_springs, "springs per session")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-particles", b.max_particles, "free point masses per session")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-state", b.max_state, "doubles in a session's state")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-implicit-state", b.max_implicit_state, "state size implicit_euler may factor densely")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-steps", b.max_steps, "integrator steps over a session's duration")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-work", b.max_work, "estimated work over a session's duration")->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // exit 2 for every usage error (CLI11's own codes are 105, 106, ...); values escaped and cut
+    std::fprintf(stderr, "groundsim-server: %s (see --help)\n", groundsim::net::printable(e.what(), 300).c_str());
+    return 2;
+  }
   cfg.slice = slice_ms * 1e-3;
 
   struct sigaction sa {};
@@ -49,6 +85,12 @@ int main(int argc, char** argv) {
     groundsim::net::LcmServer server(url, cfg, !quiet);
     std::printf("groundsim-server ready on %s with %d workers, up to %d sessions\n", server.url().c_str(),
                 server.workers(), cfg.max_sessions);
+    const auto& lim = server.config().budget;
+    std::printf("limits: scenario %zu bytes, depth %d, %d vehicles, %lld points, %lld springs, %lld particles, "
+                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz\n",
+                lim.max_document_bytes, lim.max_depth, lim.max_vehicles, lim.max_points, lim.max_springs,
+                lim.max_particles, lim.max_state, lim.max_implicit_state, lim.max_steps, lim.max_work, cfg.min_rate,
+                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate);
     std::fflush(stdout);
     server.run(g_stop);
     std::printf("groundsim-server stopped\n");

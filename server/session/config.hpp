@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstddef>
 
+#include "scenario/budget.hpp"
+
 namespace groundsim::session {
 
 struct ServiceConfig {
@@ -16,10 +18,25 @@ struct ServiceConfig {
   double publish_limit = 2000.0;       // frames per wall second per session (paced, never dropped)
   double max_lag = 0.5;                // s  real time mode: a session this far behind re-anchors (overrun event)
   int max_vehicles = 32;               // per session: keeps a state message in one UDP datagram
-  std::size_t max_scenario_bytes = 1 << 20;
+  std::size_t max_scenario_bytes = 1 << 20;  // at most net::kMaxScenarioBytes (what a create can carry)
   std::int64_t max_steps_per_request = 100'000'000;
+  double min_rate = 1e-3;              // smallest real-time factor (create, mode)
   double max_rate = 1000.0;            // largest real-time factor
-  double max_publish_rate = 10000.0;   // Hz
+  double min_publish_rate = 1e-3;      // Hz of simulation time
+  double max_publish_rate = 10000.0;   // Hz of simulation time
+  int max_build_jobs = 0;              // scene builds at once; 0: workers - 1 (at least 1)
+  double ended_linger = 10.0;          // s  a stopped or reclaimed session stays in the heartbeat, so that
+                                       //    subscribers learn its last seq even when its final state is lost
+  // The model budget every create is validated against before anything is
+  // built (scenario/budget.hpp); the service also holds its max_vehicles and
+  // max_document_bytes to the two fields above, whichever is smaller.
+  scenario::Budget budget = serverBudget();
+
+  static scenario::Budget serverBudget() {
+    scenario::Budget b;
+    b.source = "groundsim-server";
+    return b;
+  }
 };
 
 }  // namespace groundsim::session

@@ -4,8 +4,9 @@
 
 namespace groundsim::session {
 
-Scheduler::Scheduler(int workers) : load_since_(Clock::now()) {
+Scheduler::Scheduler(int workers, int max_jobs) : load_since_(Clock::now()) {
   workers = std::max(1, workers);
+  max_jobs_ = max_jobs > 0 ? max_jobs : std::max(1, workers - 1);
   threads_.reserve(workers);
   for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { workerLoop(); });
 }
@@ -53,9 +54,10 @@ void Scheduler::post(std::function<void()> job) {
 void Scheduler::workerLoop() {
   std::unique_lock<std::mutex> lk(mutex_);
   while (!stopping_) {
-    if (!jobs_.empty()) {
+    if (!jobs_.empty() && jobs_running_ < max_jobs_) {
       auto job = std::move(jobs_.front());
       jobs_.pop_front();
+      ++jobs_running_;
       lk.unlock();
       const auto t0 = Clock::now();
       try {
@@ -65,6 +67,8 @@ void Scheduler::workerLoop() {
       }
       busy_ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
       lk.lock();
+      --jobs_running_;
+      cv_.notify_one();  // a job waiting for this slot
       continue;
     }
     if (queue_.empty()) {
@@ -90,13 +94,19 @@ void Scheduler::workerLoop() {
     std::optional<TimePoint> next;
     try {
       next = task->run(now);
+    } catch (const std::exception& e) {
+      next.reset();
+      task->abandon(e.what());
     } catch (...) {
       next.reset();
+      task->abandon("unknown exception");
     }
-    busy_ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - now).count();
+    const TimePoint end = Clock::now();
+    busy_ns_ += std::chrono::duration_cast<std::chrono::nanoseconds>(end - now).count();
+    if (next && *next < end) next = end;  // behind every task already due
 
     lk.lock();
-    if (task->rewake_) next = Clock::now();
+    if (task->rewake_) next = end;
     if (next && !stopping_) {
       enqueue(task, *next);
       // another worker may be sleeping until a later due time

@@ -3,6 +3,9 @@
 // are ordered by due time, so a session that is due soon (real time) is
 // served before one that only wants "as much as possible" (fast), and a
 // woken task is queued at once. A task never runs on two workers at once.
+// Fairness: a slice is bounded by wall time (the task's own deadline) and a
+// task that yields is queued at the end of its slice, behind every task
+// already due: due tasks take turns (round robin), whatever they ask for.
 #pragma once
 
 #include <atomic>
@@ -25,9 +28,14 @@ class Task {
  public:
   virtual ~Task() = default;
   // One bounded slice of work; returns when to run next, or nothing to
-  // sleep until wake(). Exceptions are caught by the scheduler and end
-  // the task's scheduling (tasks should handle their own).
+  // sleep until wake(). A due time before the end of the slice counts as
+  // the end of the slice: a task cannot jump the queue by asking for the
+  // past. Tasks should handle their own exceptions; one that escapes is
+  // caught by the scheduler and handed to abandon().
   virtual std::optional<TimePoint> run(TimePoint now) = 0;
+  // The task's run() threw: it must publish the failure and answer whatever
+  // waits on it. The task sleeps until woken again.
+  virtual void abandon(const char* why) noexcept = 0;
 
  private:
   friend class Scheduler;
@@ -39,7 +47,10 @@ class Task {
 
 class Scheduler {
  public:
-  explicit Scheduler(int workers);
+  // max_jobs: one-shot jobs (scene builds) running at once; 0 means
+  // workers - 1 (at least 1), so that builds never hold every worker and
+  // running sessions keep a worker of their own.
+  explicit Scheduler(int workers, int max_jobs = 0);
   ~Scheduler();
   Scheduler(const Scheduler&) = delete;
   Scheduler& operator=(const Scheduler&) = delete;
@@ -70,6 +81,8 @@ class Scheduler {
   std::condition_variable cv_;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue_;
   std::deque<std::function<void()>> jobs_;
+  int max_jobs_ = 1;
+  int jobs_running_ = 0;
   std::uint64_t order_ = 0;
   bool stopping_ = false;
   std::vector<std::thread> threads_;

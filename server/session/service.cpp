@@ -1,8 +1,12 @@
 #include "service.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <new>
 #include <thread>
 
+#include "answers.hpp"
 #include "scenario/scenario.hpp"
 #include "token.hpp"
 
@@ -15,58 +19,59 @@ int workerCount(int requested) {
   return hw > 0 ? static_cast<int>(hw) : 2;
 }
 
+// The scenario layer caps the list (the first 20, then "and N more") and
+// quotes user strings.
 std::string joinIssues(const scenario::ScenarioError& e) {
-  std::string out;
-  for (const auto& issue : e.issues()) {
-    if (!out.empty()) out += "; ";
-    out += issue.str();
-  }
+  const std::string out = e.lines("; ");
   return out.empty() ? std::string(e.what()) : out;
+}
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+// "<field>: <value> is outside [lo, hi] <unit>", or "" when inside.
+std::string outside(const char* field, double x, double lo, double hi, const char* unit) {
+  if (std::isfinite(x) && x >= lo && x <= hi) return "";
+  return std::string(field) + ": " + num(x) + " is outside [" + num(lo) + ", " + num(hi) + "]" + unit;
 }
 
 }  // namespace
 
-SessionService::SessionService(ServiceConfig cfg, Output& out)
-    : cfg_(cfg), out_(out), pool_(workerCount(cfg.workers)) {
+SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
+    : cfg_(cfg), out_(out), clock_(clock), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
   cfg_.workers = pool_.workers();
+  cfg_.budget.max_vehicles = std::min(cfg_.budget.max_vehicles, cfg_.max_vehicles);
+  cfg_.budget.max_document_bytes = std::min(cfg_.budget.max_document_bytes, cfg_.max_scenario_bytes);
 }
 
 SessionService::~SessionService() { shutdown("server stopping"); }
 
 // ---- answers ----------------------------------------------------------------
 
-void SessionService::fail(const Request& r, ErrorCode code, const std::string& error) {
-  Event e;
-  e.session_id = r.session_id;
-  e.client_id = r.client_id;
-  e.request_id = r.request_id;
-  e.code = code;
-  e.reason = error;
-  out_.publishEvent(e);
-  Reply reply;
-  reply.op = r.op;
-  reply.request_id = r.request_id;
-  reply.client_id = r.client_id;
-  reply.session_id = r.session_id;
-  reply.ok = false;
-  reply.code = code;
-  reply.error = error;
-  out_.publishReply(reply);
+void SessionService::fail(const Request& r, ErrorCode code, const std::string& error) noexcept {
+  try {
+    refuse(out_, makeReply(replyTo(r), r.session_id, false, code, error));
+  } catch (...) {
+    // the transport reports its own failures; nothing leaves the service
+  }
 }
 
 void SessionService::replyOk(const Request& r, Reply reply) {
-  reply.op = r.op;
-  reply.request_id = r.request_id;
-  reply.client_id = r.client_id;
-  reply.ok = true;
-  out_.publishReply(reply);
+  const std::string id = reply.session_id;
+  Reply base = makeReply(replyTo(r), id, true);
+  base.token = std::move(reply.token);
+  base.t = reply.t;
+  base.sessions = std::move(reply.sessions);
+  base.state = std::move(reply.state);
+  out_.publishReply(base);
 }
 
 void SessionService::reportBadInput(ErrorCode code, const std::string& channel, const std::string& reason) {
-  Event e;
-  e.code = code;
+  Event e = sessionEvent("", Severity::Error, code, reason);
   e.channel = channel;
-  e.reason = reason;
   out_.publishEvent(e);
 }
 
@@ -90,24 +95,23 @@ std::shared_ptr<Session> SessionService::owned(const Request& r) {
                          : "wrong token for session " + r.session_id);
     return nullptr;
   }
-  s->touch(Clock::now());
+  s->touch(clock_.now());
   return s;
 }
 
 bool SessionService::validSettings(const Request& r) {
   if (r.mode != 0 && !modeFromInt(r.mode)) {
-    fail(r, ErrorCode::BadRequest, "unknown mode " + std::to_string(r.mode));
+    fail(r, ErrorCode::BadRequest, "mode: unknown mode " + std::to_string(r.mode) + " (1 realtime, 2 fast, 3 lockstep)");
     return false;
   }
-  if (!std::isfinite(r.rate) || r.rate < 0 || r.rate > cfg_.max_rate) {
-    fail(r, ErrorCode::BadRequest,
-         "rate must be in (0, " + std::to_string(cfg_.max_rate) + "], got " + std::to_string(r.rate));
-    return false;
-  }
-  if (!std::isfinite(r.publish_rate) || r.publish_rate < 0 || r.publish_rate > cfg_.max_publish_rate) {
-    fail(r, ErrorCode::BadRequest,
-         "publish_rate must be in (0, " + std::to_string(cfg_.max_publish_rate) + "] Hz, got " +
-             std::to_string(r.publish_rate));
+  // 0 means "unchanged" or "the default"; anything else must be in range
+  std::string why;
+  if (r.rate != 0) why = outside("rate", r.rate, cfg_.min_rate, cfg_.max_rate, " (real-time factor)");
+  if (why.empty() && r.publish_rate != 0)
+    why = outside("publish_rate", r.publish_rate, cfg_.min_publish_rate, cfg_.max_publish_rate,
+                  " Hz (states per simulated second)");
+  if (!why.empty()) {
+    fail(r, ErrorCode::BadRequest, why);
     return false;
   }
   return true;
@@ -131,6 +135,7 @@ void SessionService::handleRequest(const Request& r) {
         {
           std::lock_guard<std::mutex> lk(mutex_);
           sessions_.erase(r.session_id);  // unknown from now on; the worker publishes its last frame
+          retire(s);
         }
         s->stop(ReplyTo{r.op, r.request_id, r.client_id}, "stopped by its owner");
         pool_.wake(s);
@@ -139,8 +144,8 @@ void SessionService::handleRequest(const Request& r) {
       case Op::Step:
         if (r.steps < 1 || r.steps > cfg_.max_steps_per_request)
           return fail(r, ErrorCode::BadRequest,
-                      "steps must be in [1, " + std::to_string(cfg_.max_steps_per_request) + "], got " +
-                          std::to_string(r.steps));
+                      "steps: " + std::to_string(r.steps) + " is outside [1, " +
+                          std::to_string(cfg_.max_steps_per_request) + "]");
         [[fallthrough]];
       case Op::Reset:
       case Op::Pause:
@@ -157,16 +162,18 @@ void SessionService::handleRequest(const Request& r) {
     fail(r, ErrorCode::BadRequest, "unknown op " + std::to_string(static_cast<int>(r.op)));
   } catch (const std::exception& e) {
     fail(r, ErrorCode::Internal, std::string("internal error: ") + e.what());
+  } catch (...) {
+    fail(r, ErrorCode::Internal, "internal error: unknown exception");
   }
 }
 
 void SessionService::create(const Request& r) {
   if (r.scenario_json.size() > cfg_.max_scenario_bytes)
     return fail(r, ErrorCode::BadScenario,
-                "scenario of " + std::to_string(r.scenario_json.size()) + " bytes exceeds the limit of " +
-                    std::to_string(cfg_.max_scenario_bytes));
+                "scenario_json: " + std::to_string(r.scenario_json.size()) + " bytes, at most " +
+                    std::to_string(cfg_.max_scenario_bytes) + " (server --max-scenario-bytes)");
   if (!std::isfinite(r.duration))
-    return fail(r, ErrorCode::BadRequest, "duration must be finite (< 0 runs until stopped)");
+    return fail(r, ErrorCode::BadRequest, "duration: must be finite (< 0 runs until stopped), got " + num(r.duration));
   if (!validSettings(r)) return;
   {
     std::lock_guard<std::mutex> lk(mutex_);
@@ -179,13 +186,15 @@ void SessionService::create(const Request& r) {
     ++reserved_;
   }
   // parsing and building may take a while for large grounds: not on the receive thread
-  pool_.post([this, r] { build(r); });
+  pool_.post([this, r] { build(r); });  // build() answers, whatever happens
 }
 
 void SessionService::build(const Request& r) {
   std::shared_ptr<Session> session;
   try {
-    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json);
+    // the budget is checked in validation, before anything is built
+    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json, cfg_.budget);
+    if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
     const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
     if (nveh < 1 || nveh > cfg_.max_vehicles)
@@ -205,31 +214,33 @@ void SessionService::build(const Request& r) {
       std::lock_guard<std::mutex> lk(mutex_);
       do setup.id = newSessionId();
       while (sessions_.count(setup.id));
-      session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, Clock::now());
+      session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
+                                          clock_);
       sessions_.emplace(setup.id, session);
       --reserved_;
     }
     Reply reply;
     reply.session_id = setup.id;
     reply.token = setup.token;
-    reply.sessions.push_back(session->info(Clock::now()));
+    reply.sessions.push_back(session->info(clock_.now()));
     replyOk(r, std::move(reply));
     // settings near or beyond a stability limit run, but the creator hears of it
     for (const std::string& w : scene.warnings) {
-      Event e;
-      e.session_id = setup.id;
-      e.client_id = r.client_id;
-      e.request_id = r.request_id;
+      Event e = refusalEvent(replyTo(r), setup.id, ErrorCode::None, w);
       e.severity = Severity::Warning;
-      e.reason = w;
       out_.publishEvent(e);
     }
     pool_.wake(session);  // publishes the initial state, starts real time / fast stepping
     return;
   } catch (const scenario::ScenarioError& e) {
     fail(r, ErrorCode::BadScenario, "invalid scenario: " + joinIssues(e));
+  } catch (const std::bad_alloc&) {
+    fail(r, ErrorCode::BadScenario, "invalid scenario: building it needs more memory than the server has");
   } catch (const std::exception& e) {
-    fail(r, ErrorCode::BadScenario, std::string("invalid scenario: ") + e.what());
+    fail(r, session ? ErrorCode::Internal : ErrorCode::BadScenario,
+         std::string(session ? "internal error: " : "invalid scenario: ") + e.what());
+  } catch (...) {
+    fail(r, ErrorCode::Internal, "internal error: unknown exception while building the scenario");
   }
   std::lock_guard<std::mutex> lk(mutex_);
   if (!session) --reserved_;
@@ -243,11 +254,8 @@ void SessionService::handleDrive(Drive d) {
   as_request.session_id = d.session_id;
   as_request.token = d.token;
   auto refuse = [&](ErrorCode code, const std::string& why) {
-    Event e;
-    e.session_id = d.session_id;
+    Event e = sessionEvent(d.session_id, Severity::Error, code, why);
     e.client_id = d.client_id;
-    e.code = code;
-    e.reason = why;
     out_.publishEvent(e);
   };
   try {
@@ -271,31 +279,36 @@ void SessionService::handleDrive(Drive d) {
       if (!std::isfinite(c.drive_torque) || !std::isfinite(c.brake_torque) || !std::isfinite(c.steer))
         return refuse(ErrorCode::BadControl, "drive: " + wheel + "non-finite value (NaN or infinity)");
       if (std::abs(c.drive_torque) > cfg_.max_torque)
-        return refuse(ErrorCode::BadControl, "drive: " + wheel + "drive torque " + std::to_string(c.drive_torque) +
-                                                 " N m beyond the limit of " + std::to_string(cfg_.max_torque));
+        return refuse(ErrorCode::BadControl, "drive: " + wheel + "drive torque " + num(c.drive_torque) +
+                                                 " N m beyond the limit of " + num(cfg_.max_torque));
       if (c.brake_torque < 0 || c.brake_torque > cfg_.max_torque)
-        return refuse(ErrorCode::BadControl, "drive: " + wheel + "brake torque " + std::to_string(c.brake_torque) +
-                                                 " N m outside [0, " + std::to_string(cfg_.max_torque) + "]");
+        return refuse(ErrorCode::BadControl, "drive: " + wheel + "brake torque " + num(c.brake_torque) +
+                                                 " N m outside [0, " + num(cfg_.max_torque) + "]");
     }
     s->touch(d.received);
     s->post(std::move(d));
     pool_.wake(s);
   } catch (const std::exception& e) {
-    refuse(ErrorCode::Internal, std::string("drive: internal error: ") + e.what());
+    try {
+      refuse(ErrorCode::Internal, std::string("drive: internal error: ") + e.what());
+    } catch (...) {
+    }
+  } catch (...) {
   }
 }
 
 // ---- upkeep -----------------------------------------------------------------
 
 void SessionService::housekeeping() {
-  if (cfg_.idle_timeout <= 0) return;
-  const TimePoint now = Clock::now();
+  const TimePoint now = clock_.now();
   std::vector<std::shared_ptr<Session>> idle;
   {
     std::lock_guard<std::mutex> lk(mutex_);
-    for (auto it = sessions_.begin(); it != sessions_.end();) {
+    std::erase_if(ended_, [&](const Ended& e) { return seconds(now - e.since) > cfg_.ended_linger; });
+    for (auto it = sessions_.begin(); cfg_.idle_timeout > 0 && it != sessions_.end();) {
       if (it->second->idleSeconds(now) > cfg_.idle_timeout) {
         idle.push_back(it->second);
+        retire(it->second);
         it = sessions_.erase(it);
       } else {
         ++it;
@@ -303,7 +316,7 @@ void SessionService::housekeeping() {
     }
   }
   for (auto& s : idle) {
-    s->stop(std::nullopt, "reclaimed after " + std::to_string(cfg_.idle_timeout) + " s without its owner");
+    s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
     pool_.wake(s);
   }
 }
@@ -313,12 +326,15 @@ ServiceStatus SessionService::status() {
   st.workers = cfg_.workers;
   st.max_sessions = cfg_.max_sessions;
   st.load = pool_.takeLoad();
-  const TimePoint now = Clock::now();
+  const TimePoint now = clock_.now();
   std::lock_guard<std::mutex> lk(mutex_);
   st.sessions.reserve(sessions_.size());
   for (const auto& [id, s] : sessions_) st.sessions.push_back(s->info(now));
+  for (const Ended& e : ended_) st.ended.push_back(e.session->info(now));
   return st;
 }
+
+void SessionService::retire(std::shared_ptr<Session> s) { ended_.push_back(Ended{std::move(s), clock_.now()}); }
 
 void SessionService::shutdown(const std::string& reason) {
   std::map<std::string, std::shared_ptr<Session>> sessions;
@@ -334,8 +350,10 @@ void SessionService::shutdown(const std::string& reason) {
   }
   for (auto& [id, s] : sessions) {
     s->stop(std::nullopt, reason);
-    s->run(Clock::now());  // publishes the final frame on this thread
+    s->run(clock_.now());  // publishes the final frame on this thread
   }
+  std::lock_guard<std::mutex> lk(mutex_);
+  ended_.clear();
 }
 
 }  // namespace groundsim::session

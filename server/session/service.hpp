@@ -24,11 +24,15 @@ struct ServiceStatus {
   int max_sessions = 0;
   double load = 0.0;
   std::vector<SessionInfo> sessions;
+  // Stopped or reclaimed in the last cfg.ended_linger seconds, with their
+  // final status and last seq (the heartbeat lists them; `list` does not).
+  std::vector<SessionInfo> ended;
 };
 
 class SessionService {
  public:
-  SessionService(ServiceConfig cfg, Output& out);
+  // `clock` is every session's (tests pass a manual one); it must outlive the service.
+  SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock = steadyClock());
   ~SessionService();
 
   // Receive thread only.
@@ -51,13 +55,20 @@ class SessionService {
   // Looks up the session and checks the token; answers the refusal itself.
   std::shared_ptr<Session> owned(const Request& r);
   bool validSettings(const Request& r);
-  void fail(const Request& r, ErrorCode code, const std::string& error);
+  void fail(const Request& r, ErrorCode code, const std::string& error) noexcept;
+  void retire(std::shared_ptr<Session> s);  // mutex_ held: into ended_
   void replyOk(const Request& r, Reply reply);
 
   ServiceConfig cfg_;
   Output& out_;
+  const SessionClock& clock_;
   std::mutex mutex_;  // sessions_ and reserved_ (workers add sessions after building them)
   std::map<std::string, std::shared_ptr<Session>> sessions_;
+  struct Ended {
+    std::shared_ptr<Session> session;
+    TimePoint since;
+  };
+  std::vector<Ended> ended_;
   int reserved_ = 0;  // creates accepted but still building
   bool shut_down_ = false;
   Scheduler pool_;    // last member: its workers stop before the registry goes

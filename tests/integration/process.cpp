@@ -76,6 +76,15 @@ bool Process::waitForOutput(const std::string& text, double timeout_s) {
   return false;
 }
 
+bool Process::waitForError(const std::string& text, double timeout_s) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < end) {
+    if (readText(err_path_).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
 Result Process::wait(double timeout_s) {
   if (done_) return result_;
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);

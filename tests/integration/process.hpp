@@ -27,6 +27,8 @@ class Process {
   Result wait(double timeout_s);
   // Waits until the captured stdout contains text; false on timeout.
   bool waitForOutput(const std::string& text, double timeout_s);
+  // The same for stderr (the clients' ready lines: "log: recording", "watch ...: subscribed").
+  bool waitForError(const std::string& text, double timeout_s);
   std::string out() const;
 
  private:

@@ -18,8 +18,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/request_t.hpp>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 #include "process.hpp"
 #include "test_env.hpp"
 
@@ -120,7 +120,7 @@ TEST_F(Service, SubscribersReceiveIdenticalStreams) {
     loggers.push_back(std::make_unique<Process>(std::vector<std::string>{
         kCli, "log", id, "--csv", files.back(), "--duration", "60", "--lcm-url", kUrl}));
   }
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // generous: let them subscribe
+  for (auto& l : loggers) ASSERT_TRUE(l->waitForError("log: recording", 30));  // subscribed
   ASSERT_EQ(cli({"mode", id, "fast"}, true).status, 0);
   std::vector<std::string> csv;
   for (int i = 0; i < 3; ++i) {
@@ -294,7 +294,7 @@ TEST_F(Service, CleanShutdownOnSigterm) {
   EXPECT_NE(lastLine(w.out).find("stopped"), std::string::npos) << w.out;
   // no server: clients say so instead of hanging
   const Result list = cli({"list", "--timeout", "0.5"}, false);
-  EXPECT_EQ(list.status, 2);
+  EXPECT_EQ(list.status, 4);  // kExitNoServer
   EXPECT_NE(list.err.find("no reply"), std::string::npos) << list.err;
 }
 

@@ -1,4 +1,4 @@
-#include "net_terminal.hpp"
+#include "terminal.hpp"
 
 #include <unistd.h>
 

@@ -1,6 +1,8 @@
 // A client's connection to groundsim-server: requests matched to their
 // replies by request id (with a timeout and a clear error when no server
-// answers), drive commands, and the events addressed to this client.
+// answers), drive commands, the events addressed to this client, and the
+// server's heartbeat: every wait ends with NetError once no heartbeat has
+// arrived for net::kHeartbeatTimeout, so no command outlives its server.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +17,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
 #include <groundsim/request_t.hpp>
+
+#include "protocol/server_watch.hpp"
 
 namespace groundsim::cli {
 
@@ -33,8 +37,14 @@ class NetClient {
   const std::string& clientId() const { return client_id_; }
 
   // Fills utime, seq, request_id and client_id, publishes, and waits for the
-  // reply. Throws NetError on timeout. A refused request returns ok = false.
+  // reply. Throws NetError on timeout or when the heartbeat stops (a step
+  // of millions of steps waits as long as the server lives, up to
+  // timeout_s). A refused request returns ok = false.
   groundsim::reply_t call(groundsim::request_t req, double timeout_s);
+  // Handles messages for up to ms milliseconds; throws NetError when the
+  // server's heartbeat has stopped.
+  void pump(int ms);
+  const net::ServerWatch& server() const { return watch_; }
   void send(groundsim::drive_t cmd);
 
   // Error events addressed to this client since the last call.
@@ -51,6 +61,7 @@ class NetClient {
   std::int64_t waiting_for_ = -1;
   std::optional<groundsim::reply_t> reply_;
   std::vector<groundsim::event_t> events_;
+  net::ServerWatch watch_;  // after lcm_
 };
 
 std::int64_t wallMicros();

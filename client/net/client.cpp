@@ -1,12 +1,14 @@
-#include "net_client.hpp"
+#include "client.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <random>
 
 #include <unistd.h>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/text.hpp"
 
 namespace groundsim::cli {
 
@@ -16,9 +18,11 @@ std::int64_t wallMicros() {
 }
 
 NetClient::NetClient(const std::string& url, bool deep_receive)
-    : url_(deep_receive ? net::withReceiveBuffer(url) : (url.empty() ? net::defaultUrl() : url)), lcm_(url_) {
+    : url_(deep_receive ? net::withReceiveBuffer(url) : (url.empty() ? net::defaultUrl() : url)),
+      lcm_(url_),
+      watch_(lcm_) {
   if (!lcm_.good())
-    throw NetError("cannot open LCM URL " + url_ + " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
+    throw NetError("cannot open LCM URL " + net::quoted(url_) + " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
   std::random_device rd;
   char buf[64];
   std::snprintf(buf, sizeof buf, "cli-%d-%08x", static_cast<int>(getpid()), rd());
@@ -48,18 +52,24 @@ groundsim::reply_t NetClient::call(groundsim::request_t req, double timeout_s) {
   waiting_for_ = req.request_id;
   reply_.reset();
   if (lcm_.publish(net::kRequestChannel, &req) != 0) throw NetError("cannot publish on " + url_);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::min(timeout_s, 1e9));
   while (!reply_) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0)
-      throw NetError("no reply from groundsim-server within " + std::to_string(timeout_s) + " s on " + url_ +
-                     " (is the server running with the same --lcm-url?)");
-    lcm_.handleTimeout(static_cast<int>(left.count()) + 1);
+      throw NetError("no reply from groundsim-server within " + net::number(timeout_s) + " s on " + url_ +
+                     (watch_.heartbeats() > 0 ? " (its heartbeat is there: the server is busy or dropped the request)"
+                                              : " (is the server running with the same --lcm-url?)"));
+    pump(static_cast<int>(std::min<long long>(left.count() + 1, 200)));
   }
   waiting_for_ = -1;
   groundsim::reply_t r = std::move(*reply_);
   reply_.reset();
   return r;
+}
+
+void NetClient::pump(int ms) {
+  if (watch_.lost()) throw NetError(watch_.lostMessage(url_));
+  lcm_.handleTimeout(ms);
 }
 
 void NetClient::send(groundsim::drive_t cmd) {

@@ -1,14 +1,20 @@
 // `groundsim watch SESSION`: live state on the terminal. On a terminal one
 // line is redrawn (at most 10 times a second); otherwise every state is
-// printed on its own line, so the output can be piped or tested.
+// printed on its own line, so the output can be piped or tested. Ends at
+// the session's final state, or when the server's heartbeat says the
+// session ended (its final state lost) or is not there; exits with
+// kExitNoServer when the heartbeat stops.
 #include <chrono>
+#include <optional>
 #include <cstdio>
 
 #include <unistd.h>
 
-#include "channels.hpp"
-#include "codec.hpp"
-#include "net_commands.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/names.hpp"
+#include "protocol/text.hpp"
+#include "common.hpp"
 
 namespace groundsim::cli {
 
@@ -41,7 +47,7 @@ void registerWatchCommand(CLI::App& app) {
         if (last_seq >= 0 && m.seq > last_seq + 1) lost += m.seq - last_seq - 1;
         last_seq = std::max<long long>(last_seq, m.seq);
         ++received;
-        ended = isFinal(m.status);
+        ended = ended || net::isFinal(m.status);
         const auto now = std::chrono::steady_clock::now();
         if (!tty) {
           std::printf("%s\n", stateLine(m).c_str());
@@ -57,14 +63,40 @@ void registerWatchCommand(CLI::App& app) {
           +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(handler)* h) { (*h)(rbuf, ch); },
           &handler);
       sub->setQueueCapacity(net::kDeepQueue);
+      std::fprintf(stderr, "watch %s: subscribed on %s\n", net::printable(o->session).c_str(), client.url().c_str());
       const auto start = std::chrono::steady_clock::now();
+      const long long beats_at_start = client.server().heartbeats();
+      std::optional<std::chrono::steady_clock::time_point> final_listed;
+      std::string note, server_lost;
+      bool unknown = false;
       while (!stopRequested() && !ended && (o->count <= 0 || received < o->count)) {
-        if (o->duration > 0 && std::chrono::steady_clock::now() - start > std::chrono::duration<double>(o->duration))
+        const auto now = std::chrono::steady_clock::now();
+        if (o->duration > 0 && now - start > std::chrono::duration<double>(o->duration)) break;
+        try {
+          client.pump(100);
+        } catch (const NetError& e) {
+          server_lost = e.what();
           break;
-        client.lcm().handleTimeout(100);
+        }
+        const auto info = client.server().session(o->session);
+        if (!info && client.server().heartbeats() >= beats_at_start + 2) {
+          ended = true;
+          unknown = received == 0;
+          note = received == 0 ? "not on the server" : "no longer on the server";
+        } else if (info && net::isFinal(info->status)) {
+          if (!final_listed) final_listed = now;
+          if (now - *final_listed > std::chrono::duration<double>(1.5 * net::kHeartbeatPeriod)) {
+            ended = true;
+            note = std::string(net::statusName(info->status)) + " (from the server's heartbeat)";
+            if (info->seq > last_seq) lost += info->seq - last_seq;
+          }
+        }
       }
       if (tty) std::printf("\n");
-      std::fprintf(stderr, "watch %s: %lld states received, %lld lost\n", o->session.c_str(), received, lost);
+      std::fprintf(stderr, "watch %s: %lld states received, %lld lost%s%s\n", net::printable(o->session).c_str(),
+                   received, lost, note.empty() ? "" : "; session ", note.c_str());
+      if (!server_lost.empty()) fail(kExitNoServer, server_lost);
+      if (unknown) fail(kExitRefused, "session " + net::quoted(o->session) + " is not on the server");
     });
   });
 }

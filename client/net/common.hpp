@@ -1,6 +1,7 @@
-// Shared parts of the `groundsim` network subcommands (net_*.cpp).
+// Shared parts of the `groundsim` network subcommands (client/net/).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -9,14 +10,16 @@
 #include <groundsim/reply_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "net_client.hpp"
+#include "client.hpp"
 
 namespace groundsim::cli {
 
-// Exit codes of the network commands.
-inline constexpr int kExitRefused = 1;   // the server answered with an error
-inline constexpr int kExitNoServer = 2;  // no reply, or LCM could not be opened
-inline constexpr int kExitLoss = 3;      // `log`: messages were lost
+// Exit codes of the network commands (docs/protocol.md, Clients). 2 is
+// every command's usage error (client/main.cpp).
+inline constexpr int kExitRefused = 1;   // the server refused, or a local input problem (the reason on stderr)
+inline constexpr int kExitUsage = 2;     // bad command line
+inline constexpr int kExitLoss = 3;      // `log`: state messages were lost
+inline constexpr int kExitNoServer = 4;  // no reply, no heartbeat, or LCM could not be opened
 
 struct NetOptions {
   std::string url;
@@ -24,6 +27,10 @@ struct NetOptions {
   std::string token_file;    // "" : defaultTokenFile()
   std::string token;         // explicit token, overrides the file
 };
+
+// CLI11's PositiveNumber says "not in range 0.000000 to 1797...(309 digits)":
+// this says "must be a number > 0" and names the value, quoted and cut.
+CLI::Validator positive();
 
 // --lcm-url and --timeout on every command; --token-file / --token on those
 // that need ownership (with_token).
@@ -37,16 +44,11 @@ std::string tokenFor(const NetOptions& o, const std::string& session_id);
 // Runs a command body, turning NetError into kExitNoServer.
 void guarded(const std::function<void()>& body);
 
-const char* modeName(int mode);
-const char* statusName(int status);
-int modeFromName(const std::string& name);  // 0 if unknown
-bool isFinal(int status);                   // finished, diverged or stopped
-
 // SIGINT/SIGTERM end the long-running commands (watch, log, drive) cleanly.
 void installStopSignals();
 bool stopRequested();
 
-// One line: "t=1.2 tick=24000 running car: x=.. speed=.. m/s".
+// One line: "t=1.2 tick=24000 running car: x=.. speed=.. m/s" (names escaped and cut).
 std::string stateLine(const groundsim::state_t& s);
 
 void registerSessionCommands(CLI::App& app);  // create list stop reset pause resume mode step

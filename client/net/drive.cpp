@@ -15,10 +15,12 @@
 #include <poll.h>
 #include <unistd.h>
 
-#include "channels.hpp"
-#include "codec.hpp"
-#include "net_commands.hpp"
-#include "net_terminal.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/names.hpp"
+#include "protocol/text.hpp"
+#include "common.hpp"
+#include "terminal.hpp"
 
 namespace groundsim::cli {
 namespace {
@@ -78,7 +80,7 @@ std::vector<double> numbers(std::istringstream& in) {
   while (in >> tok) {
     char* end = nullptr;
     const double x = std::strtod(tok.c_str(), &end);  // accepts nan and inf: the server judges them
-    if (end == tok.c_str() || *end) throw std::invalid_argument("not a number: " + tok);
+    if (end == tok.c_str() || *end) throw std::invalid_argument("not a number: " + net::quoted(tok));
     v.push_back(x);
   }
   return v;
@@ -107,7 +109,7 @@ double applyLine(const std::string& line, Intent& in) {
     in.steer.assign(v.size() >= 12 ? v.begin() + 8 : v.end(), v.end());
   } else if (word == "wait") return std::max(0.0, one());
   else if (word == "quit") return -1.0;
-  else throw std::invalid_argument("unknown command '" + word + "'");
+  else throw std::invalid_argument("unknown command " + net::quoted(word));
   return 0.0;
 }
 
@@ -130,13 +132,14 @@ void run(const DriveOpts& o) {
   NetClient client(o.net.url);
   const std::string token = tokenFor(o.net, o.session);
   if (token.empty())
-    std::fprintf(stderr, "groundsim: warning: no token for session %s (the server will refuse)\n", o.session.c_str());
+    std::fprintf(stderr, "groundsim: warning: no token for session %s (the server will refuse)\n",
+                 net::printable(o.session).c_str());
   const bool tty = ::isatty(STDIN_FILENO);
   std::optional<RawTerminal> term;
   if (tty) {
     term.emplace(STDIN_FILENO);
     std::fprintf(stderr, "drive %s: w/s or up/down throttle, a/d or left/right turn, space brake, x release, q quit\n",
-                 o.session.c_str());
+                 net::printable(o.session).c_str());
   }
 
   groundsim::state_t latest;
@@ -149,6 +152,7 @@ void run(const DriveOpts& o) {
       net::stateChannel(o.session),
       +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_state)* h) { (*h)(rbuf, ch); }, &on_state);
 
+  std::fprintf(stderr, "drive %s: sending on %s\n", net::printable(o.session).c_str(), client.url().c_str());
   Intent intent;
   int refusals = 0;
   const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / o.hz));
@@ -159,6 +163,13 @@ void run(const DriveOpts& o) {
   long line_no = 0;
 
   while (!quit && !stopRequested()) {
+    // commands into the void help nobody: a silent server ends the drive
+    if (client.server().lost()) fail(kExitNoServer, client.server().lostMessage(client.url()));
+    if (const auto info = client.server().session(o.session); info && net::isFinal(info->status) && !have_state) {
+      std::fprintf(stderr, "drive %s: session %s (from the server's heartbeat)\n", net::printable(o.session).c_str(),
+                   net::statusName(info->status));
+      break;
+    }
     // script lines run in order; a wait holds back the ones after it
     while (!tty && !quit && SteadyClock::now() >= wait_until) {
       auto nl = pending.find('\n');
@@ -191,15 +202,15 @@ void run(const DriveOpts& o) {
     if (quit) break;
     for (const auto& e : client.takeEvents()) {
       ++refusals;
-      std::fprintf(stderr, "%sgroundsim: refused: %s\n", tty ? "\r\033[K" : "", e.reason.c_str());
+      std::fprintf(stderr, "%sgroundsim: refused: %s\n", tty ? "\r\033[K" : "", net::printable(e.reason, 1000).c_str());
     }
     if (tty && have_state) {
       const double speed = latest.vehicles.size() > static_cast<size_t>(o.vehicle) ? latest.vehicles[o.vehicle].speed : 0.0;
       std::fprintf(stderr, "\r\033[Kthrottle %5.2f N m  turn %+4.1f  brake %4.1f | t=%.2f s speed %.2f m/s %s",
-                   intent.throttle, intent.turn, intent.brake, latest.t, speed, statusName(latest.status));
+                   intent.throttle, intent.turn, intent.brake, latest.t, speed, net::statusName(latest.status));
     }
-    if (have_state && isFinal(latest.status)) {
-      std::fprintf(stderr, "%sdrive %s: session %s\n", tty ? "\n" : "", o.session.c_str(), statusName(latest.status));
+    if (have_state && net::isFinal(latest.status)) {
+      std::fprintf(stderr, "%sdrive %s: session %s\n", tty ? "\n" : "", net::printable(o.session).c_str(), net::statusName(latest.status));
       break;
     }
     if (!input_open && pending.empty() && now >= wait_until) break;  // script done
@@ -239,7 +250,7 @@ void run(const DriveOpts& o) {
   client.lcm().handleTimeout(50);  // collect a last refusal, if any
   for (const auto& e : client.takeEvents()) {
     ++refusals;
-    std::fprintf(stderr, "groundsim: refused: %s\n", e.reason.c_str());
+    std::fprintf(stderr, "groundsim: refused: %s\n", net::printable(e.reason, 1000).c_str());
   }
   if (tty) std::fprintf(stderr, "\n");
   if (refusals > 0) fail(kExitRefused, std::to_string(refusals) + " drive command(s) refused");

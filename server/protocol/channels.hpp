@@ -36,8 +36,13 @@ inline std::string withReceiveBuffer(std::string url, int bytes = kReceiveBuffer
 }
 
 // Queue length of subscriptions that must not drop (LCM's default is 30 and
-// drops silently); 0 would be unbounded, this bounds memory at ~100 MB of
-// state messages while no consumer falls that far behind.
+// drops silently; 0 would be unbounded). The queue holds messages already
+// read from the socket that the handler has not consumed: for the state
+// channels (~350 bytes per one-car state) 200,000 are ~70 MB; on the
+// server's request channel a queue of 200,000 creates of up to
+// kMaxScenarioBytes could in principle hold far more, so the server's
+// receive thread does no work beyond decoding and queueing and keeps it
+// near empty.
 inline constexpr int kDeepQueue = 200000;
 
 }  // namespace groundsim::net

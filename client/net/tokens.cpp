@@ -1,4 +1,4 @@
-#include "net_tokens.hpp"
+#include "tokens.hpp"
 
 #include <cstdlib>
 #include <ctime>

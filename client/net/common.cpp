@@ -2,12 +2,15 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
-#include "channels.hpp"
 #include "commands.hpp"
-#include "net_commands.hpp"
-#include "net_tokens.hpp"
+#include "common.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/names.hpp"
+#include "protocol/text.hpp"
+#include "tokens.hpp"
 
 namespace groundsim::cli {
 namespace {
@@ -32,11 +35,23 @@ void registerNetworkCommands(CLI::App& app) {
   registerDriveCommand(app);
 }
 
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !(x > 0))
+          return "must be a number > 0, got " + net::quoted(text, 40);
+        return "";
+      },
+      "POSITIVE");
+}
+
 void addNetOptions(CLI::App* cmd, NetOptions& o, bool with_token) {
   o.url = net::defaultUrl();
   cmd->add_option("--lcm-url", o.url, "LCM URL of the server")->capture_default_str();
   cmd->add_option("--timeout", o.timeout, "s to wait for the server's reply")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   if (with_token) {
     cmd->add_option("--token-file", o.token_file, "session tokens (default " + defaultTokenFile() + ")");
     cmd->add_option("--token", o.token, "the session's token (instead of the token file)");
@@ -49,7 +64,8 @@ std::string tokenFor(const NetOptions& o, const std::string& session_id) {
 }
 
 void fail(int code, const std::string& message) {
-  std::fprintf(stderr, "groundsim: %s\n", message.c_str());
+  // messages quote what users and servers sent; escape what is left, cut nothing of ours
+  std::fprintf(stderr, "groundsim: %s\n", net::printable(message, 4000).c_str());
   throw CLI::RuntimeError(code);
 }
 
@@ -65,49 +81,17 @@ void guarded(const std::function<void()>& body) {
   }
 }
 
-const char* modeName(int mode) {
-  switch (mode) {
-    case groundsim::request_t::MODE_REALTIME: return "realtime";
-    case groundsim::request_t::MODE_FAST: return "fast";
-    case groundsim::request_t::MODE_LOCKSTEP: return "lockstep";
-  }
-  return "?";
-}
-
-int modeFromName(const std::string& name) {
-  if (name == "realtime") return groundsim::request_t::MODE_REALTIME;
-  if (name == "fast") return groundsim::request_t::MODE_FAST;
-  if (name == "lockstep") return groundsim::request_t::MODE_LOCKSTEP;
-  return 0;
-}
-
-const char* statusName(int status) {
-  switch (status) {
-    case groundsim::state_t::STATUS_RUNNING: return "running";
-    case groundsim::state_t::STATUS_PAUSED: return "paused";
-    case groundsim::state_t::STATUS_FINISHED: return "finished";
-    case groundsim::state_t::STATUS_DIVERGED: return "diverged";
-    case groundsim::state_t::STATUS_STOPPED: return "stopped";
-  }
-  return "?";
-}
-
-bool isFinal(int status) {
-  return status == groundsim::state_t::STATUS_FINISHED || status == groundsim::state_t::STATUS_DIVERGED ||
-         status == groundsim::state_t::STATUS_STOPPED;
-}
-
 std::string stateLine(const groundsim::state_t& s) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "t=%.3f tick=%lld seq=%lld %s", s.t, static_cast<long long>(s.tick),
-                static_cast<long long>(s.seq), statusName(s.status));
+                static_cast<long long>(s.seq), net::statusName(s.status));
   std::string out = buf;
   for (const auto& v : s.vehicles) {
-    std::snprintf(buf, sizeof buf, "  %s: x=%.3f y=%.3f z=%.3f speed=%.3f m/s", v.name.c_str(), v.position[0],
+    std::snprintf(buf, sizeof buf, "  %s: x=%.3f y=%.3f z=%.3f speed=%.3f m/s", net::printable(v.name, 40).c_str(), v.position[0],
                   v.position[1], v.position[2], v.speed);
     out += buf;
   }
-  if (!s.status_reason.empty()) out += "  (" + s.status_reason + ")";
+  if (!s.status_reason.empty()) out += "  (" + net::printable(s.status_reason) + ")";
   return out;
 }
 

@@ -6,11 +6,11 @@
 #include <fstream>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
-#include "net_commands.hpp"
-#include "net_tokens.hpp"
-#include "scenario/scenario.hpp"
+#include "common.hpp"
+#include "create.hpp"
+#include "protocol/names.hpp"
+#include "protocol/text.hpp"
+#include "tokens.hpp"
 
 namespace groundsim::cli {
 namespace {
@@ -20,14 +20,7 @@ using groundsim::request_t;
 // Ends with kExitRefused (printing the server's reason) unless r.ok.
 void expectOk(const groundsim::reply_t& r) {
   if (!r.ok) fail(kExitRefused, (r.session_id.empty() ? "" : "session " + r.session_id + ": ") + r.error);
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(kExitRefused, "cannot read " + path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  // (fail() escapes control characters; the server quotes and cuts user strings)
 }
 
 // Sends a session request carrying the owner's token and checks the reply.
@@ -49,7 +42,7 @@ groundsim::reply_t ownerCall(const NetOptions& o, const std::string& session, in
 void printExact(const groundsim::state_t& s) {
   // %.17g: every double printed exactly, so two runs compare bit for bit
   for (const auto& v : s.vehicles) {
-    std::printf("%" PRId64 " %.17g %s %s", s.tick, s.t, v.name.c_str(), statusName(s.status));
+    std::printf("%" PRId64 " %.17g %s %s", s.tick, s.t, net::printable(v.name, 64).c_str(), net::statusName(s.status));
     for (double x : v.position) std::printf(" %.17g", x);
     for (double x : v.orientation) std::printf(" %.17g", x);
     for (double x : v.velocity) std::printf(" %.17g", x);
@@ -62,53 +55,27 @@ void printExact(const groundsim::state_t& s) {
 void addCreate(CLI::App& app) {
   struct Opts {
     NetOptions net;
-    std::string file, mode = "realtime";
-    double rate = 1.0, publish_rate = 0.0, duration = 0.0;
-    std::vector<std::string> overrides;
+    CreateOptions create;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("create", "create a session on groundsim-server from a scenario file");
-  cmd->add_option("SCENARIO", o->file, "scenario JSON file (validated by the server)")->required();
-  cmd->add_option("--mode", o->mode, "realtime | fast | lockstep")->capture_default_str()
-      ->check(CLI::IsMember({"realtime", "fast", "lockstep"}));
-  cmd->add_option("--rate", o->rate, "real-time factor")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--publish-rate", o->publish_rate, "state messages per simulated second (default: the scenario's output_rate)");
-  cmd->add_option("--duration", o->duration, "s of simulation; 0: the scenario's; < 0: until stopped")->capture_default_str();
-  cmd->add_option("--set", o->overrides, "override a scenario value, e.g. --set vehicle.placement.speed=2");
+  addCreateOptions(cmd, o->create, /*positional=*/true);
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     guarded([&] {
-      std::string text = readFile(o->file);
-      if (!o->overrides.empty()) {
-        // local overrides need a parseable document; the server reports anything else
-        auto doc = nlohmann::json::parse(text, nullptr, false);
-        if (doc.is_discarded()) fail(kExitRefused, o->file + ": not valid JSON, cannot apply --set");
-        try {
-          for (const auto& a : o->overrides) scenario::applyOverride(doc, a);
-        } catch (const scenario::ScenarioError& e) {
-          fail(kExitRefused, e.what());
-        }
-        text = doc.dump();
-      }
+      const request_t req = createRequest(o->create);
       NetClient client(o->net.url);
-      request_t req{};
-      req.op = request_t::OP_CREATE;
-      req.scenario_json = text;
-      req.mode = static_cast<int8_t>(modeFromName(o->mode));
-      req.rate = o->rate;
-      req.publish_rate = o->publish_rate;
-      req.duration = o->duration;
       const groundsim::reply_t r = client.call(req, std::max(o->net.timeout, 10.0));  // building may take a while
       expectOk(r);
       TokenStore store(o->net.token_file);
       store.put(r.session_id, r.token, client.url());
       if (!r.sessions.empty()) {
         const auto& s = r.sessions.front();
-        std::printf("created session %s: scenario '%s', %s x%g, %g Hz, %d vehicle(s); token in %s\n",
-                    r.session_id.c_str(), s.name.c_str(), modeName(s.mode), s.rate, s.publish_rate, s.nvehicles,
-                    store.path().c_str());
+        std::printf("created session %s: scenario %s, %s x%g, %g Hz, %d vehicle(s); token in %s\n",
+                    net::printable(r.session_id).c_str(), net::quoted(s.name).c_str(), net::modeName(s.mode), s.rate,
+                    s.publish_rate, s.nvehicles, store.path().c_str());
       }
-      std::printf("%s\n", r.session_id.c_str());  // last line: the id, for scripts
+      std::printf("%s\n", net::printable(r.session_id).c_str());  // last line: the id, for scripts
     });
   });
 }
@@ -129,9 +96,10 @@ void addList(CLI::App& app) {
       for (const auto& s : r.sessions) {
         std::string vehicles;
         for (const auto& v : s.vehicle_names) vehicles += (vehicles.empty() ? "" : ",") + v;
-        std::printf("%-8s  %-16s  %-8s  %-8s  %10.3f  %12" PRId64 "  %6g  %7.1f  %s\n", s.session_id.c_str(),
-                    s.name.c_str(), modeName(s.mode), statusName(s.status), s.utime * 1e-6, s.tick, s.rate, s.idle_s,
-                    vehicles.c_str());
+        std::printf("%-8s  %-16s  %-8s  %-8s  %10.3f  %12" PRId64 "  %6g  %7.1f  %s\n",
+                    net::printable(s.session_id, 16).c_str(), net::printable(s.name, 40).c_str(),
+                    net::modeName(s.mode), net::statusName(s.status), s.utime * 1e-6, s.tick, s.rate, s.idle_s,
+                    net::printable(vehicles).c_str());
       }
     });
   });
@@ -151,7 +119,7 @@ void addSimple(CLI::App& app, const char* name, const char* help, int8_t op) {
     guarded([&] {
       ownerCall(o->net, o->session, op);
       if (op == request_t::OP_STOP) TokenStore(o->net.token_file).erase(o->session);
-      std::printf("%s %s: ok\n", name, o->session.c_str());
+      std::printf("%s %s: ok\n", name, net::printable(o->session).c_str());
     });
   });
 }
@@ -167,18 +135,18 @@ void addMode(CLI::App& app) {
   cmd->add_option("SESSION", o->session, "session id")->required();
   cmd->add_option("MODE", o->mode, "realtime | fast | lockstep (default: unchanged)")
       ->check(CLI::IsMember({"realtime", "fast", "lockstep"}));
-  cmd->add_option("--rate", o->rate, "real-time factor")->check(CLI::PositiveNumber);
-  cmd->add_option("--publish-rate", o->publish_rate, "state messages per simulated second")->check(CLI::PositiveNumber);
+  cmd->add_option("--rate", o->rate, "real-time factor")->check(positive());
+  cmd->add_option("--publish-rate", o->publish_rate, "state messages per simulated second")->check(positive());
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     guarded([&] {
       const auto r = ownerCall(o->net, o->session, request_t::OP_SET_MODE, [&](request_t& req) {
-        req.mode = static_cast<int8_t>(o->mode.empty() ? 0 : modeFromName(o->mode));
+        req.mode = static_cast<int8_t>(o->mode.empty() ? 0 : net::modeFromName(o->mode));
         req.rate = o->rate;
         req.publish_rate = o->publish_rate;
       });
       if (!r.sessions.empty())
-        std::printf("%s: %s x%g, %g Hz\n", o->session.c_str(), modeName(r.sessions[0].mode), r.sessions[0].rate,
+        std::printf("%s: %s x%g, %g Hz\n", net::printable(o->session).c_str(), net::modeName(r.sessions[0].mode), r.sessions[0].rate,
                     r.sessions[0].publish_rate);
     });
   });
@@ -195,9 +163,9 @@ void addStep(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("step", "advance a lockstep session by N steps and print its state");
   cmd->add_option("SESSION", o->session, "session id")->required();
-  cmd->add_option("N", o->steps, "steps per request")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("N", o->steps, "steps per request")->required()->check(positive());
   cmd->add_option("--repeat", o->repeat, "requests to send, one after the other")->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_flag("--exact", o->exact, "print every state number exactly (%.17g), one line per vehicle");
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {

@@ -1,0 +1,29 @@
+// What `groundsim create` and `groundsim log --create` share: the scenario
+// options and the request they make. The scenario is read and prepared here
+// (--preset, --set) exactly as `groundsim run` does, and refused before
+// sending when it is larger than a create can carry.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <groundsim/request_t.hpp>
+
+namespace groundsim::cli {
+
+struct CreateOptions {
+  std::string file, mode = "realtime", preset;
+  double rate = 1.0, publish_rate = 0.0, duration = 0.0;
+  std::vector<std::string> overrides;
+};
+
+// SCENARIO is positional when `positional`, else the option --create (and
+// the simulated duration is --session-duration).
+void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional);
+// The OP_CREATE request; ends the command (kExitRefused) when the file
+// cannot be read or prepared, or is too large for the transport.
+groundsim::request_t createRequest(const CreateOptions& o);
+
+}  // namespace groundsim::cli

@@ -1,0 +1,223 @@
+// `groundsim log SESSION... --csv FILE` or `groundsim log --create SCENARIO
+// --csv FILE`: records published states with the columns of `groundsim
+// run`'s CSV and accounts for every message. LCM drops silently when a
+// subscription's queue (30 by default) or the socket buffer overflows, so
+// this logger asks for an 8 MiB socket buffer and a deep queue and counts
+// every seq that did not arrive:
+// - with --create it subscribes before creating, so every seq from 0 counts
+//   (a lost seq 0 is a loss); for a session created before, the states
+//   before the first one heard are reported, not counted;
+// - the end of a session is its final state, or, when that is lost, the
+//   server's heartbeat, which lists an ended session with its last seq
+//   (the seqs up to it count as lost);
+// - no heartbeat for net::kHeartbeatTimeout ends the log with kExitNoServer.
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <optional>
+
+#include "common.hpp"
+#include "create.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/names.hpp"
+#include "protocol/sample.hpp"
+#include "protocol/text.hpp"
+#include "run/telemetry_csv.hpp"
+#include "tokens.hpp"
+
+namespace groundsim::cli {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+struct Stream {
+  long long expect_from = -1;   // first seq that must arrive (0 when this log created the session)
+  long long received = 0;
+  long long first_seq = -1, last_seq = -1;
+  long long gaps = 0, lost = 0, duplicates = 0;
+  bool ended = false;
+  std::string end_note;         // how the end was learnt, when not from the final state
+  std::optional<SteadyClock::time_point> final_listed;  // heartbeat said final before the final state came
+};
+
+// A seq range that did not arrive.
+void countGap(const std::string& id, Stream& st, long long from, long long to) {
+  if (to < from) return;
+  ++st.gaps;
+  st.lost += to - from + 1;
+  std::fprintf(stderr, "log: %s: seq %lld..%lld lost (%lld)\n", id.c_str(), from, to, to - from + 1);
+}
+
+}  // namespace
+
+void registerLogCommand(CLI::App& app) {
+  struct Opts {
+    NetOptions net;
+    CreateOptions create;
+    std::vector<std::string> sessions;
+    std::string csv;
+    double duration = 0.0;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("log", "record sessions' states to CSV (the columns of `groundsim run`)");
+  cmd->add_option("SESSION", o->sessions, "session ids (or --create)");
+  cmd->add_option("--csv", o->csv, "output file ('-' for stdout)")->required();
+  cmd->add_option("--duration", o->duration,
+                  "wall seconds to record (0: until every session ends, or SIGINT)")->capture_default_str();
+  addCreateOptions(cmd, o->create, /*positional=*/false);
+  addNetOptions(cmd, o->net, true);
+  cmd->callback([o] {
+    if (o->sessions.empty() == o->create.file.empty())
+      throw CLI::ValidationError("log", "give SESSION ids or --create SCENARIO (one of the two)");
+    guarded([&] {
+      installStopSignals();
+      std::optional<groundsim::request_t> create;
+      if (!o->create.file.empty()) create = createRequest(o->create);  // refused before anything is opened
+
+      NetClient client(o->net.url, /*deep_receive=*/true);
+      std::map<std::string, Stream> streams;
+      for (const auto& s : o->sessions) streams[s];
+      std::vector<groundsim::state_t> early;  // states heard before the create's reply named the session
+      FILE* out = nullptr;
+      const bool prefix = o->sessions.size() > 1;  // vehicle column "SESSION/vehicle" when mixing sessions
+      long long rows = 0;
+
+      auto record = [&](const groundsim::state_t& m) {
+        auto it = streams.find(m.session_id);
+        if (it == streams.end()) return;
+        const std::string& id = it->first;
+        Stream& st = it->second;
+        if (st.last_seq >= 0 && m.seq <= st.last_seq) {
+          ++st.duplicates;  // a reset does not restart seq: this is a repeat
+          return;
+        }
+        if (st.last_seq < 0) {
+          if (st.expect_from >= 0) countGap(id, st, st.expect_from, m.seq - 1);
+          st.first_seq = m.seq;
+        } else {
+          countGap(id, st, st.last_seq + 1, m.seq - 1);
+        }
+        st.last_seq = m.seq;
+        ++st.received;
+        if (net::isFinal(m.status)) st.ended = true;
+        for (int v = 0; v < m.nvehicles && v < static_cast<int>(m.vehicles.size()); ++v) {
+          const std::string name = prefix ? m.session_id + "/" + m.vehicles[v].name : m.vehicles[v].name;
+          std::fprintf(out, "%s\n", csvRow(net::toSample(m, v), name).c_str());
+          ++rows;
+        }
+      };
+      auto handler = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+        groundsim::state_t m;
+        const auto d = net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.state_t");
+        if (!d.ok()) {
+          std::fprintf(stderr, "log: %s: %s\n", net::printable(channel).c_str(), d.reason.c_str());
+          return;
+        }
+        if (!out) {
+          if (early.size() < 1'000'000) early.push_back(std::move(m));
+          return;
+        }
+        record(m);
+      };
+      // with --create: every state channel, before the create (the id is not known yet)
+      std::vector<std::string> channels;
+      if (create) channels.push_back(std::string(net::kStatePrefix) + ".*");
+      for (const auto& s : o->sessions) channels.push_back(net::stateChannel(s));
+      for (const auto& ch : channels)
+        client.lcm()
+            .subscribeFunction(
+                ch, +[](const lcm::ReceiveBuffer* rbuf, const std::string& c, decltype(handler)* h) { (*h)(rbuf, c); },
+                &handler)
+            ->setQueueCapacity(net::kDeepQueue);
+
+      if (create) {
+        const groundsim::reply_t r = client.call(*create, std::max(o->net.timeout, 10.0));
+        if (!r.ok) fail(kExitRefused, r.error);
+        TokenStore(o->net.token_file).put(r.session_id, r.token, client.url());
+        streams[r.session_id].expect_from = 0;
+        std::fprintf(stderr, "log: created session %s\n", net::printable(r.session_id).c_str());
+        std::printf("%s\n", net::printable(r.session_id).c_str());
+        std::fflush(stdout);
+      }
+      out = o->csv == "-" ? stdout : std::fopen(o->csv.c_str(), "w");
+      if (!out) fail(kExitRefused, "cannot write " + net::quoted(o->csv));
+      std::setvbuf(out, nullptr, _IOFBF, 1 << 20);
+      std::fprintf(out, "%s\n", csvHeader().c_str());
+      for (const auto& m : early) record(m);
+      early.clear();
+
+      // ready line (tests and scripts wait for it instead of sleeping)
+      std::fprintf(stderr, "log: recording %zu session(s) on %s\n", streams.size(), client.url().c_str());
+      // the heartbeat tells of ends whose final state was lost
+      const long long beats_at_start = client.server().heartbeats();
+      auto checkHeartbeat = [&] {
+        const auto now = SteadyClock::now();
+        for (auto& [id, st] : streams) {
+          if (st.ended) continue;
+          const auto info = client.server().session(id);
+          if (!info) {
+            // listed by no heartbeat since we started: gone (or never there)
+            if (client.server().heartbeats() >= beats_at_start + 2) {
+              st.ended = true;
+              st.end_note = st.received > 0 ? "no longer on the server; its final state was lost"
+                                            : "not on the server";
+              if (st.received > 0) ++st.lost, ++st.gaps;
+            }
+            continue;
+          }
+          if (!net::isFinal(info->status)) continue;
+          // final: its state may still be on its way; wait one heartbeat period for it
+          if (!st.final_listed) st.final_listed = now;
+          if (now - *st.final_listed < std::chrono::duration<double>(net::kHeartbeatPeriod * 1.5)) continue;
+          st.ended = true;
+          st.end_note = std::string(net::statusName(info->status)) + " (from the server's heartbeat)";
+          const long long from = st.last_seq >= 0 ? st.last_seq + 1 : std::max(0LL, st.expect_from);
+          if (st.last_seq < 0 && st.expect_from < 0) continue;  // nothing heard, nothing owed
+          countGap(id, st, from, info->seq);
+        }
+      };
+      const auto start = SteadyClock::now();
+      auto allEnded = [&] {
+        for (const auto& [id, st] : streams)
+          if (!st.ended) return false;
+        return true;
+      };
+      std::optional<std::string> server_lost;
+      while (!stopRequested() && !allEnded()) {
+        if (o->duration > 0 && SteadyClock::now() - start > std::chrono::duration<double>(o->duration)) break;
+        try {
+          client.pump(100);
+        } catch (const NetError& e) {
+          server_lost = e.what();
+          break;
+        }
+        checkHeartbeat();
+      }
+      // drain what already arrived
+      while (client.lcm().handleTimeout(0) > 0) {
+      }
+      if (out != stdout) std::fclose(out);
+      else std::fflush(out);
+
+      long long lost = 0;
+      bool unknown = false;
+      for (const auto& [id, st] : streams) {
+        std::fprintf(stderr, "log %s: %lld states received (seq %lld..%lld), %lld lost in %lld gaps%s%s\n",
+                     net::printable(id).c_str(), st.received, st.first_seq, st.last_seq, st.lost, st.gaps,
+                     st.ended ? ", session ended" : "", st.end_note.empty() ? "" : (": " + st.end_note).c_str());
+        if (st.expect_from < 0 && st.first_seq > 0)
+          std::fprintf(stderr, "log %s: seq 0..%lld were published before this log subscribed (not counted)\n",
+                       net::printable(id).c_str(), st.first_seq - 1);
+        lost += st.lost;
+        unknown = unknown || (st.received == 0 && st.end_note == "not on the server");
+      }
+      std::fprintf(stderr, "log: %lld rows written to %s\n", rows, net::printable(o->csv).c_str());
+      if (server_lost) fail(kExitNoServer, *server_lost + "; " + std::to_string(lost) + " state messages lost before");
+      if (unknown) fail(kExitRefused, "a session to log is not on the server");
+      if (lost > 0) fail(kExitLoss, std::to_string(lost) + " state messages lost");
+    });
+  });
+}
+
+}  // namespace groundsim::cli
