@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "forces.hpp"
 #include "integrator_methods.hpp"
 
 namespace groundsim {
@@ -29,9 +30,22 @@ bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied
   if (m.opt.contact.friction_model == FrictionModel::StickSlip && m.opt.contact.friction > 0.0 &&
       ws.ncontacts > 0)
     return true;
+  if (!velocityLevelBrakes(m)) return false;
   for (const auto& c : applied)
     if (c.brake_torque > 0.0) return true;
   return false;
+}
+
+const char* integratorFrictionConflict(IntegratorKind kind, FrictionModel friction) {
+  const bool ode = kind == IntegratorKind::Rk4 || kind == IntegratorKind::Adaptive ||
+                   kind == IntegratorKind::ImplicitEuler;
+  if (!ode || friction == FrictionModel::Regularized) return nullptr;
+  if (friction == FrictionModel::StickSlip)
+    return "stick_slip is a velocity-level solve sized by the step, which only semi_implicit_euler and "
+           "velocity_verlet own; this integrator needs \"regularized\" (smooth Coulomb friction, "
+           "regularisation velocity contact.slip_velocity) to reach its order";
+  return "sign friction is discontinuous at zero slip, so this integrator cannot reach its order; use "
+         "\"regularized\" (smooth Coulomb friction, regularisation velocity contact.slip_velocity)";
 }
 
 const char* integratorName(IntegratorKind kind) {
