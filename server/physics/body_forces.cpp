@@ -3,11 +3,13 @@
 #include <cmath>
 
 #include "forces.hpp"
+#include "simd_path.hpp"
 
 namespace groundsim {
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-void accumulateBodyForces(const Model& m, Workspace& ws) {
+namespace {
+
+GROUNDSIM_INLINE_BODY void accumulateBody(const Model& m, Workspace& ws) {
   const Vec3& g = m.opt.gravity;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     ws.body_force[i] = m.bodies[i].mass * g;
@@ -46,6 +48,16 @@ void accumulateBodyForces(const Model& m, Workspace& ws) {
       ws.particle_force[c.particle] += f;
     }
   }
+}
+
+GROUNDSIM_WIDE void accumulateWide(const Model& m, Workspace& ws) { accumulateBody(m, ws); }
+void accumulateGeneric(const Model& m, Workspace& ws) { accumulateBody(m, ws); }
+
+}  // namespace
+
+void accumulateBodyForces(const Model& m, Workspace& ws) {
+  if (useWideSimd(m)) accumulateWide(m, ws);
+  else accumulateGeneric(m, ws);
 }
 
 // Drive torque about the wheel's own axle, and the equal and opposite

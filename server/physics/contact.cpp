@@ -10,7 +10,7 @@ namespace groundsim {
 namespace {
 
 // Adds a contact at world point p if it is below the ground.
-void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int point, int body,
+void addContact(Workspace& ws, const Vec3& p, const Vec3& u, int point, int body,
                 int particle, int wheel, const Vec3& com) {
   Vec3 g;
   const double H = ws.ground.eval(p, &g);
@@ -70,13 +70,13 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     ws.ground.heights(ws.px.data(), ws.py.data(), ws.pz.data(), begin, end, ws.H.data());
     for (int k = begin; k < end; ++k)
       if (ws.H[k] < 0.0 && m.points[k].contact)
-        addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, static_cast<int>(i), -1, m.points[k].wheel,
+        addContact(ws, ws.pointPos(k), ws.pointVel(k), k, static_cast<int>(i), -1, m.points[k].wheel,
                    ws.com[i]);
   }
   for (size_t j = 0; j < m.particles.size(); ++j) {
     const int k = m.particle_points[j];
     if (m.particles[j].contact)
-      addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, -1, static_cast<int>(j), m.points[k].wheel,
+      addContact(ws, ws.pointPos(k), ws.pointVel(k), k, -1, static_cast<int>(j), m.points[k].wheel,
                  ws.pointPos(k));
   }
   for (size_t w = 0; w < m.wheels.size(); ++w) {
@@ -85,7 +85,7 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     const Vec3 axis = ws.R[wh.body] * wh.axis;
     const Vec3 p = lowestCirclePoint(ws, ws.com[wh.body], axis, wh.radius);
     const Vec3 u = ws.vel[wh.body] + ws.omega[wh.body].cross(p - ws.com[wh.body]);
-    addContact(m, ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
+    addContact(ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
   }
   for (int c = 0; c < ws.ncontacts; ++c) ws.max_depth = std::max(ws.max_depth, ws.contacts[c].depth);
 }
