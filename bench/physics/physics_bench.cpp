@@ -22,9 +22,12 @@ void report(benchmark::State& st, double dt) {
 
 // The report's car on flat ground, wheels spun to 5 rad/s, dt 5e-5, with
 // rim_points per wheel (the target: >= 1e6 steps/s at 20).
-void ReportCar(benchmark::State& st) {
+// ReportCarDeterministic: the same with physics.deterministic (the generic
+// SSE2 build of the hot loops on every CPU): its cost.
+void reportCar(benchmark::State& st, bool deterministic) {
   Options o;
   o.dt = 5e-5;
+  o.deterministic = deterministic;
   CarParams p;
   p.rim_points = static_cast<int>(st.range(0));
   CarPlacement at;
@@ -43,12 +46,16 @@ void ReportCar(benchmark::State& st) {
   // mean Gauss-Seidel sweeps of the friction solve: its share of the cost
   st.counters["sweeps"] = sweeps / static_cast<double>(std::max<benchmark::IterationCount>(st.iterations(), 1));
 }
+void ReportCar(benchmark::State& st) { reportCar(st, false); }
+void ReportCarDeterministic(benchmark::State& st) { reportCar(st, true); }
 BENCHMARK(ReportCar)->Arg(20)->Arg(40)->Arg(80)->Arg(160);
+BENCHMARK(ReportCarDeterministic)->Arg(20)->Arg(80);
 
 // Continuous wheels (exact circle contact, bearing coupling), dt 1e-3.
-void ContinuousWheelCar(benchmark::State& st) {
+void continuousWheelCar(benchmark::State& st, bool deterministic) {
   Options o;
   o.dt = 1e-3;
+  o.deterministic = deterministic;
   CarParams p;
   p.wheel_contact = WheelContact::Circle;
   p.coupling = WheelCoupling::Bearing;
@@ -64,7 +71,10 @@ void ContinuousWheelCar(benchmark::State& st) {
   }
   report(st, o.dt);
 }
+void ContinuousWheelCar(benchmark::State& st) { continuousWheelCar(st, false); }
+void ContinuousWheelCarDeterministic(benchmark::State& st) { continuousWheelCar(st, true); }
 BENCHMARK(ContinuousWheelCar);
+BENCHMARK(ContinuousWheelCarDeterministic);
 
 // Each shipped scenario as written (its own ground, dt and vehicle).
 void Config(benchmark::State& st, const std::string& name) {

@@ -1,11 +1,15 @@
 // Report eqs. (7), (9), (16), (17): gravity plus every point force, summed
 // into each body's force and its torque about the centre of mass.
+#include <cmath>
+
 #include "forces.hpp"
+#include "simd_path.hpp"
 
 namespace groundsim {
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-void accumulateBodyForces(const Model& m, Workspace& ws) {
+namespace {
+
+GROUNDSIM_INLINE_BODY void accumulateBody(const Model& m, Workspace& ws) {
   const Vec3& g = m.opt.gravity;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     ws.body_force[i] = m.bodies[i].mass * g;
@@ -46,6 +50,16 @@ void accumulateBodyForces(const Model& m, Workspace& ws) {
   }
 }
 
+GROUNDSIM_WIDE void accumulateWide(const Model& m, Workspace& ws) { accumulateBody(m, ws); }
+void accumulateGeneric(const Model& m, Workspace& ws) { accumulateBody(m, ws); }
+
+}  // namespace
+
+void accumulateBodyForces(const Model& m, Workspace& ws) {
+  if (useWideSimd(m)) accumulateWide(m, ws);
+  else accumulateGeneric(m, ws);
+}
+
 // Drive torque about the wheel's own axle, and the equal and opposite
 // reaction on its carrier (the report adds momentum to the wheels only, which
 // creates angular momentum from nothing).
@@ -63,6 +77,20 @@ void applyDrive(const Model& m, const std::vector<WheelControl>& controls, Works
     }
     ws.body_torque[wh.carrier] -= T * a;
     ws.drive_power += T * a.dot(ws.omega[wh.body] - ws.omega[wh.carrier]);
+  }
+}
+
+void applyRegularizedBrakes(const Model& m, const std::vector<WheelControl>& controls, Workspace& ws) {
+  const double vs = m.opt.contact.slip_velocity;
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const double B = controls[w].brake_torque;
+    const Wheel& wh = m.wheels[w];
+    if (!(B > 0.0) || wh.carrier < 0) continue;
+    const Vec3 a = ws.R[wh.body] * wh.axis;
+    const double spin = a.dot(ws.omega[wh.body] - ws.omega[wh.carrier]);
+    const Vec3 tq = (-B * std::tanh(spin * wh.radius / vs)) * a;
+    ws.body_torque[wh.body] += tq;
+    ws.body_torque[wh.carrier] -= tq;
   }
 }
 

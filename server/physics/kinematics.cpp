@@ -2,12 +2,14 @@
 // body poses. The world inertia is rotated here, every evaluation
 // (I_w = R I_b R^T); the report's code kept the initial one.
 #include "forces.hpp"
+#include "simd_path.hpp"
 
 namespace groundsim {
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-void computeKinematics(const Model& m, const Eigen::VectorXd& y,
-                       const std::vector<WheelControl>& controls, Workspace& ws) {
+namespace {
+
+GROUNDSIM_INLINE_BODY void kinematicsBody(const Model& m, const Eigen::VectorXd& y,
+                                          const std::vector<WheelControl>& controls, Workspace& ws) {
   // steering turns axle points about the vertical of their body frame
   for (int k : m.steered_points) {
     const Point& pt = m.points[k];
@@ -64,6 +66,24 @@ void computeKinematics(const Model& m, const Eigen::VectorXd& y,
     ws.uy[k] = y[o + 4];
     ws.uz[k] = y[o + 5];
   }
+}
+
+
+GROUNDSIM_WIDE void kinematicsWide(const Model& m, const Eigen::VectorXd& y,
+                                   const std::vector<WheelControl>& controls, Workspace& ws) {
+  kinematicsBody(m, y, controls, ws);
+}
+void kinematicsGeneric(const Model& m, const Eigen::VectorXd& y,
+                       const std::vector<WheelControl>& controls, Workspace& ws) {
+  kinematicsBody(m, y, controls, ws);
+}
+
+}  // namespace
+
+void computeKinematics(const Model& m, const Eigen::VectorXd& y,
+                       const std::vector<WheelControl>& controls, Workspace& ws) {
+  if (useWideSimd(m)) kinematicsWide(m, y, controls, ws);
+  else kinematicsGeneric(m, y, controls, ws);
 }
 
 }  // namespace groundsim

@@ -32,7 +32,7 @@ struct ContactParams {
   int friction_iterations = 50;    // -        most Gauss-Seidel sweeps over contacts and brakes (stops once converged)
 };
 
-// Bounds beyond which a run is declared diverged (see health.hpp).
+// Bounds beyond which a run is declared diverged (checkHealth, diagnostics.hpp).
 struct Limits {
   double max_penetration = 0.5;    // m
   double max_speed = 1000.0;       // m/s     any body or particle
@@ -47,6 +47,9 @@ struct Options {
   double tolerance = 1e-6;         // -       adaptive: relative local error per step
   int substeps = 1;                // -       integrator steps per step()
   bool broad_phase = true;         // -       skip bodies provably clear of the ground (off: for tests)
+  // the same bits on every x86-64 machine: the hot loops take their generic
+  // (SSE2, no FMA) build even where the CPU has AVX2 (simd_path.hpp)
+  bool deterministic = false;
   Vec3 gravity{0.0, 0.0, -9.8};    // m/s^2   the report's g = 9.8
   ContactParams contact;
   Limits limits;

@@ -7,12 +7,13 @@
 #include <cstring>
 
 #include "forces.hpp"
+#include "simd_path.hpp"
 
 namespace groundsim {
 namespace {
 
-inline double sqrtOf(double x) { return std::sqrt(x); }
-inline auto sqrtOf(double __attribute__((vector_size(32))) x) {
+GROUNDSIM_INLINE_BODY double sqrtOf(double x) { return std::sqrt(x); }
+GROUNDSIM_INLINE_BODY auto sqrtOf(double __attribute__((vector_size(32))) x) {
   return decltype(x){std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 }
 
@@ -22,15 +23,15 @@ inline auto sqrtOf(double __attribute__((vector_size(32))) x) {
 // through the same formula.
 using v4d = double __attribute__((vector_size(32)));
 
-inline v4d load4(const double* p) {
+GROUNDSIM_INLINE_BODY v4d load4(const double* p) {
   v4d v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store4(double* p, v4d v) { std::memcpy(p, &v, sizeof v); }
+GROUNDSIM_INLINE_BODY void store4(double* p, v4d v) { std::memcpy(p, &v, sizeof v); }
 
 template <class T>
-inline T fanTension(T dx, T dy, T dz, T ex, T ey, T ez, T k, T c, T rest, T* inv_out) {
+GROUNDSIM_INLINE_BODY T fanTension(T dx, T dy, T dz, T ex, T ey, T ez, T k, T c, T rest, T* inv_out) {
   const T len2 = dx * dx + dy * dy + dz * dz;
   // coincident points: the tiny floor keeps 1/len finite and d = 0 makes the
   // force zero, without a branch
@@ -40,8 +41,7 @@ inline T fanTension(T dx, T dy, T dz, T ex, T ey, T ez, T k, T c, T rest, T* inv
   return (k * (len2 * inv - rest) + c * rate) * inv;
 }
 
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-void applyFan(const Model& m, const Model::SpringFan& fan, Workspace& ws) {
+GROUNDSIM_INLINE_BODY void fanBody(const Model& m, const Model::SpringFan& fan, Workspace& ws) {
   const int a0 = fan.a0, s0 = fan.first, b = fan.b, n = fan.count;
   double* px = ws.px.data() + a0; double* py = ws.py.data() + a0; double* pz = ws.pz.data() + a0;
   double* ux = ws.ux.data() + a0; double* uy = ws.uy.data() + a0; double* uz = ws.uz.data() + a0;
@@ -83,6 +83,13 @@ void applyFan(const Model& m, const Model::SpringFan& fan, Workspace& ws) {
   ws.fz[b] += sz;
 }
 
+GROUNDSIM_WIDE void fansWide(const Model& m, Workspace& ws) {
+  for (const Model::SpringFan& fan : m.spring_fans) fanBody(m, fan, ws);
+}
+void fansGeneric(const Model& m, Workspace& ws) {
+  for (const Model::SpringFan& fan : m.spring_fans) fanBody(m, fan, ws);
+}
+
 void applyOne(const Spring& s, Workspace& ws) {
   const int a = s.a, b = s.b;
   const double dx = ws.px[b] - ws.px[a], dy = ws.py[b] - ws.py[a], dz = ws.pz[b] - ws.pz[a];
@@ -116,7 +123,8 @@ void applySprings(const Model& m, Workspace& ws) {
   std::fill(ws.fx.begin(), ws.fx.end(), 0.0);
   std::fill(ws.fy.begin(), ws.fy.end(), 0.0);
   std::fill(ws.fz.begin(), ws.fz.end(), 0.0);
-  for (const Model::SpringFan& fan : m.spring_fans) applyFan(m, fan, ws);
+  if (useWideSimd(m)) fansWide(m, ws);
+  else fansGeneric(m, ws);
   for (int s : m.loose_springs) applyOne(m.springs[s], ws);
 }
 

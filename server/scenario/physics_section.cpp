@@ -32,6 +32,7 @@ void readPhysics(ObjectReader r, Options& opt) {
   opt.substeps = r.integer("substeps", def.substeps, 1, 10000);
   opt.tolerance = r.number("tolerance", def.tolerance, Range{0.0, 1.0, true, false});
   opt.gravity = r.vec3("gravity", def.gravity, Range::closed(-1000.0, 1000.0));
+  opt.deterministic = r.boolean("deterministic", def.deterministic);
   ObjectReader limits = r.object("limits");
   opt.limits.max_penetration = limits.number("max_penetration", def.limits.max_penetration, Range::positive());
   opt.limits.max_speed = limits.number("max_speed", def.limits.max_speed, Range::positive());

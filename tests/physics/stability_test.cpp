@@ -172,7 +172,9 @@ TEST_P(Divergence, CarOnAStiffGroundAtAHugeStepIsReported) {
     EXPECT_FALSE(ok);
     EXPECT_NE(sim.state().health, Health::Ok);
   } else {
-    EXPECT_EQ(ok, sim.state().health == Health::Ok);
+    // implicit Euler is stable at any step; the adaptive one substeps
+    EXPECT_TRUE(ok) << sim.state().health_reason;
+    EXPECT_EQ(sim.state().health, Health::Ok);
   }
 }
 
