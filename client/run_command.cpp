@@ -184,7 +184,7 @@ int run(const RunOptions& o) {
     if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump());
     for (const std::string& a : o.overrides) scenario::applyOverride(doc, a);
     if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump());
-    s = scenario::parseScenario(doc);
+    s = scenario::parseScenario(doc, scenario::FileAccess::local(std::filesystem::path(o.scenario_path).parent_path().string()));
   } catch (const scenario::ScenarioError& e) {
     printIssues(o.scenario_path, e);
     return kExitInvalid;

@@ -27,6 +27,7 @@ void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int
   c.r = p - com;
   c.depth = -H / gn;
   c.normal = 0.0;
+  c.mu = m.ground->friction(p, m.opt.contact.friction);
   c.friction.setZero();
   c.u = u;
   c.slip = u - u.dot(c.n) * c.n;
@@ -121,7 +122,7 @@ void applyExplicitFriction(const Model& m, Workspace& ws) {
     const double scale = cp.friction_model == FrictionModel::Sign
                              ? 1.0
                              : std::tanh(s / cp.slip_velocity);
-    c.friction = -cp.friction * c.normal * scale / s * c.slip;
+    c.friction = -c.mu * c.normal * scale / s * c.slip;
     if (c.wheel >= 0) ws.wheel_friction[c.wheel] += c.friction.norm();
   }
 }

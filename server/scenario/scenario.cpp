@@ -80,7 +80,9 @@ nlohmann::json parseScenarioDocument(const std::string& json_text) {
 
 Scenario parseScenario(const std::string& json_text) { return parseScenario(parseScenarioDocument(json_text)); }
 
-Scenario parseScenario(const nlohmann::json& input) {
+Scenario parseScenario(const nlohmann::json& input) { return parseScenario(input, FileAccess::none()); }
+
+Scenario parseScenario(const nlohmann::json& input, const FileAccess& files) {
   Scenario s;
   s.document = input;
   nlohmann::json& doc = s.document;
@@ -105,7 +107,7 @@ Scenario parseScenario(const nlohmann::json& input) {
     top.allow("ground");
     issues.add("/ground", "missing required key (an object with \"type\")");
   } else {
-    s.ground = readGround(top.object("ground"));
+    s.ground = readGround(top.object("ground"), files);
   }
   readVehicles(top, doc, issues, s);
   top.finish();
@@ -139,7 +141,7 @@ Scenario loadScenarioFile(const std::string& path) {
   nlohmann::json doc = loadScenarioDocument(path);
   // an unnamed scenario is called after its file
   if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(path).stem().string();
-  return parseScenario(doc);
+  return parseScenario(doc, FileAccess::local(std::filesystem::path(path).parent_path().string()));
 }
 
 }  // namespace groundsim::scenario

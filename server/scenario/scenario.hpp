@@ -15,6 +15,7 @@
 #include "physics/model_builder.hpp"
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
+#include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -57,7 +58,11 @@ struct Scenario {
 // Parses and validates; throws ScenarioError listing every problem found.
 Scenario parseScenario(const std::string& json_text);
 Scenario parseScenario(const nlohmann::json& doc);
+// The same, with files (heightfields, friction maps) read under `files`;
+// the two above read none.
+Scenario parseScenario(const nlohmann::json& doc, const FileAccess& files);
 // Reads a file; a missing, empty or unreadable file is a ScenarioError too.
+// Files it names resolve against its directory (FileAccess::local).
 Scenario loadScenarioFile(const std::string& path);
 // Reads and parses a file's JSON without validating it (for overrides
 // before validation); the same file errors as loadScenarioFile.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "physics/model.hpp"
+#include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/vehicle_spec.hpp"
@@ -14,8 +15,8 @@ namespace groundsim::scenario {
 // `contact` (ground stiffness, damping, friction).
 void readPhysics(ObjectReader physics, Options& opt);
 void readContact(ObjectReader contact, ContactParams& c);
-// ground_section.cpp
-GroundSpec readGround(ObjectReader ground);
+// ground_section.cpp; files: where a heightfield's file may be read
+GroundSpec readGround(ObjectReader ground, const FileAccess& files);
 // vehicle_section.cpp: one vehicle object.
 VehicleSpec readVehicle(ObjectReader vehicle);
 
