@@ -129,7 +129,8 @@ double HeightfieldGround::maxSlope() const {
   return std::sqrt(std::max(0.0, gradient_bound_ * gradient_bound_ / ((1.0 + 1e-9) * (1.0 + 1e-9)) - 1.0));
 }
 
-double HeightfieldGround::height(double x, double y, double* dhdx, double* dhdy) const {
+template <bool kGrad>
+double HeightfieldGround::evaluate(double x, double y, double* dhdx, double* dhdy) const {
   int ix[4], iy[4];
   double tx, ty;
   const bool cx = locate((x - x0_) * inv_cell_, nx_, ix, &tx);
@@ -143,24 +144,37 @@ double HeightfieldGround::height(double x, double y, double* dhdx, double* dhdy)
     const double c0 = row[ix[0]], c1 = row[ix[1]], c2 = row[ix[2]], c3 = row[ix[3]];
     const double s = wx[0] * c0 + wx[1] * c1 + wx[2] * c2 + wx[3] * c3;
     h += wy[b] * s;
-    hv += dy[b] * s;
-    hu += wy[b] * (dx[0] * c0 + dx[1] * c1 + dx[2] * c2 + dx[3] * c3);
+    if constexpr (kGrad) {
+      hv += dy[b] * s;
+      hu += wy[b] * (dx[0] * c0 + dx[1] * c1 + dx[2] * c2 + dx[3] * c3);
+    }
   }
-  if (dhdx) *dhdx = cx ? 0.0 : hu * inv_cell_;
-  if (dhdy) *dhdy = cy ? 0.0 : hv * inv_cell_;
+  if constexpr (kGrad) {
+    *dhdx = cx ? 0.0 : hu * inv_cell_;
+    *dhdy = cy ? 0.0 : hv * inv_cell_;
+  }
+  return h;
+}
+
+double HeightfieldGround::height(double x, double y, double* dhdx, double* dhdy) const {
+  if (!dhdx && !dhdy) return evaluate<false>(x, y, nullptr, nullptr);
+  double hx, hy;
+  const double h = evaluate<true>(x, y, &hx, &hy);
+  if (dhdx) *dhdx = hx;
+  if (dhdy) *dhdy = hy;
   return h;
 }
 
 double HeightfieldGround::eval(const Vec3& p, Vec3* grad) const {
   double hx, hy;
-  const double h = height(p.x(), p.y(), &hx, &hy);
+  const double h = evaluate<true>(p.x(), p.y(), &hx, &hy);
   *grad = Vec3(-hx, -hy, 1.0);
   return p.z() - h;
 }
 
 void HeightfieldGround::heights(const double* x, const double* y, const double* z, int begin, int end,
                                 double* H) const {
-  for (int k = begin; k < end; ++k) H[k] = z[k] - height(x[k], y[k]);
+  for (int k = begin; k < end; ++k) H[k] = z[k] - evaluate<false>(x[k], y[k], nullptr, nullptr);
 }
 
 std::string HeightfieldGround::describe() const {

@@ -58,6 +58,9 @@ class HeightfieldGround final : public Ground {
   std::size_t bytes() const { return coef_.capacity() * sizeof(float); }
 
  private:
+  template <bool kGrad>
+  double evaluate(double x, double y, double* dhdx, double* dhdy) const;
+
   int nx_, ny_;
   double cell_, inv_cell_, x0_, y0_;
   std::vector<float> coef_;  // B-spline coefficients, same layout as the samples

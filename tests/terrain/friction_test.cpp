@@ -21,8 +21,9 @@ FrictionPatch rect(double x0, double y0, double x1, double y1, double mu) {
 }
 
 // Distance a point mass slides from x = 0 at 5 m/s on z = 0 until it stops.
-double skid(GroundPtr ground, double scene_mu) {
+double skid(GroundPtr ground, double scene_mu, FrictionModel model = FrictionModel::StickSlip) {
   Options o;
+  o.contact.friction_model = model;
   o.dt = 1e-4;
   o.contact.stiffness = 1e5;
   o.contact.damping = 2.0 * std::sqrt(1e5 * 1.0);
@@ -52,6 +53,8 @@ TEST(FrictionPatches, SkidStopsAtVSquaredOverTwoMuGOfThePatch) {
   far.radius = 5;
   far.mu = 0.05;
   EXPECT_NEAR(skid(withSurfaceFriction(plane, {far}), 0.5), skid(plane, 0.5), 1e-12);
+  // the explicit (report's sign) friction reads the patch's mu too
+  EXPECT_NEAR(skid(ice, 0.5, FrictionModel::Sign), v2 / (2 * 0.1 * g), 0.01 * v2 / (2 * 0.1 * g));
 }
 
 TEST(FrictionPatches, CrossingFromAsphaltOntoIceStopsWhereBothZonesSay) {

@@ -17,6 +17,8 @@ using nlohmann::json;
 
 namespace {
 
+constexpr double kPiForHills = 3.14159265358979323846;
+
 json docWithGround(json ground) {
   json d = json::parse(R"({"vehicle": {}})");
   d["ground"] = std::move(ground);
@@ -262,4 +264,19 @@ TEST(TerrainFriction, PatchesAndMapsFromTheDocument) {
   bad({{"region", {0, 0, 1, 1}}, {"mu", 0.2}, {"surface", "ice"}}, "/ground/friction_patches/0/surface", "not both");
   json map = {{"type", "plane"}, {"friction_map", {{"cell_size", 1}, {"values", {{0.5, -0.5}, {0.5, 0.5}}}}}};
   EXPECT_TRUE(hasIssue(issuesOf(docWithGround(map), none), "/ground/friction_map/values", "mu must be >= 0, got -0.5 at row 0, column 1"));
+}
+
+TEST(TerrainScenes, ShippedHillsScenarioLoadsItsPngAndRuns) {
+  const Scenario s = loadScenarioFile(std::string(GROUNDSIM_SOURCE_DIR) + "/configs/hills.json");
+  ASSERT_TRUE(s.ground.heightfield);
+  EXPECT_EQ(s.ground.heightfield->nx(), 257);
+  EXPECT_EQ(s.ground.heightfield->ny(), 257);
+  // 0 to 8 m of hills: make_terrain.py's waves span [0, 1] of full scale
+  EXPECT_NEAR(s.ground.heightfield->height(0, 0), 8.0 * (0.5 + 0.15 * std::cos(2 * kPiForHills * 128 / 256 * 2 + 0.7) *
+                                                                 std::sin(2 * kPiForHills * 128 / 256 * 2 + 0.3)),
+              1e-3);
+  const Scene scene = buildScene(s);
+  Simulator sim(scene.built.model, scene.built.initial);
+  ASSERT_TRUE(sim.step(20000));
+  EXPECT_GT(bodyVel(sim.state().y, 0).x(), 0.0);  // driving off along +x
 }
