@@ -1,5 +1,7 @@
 // Report eqs. (7), (9), (16), (17): gravity plus every point force, summed
 // into each body's force and its torque about the centre of mass.
+#include <cmath>
+
 #include "forces.hpp"
 
 namespace groundsim {
@@ -63,6 +65,20 @@ void applyDrive(const Model& m, const std::vector<WheelControl>& controls, Works
     }
     ws.body_torque[wh.carrier] -= T * a;
     ws.drive_power += T * a.dot(ws.omega[wh.body] - ws.omega[wh.carrier]);
+  }
+}
+
+void applyRegularizedBrakes(const Model& m, const std::vector<WheelControl>& controls, Workspace& ws) {
+  const double vs = m.opt.contact.slip_velocity;
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const double B = controls[w].brake_torque;
+    const Wheel& wh = m.wheels[w];
+    if (!(B > 0.0) || wh.carrier < 0) continue;
+    const Vec3 a = ws.R[wh.body] * wh.axis;
+    const double spin = a.dot(ws.omega[wh.body] - ws.omega[wh.carrier]);
+    const Vec3 tq = (-B * std::tanh(spin * wh.radius / vs)) * a;
+    ws.body_torque[wh.body] += tq;
+    ws.body_torque[wh.carrier] -= tq;
   }
 }
 

@@ -13,6 +13,7 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   applyExplicitFriction(m, ws);      // regularised / sign models only
   accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
+  if (!velocityLevelBrakes(m)) applyRegularizedBrakes(m, controls, ws);
   // stick-slip friction and brakes need the velocities the other forces are
   // about to produce, so they come last
   solveVelocityConstraints(m, y, controls, h, ws);

@@ -22,6 +22,18 @@ class Integrator {
 };
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind);
+
+// Whether the integrator can integrate the friction model at its order.
+// Semi-implicit Euler and velocity Verlet are time-steppers that own the
+// velocity-level stick-slip solve (and take sign friction as the report
+// did). RK4, adaptive and implicit Euler integrate an ODE y' = f(y): the
+// stick-slip impulses depend on the step (a stage of RK4 or a trial step
+// of the adaptive method changes them) and sign friction is discontinuous at
+// zero slip, so with either they fall to order 1-2 on a car; they need the
+// smooth (regularized) friction. Returns the reason for a refused
+// combination, or nullptr. The scenario layer reports it at
+// /contact/friction_model.
+const char* integratorFrictionConflict(IntegratorKind kind, FrictionModel friction);
 const char* integratorName(IntegratorKind kind);
 
 // Shared by the explicit integrators: after a full-vector update the

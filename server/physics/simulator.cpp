@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace groundsim {
 
@@ -30,8 +31,7 @@ void applyControls(const Model& m, double dt, State& s) {
 bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
-  last_good_ = state_.y;  // same size every time: no allocation
-  const double t0 = state_.t;
+  ws_.last_good = state_;  // same sizes every time: no allocation
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
@@ -41,9 +41,11 @@ bool Simulator::step() {
   if (checkHealth(m, state_, ws_, state_.tick % kEnergyCheckInterval == 0)) return true;
   // divergence is terminal; keep the last finite state so nothing downstream
   // ever sees NaN, and report the reason through state().health
-  state_.y = last_good_;
-  state_.t = t0;
-  --state_.tick;
+  const Health why = state_.health;
+  std::string reason = std::move(state_.health_reason);
+  state_ = ws_.last_good;
+  state_.health = why;
+  state_.health_reason = std::move(reason);
   return false;
 }
 
@@ -52,7 +54,7 @@ void Simulator::restore(const State& s) {
   if (&s != &state_) state_ = s;
   state_.controls.resize(model_->wheels.size());
   state_.applied.resize(model_->wheels.size());
-  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+  if (state_.tick == 0) state_.initial_energy = energy().total();
 }
 
 bool Simulator::step(long long n) {
@@ -61,6 +63,6 @@ bool Simulator::step(long long n) {
   return true;
 }
 
-Energy Simulator::energy() { return computeEnergy(*model_, state_, ws_); }
+Energy Simulator::energy() const { return computeEnergy(*model_, state_, *ws_.diagnostics); }
 
 }  // namespace groundsim

@@ -4,6 +4,12 @@
 // axle. Projected Gauss-Seidel over all of them: a parked car on a slope
 // holds exactly (no creep) and the slip never reverses (no chatter), which
 // the report's sign() friction cannot do.
+//
+// This is a time-stepper's solve: the impulses depend on the step h they
+// are sized for, so only semi-implicit Euler and velocity Verlet (which own
+// the velocity update it predicts) may use it; checkIntegratorFriction
+// refuses it with the ODE integrators. With regularized friction the brakes
+// are smooth too (applyRegularizedBrakes) and nothing here runs.
 #include <cmath>
 
 #include "forces.hpp"
@@ -13,6 +19,7 @@ namespace {
 
 bool needsPass(const Model& m, const std::vector<WheelControl>& controls, const Workspace& ws) {
   if (m.opt.contact.friction_model == FrictionModel::StickSlip && ws.ncontacts > 0) return true;
+  if (!velocityLevelBrakes(m)) return false;  // applyRegularizedBrakes has them
   for (const auto& c : controls)
     if (c.brake_torque > 0.0) return true;
   return false;

@@ -84,6 +84,9 @@ void setControls(const VehicleControlSpec& c, const CarHandle& car, std::vector<
 Scene buildScene(const Scenario& s) {
   IssueList issues;
   checkIntegrator(s.options.integrator, issues);
+  if (const char* why = integratorFrictionConflict(s.options.integrator, s.options.contact.friction_model))
+    issues.add("/contact/friction_model",
+               std::string("not with integrator \"") + integratorName(s.options.integrator) + "\": " + why);
   checkOverlaps(s, issues);
   issues.throwIfAny();
 
