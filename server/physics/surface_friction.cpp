@@ -37,6 +37,8 @@ class SurfaceFriction final : public Ground {
     g_->heights(x, y, z, begin, end, H);
   }
   double gradientBound() const override { return g_->gradientBound(); }
+  // the shape is the wrapped ground's, so is its evaluation state
+  std::unique_ptr<GroundEvaluator> makeEvaluator() const override { return g_->makeEvaluator(); }
   double friction(const Vec3& p, double scene_mu) const override {
     for (auto it = patches_.rbegin(); it != patches_.rend(); ++it)
       if (it->contains(p.x(), p.y())) return it->mu;

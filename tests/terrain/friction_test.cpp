@@ -5,6 +5,7 @@
 #include "physics/model_builder.hpp"
 #include "physics/simulator.hpp"
 #include "physics/surface_friction.hpp"
+#include "scenario/expression_ground.hpp"
 
 using namespace groundsim;
 
@@ -85,4 +86,21 @@ TEST(FrictionMap, BilinearInsideAndTheSceneFrictionOutside) {
   // no patches, no map: the ground itself, unwrapped
   const GroundPtr plane = makePlane(Vec3::UnitZ(), 0);
   EXPECT_EQ(withSurfaceFriction(plane, {}).get(), plane.get());
+}
+
+TEST(FrictionPatches, AWrappedGroundKeepsItsShapeAndItsEvaluator) {
+  // a ground with evaluation state (a parsed expression) under patches: the
+  // simulation must get the wrapped ground's evaluator, not the const path
+  const auto expr = std::make_shared<scenario::ExpressionGround>("z - 0.5*cos(x)");
+  const GroundPtr wrapped = withSurfaceFriction(expr, {rect(0, 0, 1, 1, 0.2)});
+  ASSERT_NE(wrapped.get(), expr.get());
+  EXPECT_NE(wrapped->makeEvaluator(), nullptr);
+  GroundProbe a(*wrapped), b(*expr);
+  Vec3 ga, gb;
+  for (double x = -3; x < 3; x += 0.37) {
+    const Vec3 p(x, 0.5, 0.1);
+    EXPECT_EQ(a.eval(p, &ga), b.eval(p, &gb));
+    EXPECT_EQ(ga, gb);
+  }
+  EXPECT_EQ(wrapped->gradientBound(), expr->gradientBound());
 }
