@@ -27,7 +27,6 @@ void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int
   c.r = p - com;
   c.depth = -H / gn;
   c.normal = 0.0;
-  c.mu = m.ground->friction(p, m.opt.contact.friction);
   c.friction.setZero();
   c.u = u;
   c.slip = u - u.dot(c.n) * c.n;
@@ -89,6 +88,7 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     addContact(m, ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
   }
   for (int c = 0; c < ws.ncontacts; ++c) ws.max_depth = std::max(ws.max_depth, ws.contacts[c].depth);
+  for (int c = 0; c < ws.ncontacts; ++c) ws.contacts[c].mu = m.ground->friction(ws.contacts[c].p, m.opt.contact.friction);
 }
 
 void applyContactNormals(const Model& m, Workspace& ws) {
