@@ -10,6 +10,7 @@ packages=(
   liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
   nlohmann-json3-dev                             # scenario files
   libmuparser-dev                                # ground given as an expression H(x,y,z)
+  libpng-dev                                     # heightfields and friction maps as grayscale PNG
   libcli11-dev                                   # command lines
   googletest libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                               # benchmarks

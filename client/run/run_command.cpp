@@ -209,7 +209,8 @@ int run(const RunOptions& o) {
     if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump(), budget);
     for (const std::string& a : o.overrides) scenario::applyOverride(doc, a, budget);
     if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump(), budget);
-    s = scenario::parseScenario(std::move(doc), budget);
+    s = scenario::parseScenario(std::move(doc), budget,
+                                 scenario::FileAccess::local(std::filesystem::path(o.scenario_path).parent_path().string()));
   } catch (const scenario::ScenarioError& e) {
     printIssues(o.scenario_path, e);
     return kExitInvalid;

@@ -88,6 +88,7 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     addContact(ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
   }
   for (int c = 0; c < ws.ncontacts; ++c) ws.max_depth = std::max(ws.max_depth, ws.contacts[c].depth);
+  for (int c = 0; c < ws.ncontacts; ++c) ws.contacts[c].mu = m.ground->friction(ws.contacts[c].p, m.opt.contact.friction);
 }
 
 void applyContactNormals(const Model& m, Workspace& ws) {
@@ -121,7 +122,7 @@ void applyExplicitFriction(const Model& m, Workspace& ws) {
     const double scale = cp.friction_model == FrictionModel::Sign
                              ? 1.0
                              : std::tanh(s / cp.slip_velocity);
-    c.friction = -cp.friction * c.normal * scale / s * c.slip;
+    c.friction = -c.mu * c.normal * scale / s * c.slip;
     if (c.wheel >= 0) ws.wheel_friction[c.wheel] += c.friction.norm();
   }
 }

@@ -41,6 +41,12 @@ class Ground {
   // With it, H(c) > L * r proves a ball of radius r about c is above the
   // ground, so its points need no contact evaluation (broad phase).
   virtual double gradientBound() const { return std::numeric_limits<double>::infinity(); }
+  // Coulomb mu at contact point p; scene_mu (the scene's contact.friction)
+  // unless the ground carries friction patches or a map (surface_friction.hpp).
+  virtual double friction(const Vec3& p, double scene_mu) const {
+    (void)p;
+    return scene_mu;
+  }
   virtual std::string describe() const = 0;
   // The evaluator a simulation uses in its hot loop; nullptr (the default)
   // means the ground is stateless and eval/heights are called directly.

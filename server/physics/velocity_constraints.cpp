@@ -63,7 +63,6 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
                     h * ws.particle_force[j] / m.particles[j].mass;
 
   const bool stick = m.opt.contact.friction_model == FrictionModel::StickSlip;
-  const double mu = m.opt.contact.friction;
   if (stick) {
     for (int i = 0; i < ws.ncontacts; ++i) prepareFriction(m, ws, ws.contacts[i]);
   }
@@ -72,7 +71,7 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
   // test, for free rolling needs (almost) no friction at all
   double scale = 0.0;
   if (stick)
-    for (int i = 0; i < ws.ncontacts; ++i) scale += mu * ws.contacts[i].normal * h;
+    for (int i = 0; i < ws.ncontacts; ++i) scale += ws.contacts[i].mu * ws.contacts[i].normal * h;
   for (const auto& c : controls) scale += std::max(c.brake_torque, 0.0) * h;
 
   // sweep until the impulses stop changing: a fixed small count leaves a
@@ -107,7 +106,7 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
         ut = Eigen::Vector2d(c.t1.dot(ws.pv_pred[c.particle]), c.t2.dot(ws.pv_pred[c.particle]));
       }
       Eigen::Vector2d acc = c.impulse - c.k_inv * ut;
-      const double limit = mu * c.normal * h;
+      const double limit = c.mu * c.normal * h;
       const double an = acc.norm();
       if (an > limit) {
         // sliding: mu N opposite the slip this contact would have without

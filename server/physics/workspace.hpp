@@ -26,6 +26,7 @@ struct Contact {
   Vec3 p, n, r;       // world point, unit ground normal, offset from the body COM
   double depth = 0.0; // m, > 0 below the ground
   double normal = 0.0;// N, normal force magnitude (>= 0)
+  double mu = 0.0;    // -, Coulomb friction at p (Ground::friction)
   Vec3 friction = Vec3::Zero();  // N, tangential force
   Vec3 u = Vec3::Zero();         // m/s, velocity of the point
   Vec3 slip = Vec3::Zero();      // m/s, tangential part of u

@@ -3,11 +3,12 @@
 
 #include "scenario/expression_ground.hpp"
 #include "scenario/sections.hpp"
+#include "scenario/terrain_sections.hpp"
 
 namespace groundsim::scenario {
 namespace {
 
-const std::vector<std::string> kKinds = {"plane", "incline", "cosine", "parabola", "cone", "bumps", "expression"};
+const std::vector<std::string> kKinds = {"plane", "incline", "cosine", "parabola", "cone", "bumps", "expression", "heightfield"};
 
 // Every parameter key of any kind: allowed wholesale when the kind itself is
 // missing or wrong, so one bad `type` does not also flag each parameter.
@@ -49,11 +50,13 @@ const char* groundKindName(GroundKind k) {
   return kKinds.at(static_cast<size_t>(k)).c_str();
 }
 
-GroundSpec readGround(ObjectReader r, const Budget& budget) {
+GroundSpec readGround(ObjectReader r, const Budget& budget, const FileAccess& files) {
   GroundSpec g;
   const auto type = r.requiredChoice("type", kKinds);
   if (!type) {
     for (const std::string& k : kAllKeys) r.allow(k);
+    for (const std::string& k : kHeightfieldKeys) r.allow(k);
+    for (const std::string& k : kFrictionKeys) r.allow(k);
     r.finish();
     return g;
   }
@@ -93,12 +96,18 @@ GroundSpec readGround(ObjectReader r, const Budget& budget) {
     case GroundKind::Expression:
       readExpression(r, g, budget);
       break;
+    case GroundKind::Heightfield:
+      readHeightfield(r, g, files);
+      break;
   }
+  readSurfaceFriction(r, g, files);
   r.finish();
   return g;
 }
 
-GroundPtr makeGround(const GroundSpec& g) {
+GroundPtr makeGround(const GroundSpec& g) { return withSurfaceFriction(makeShape(g), g.friction_patches, g.friction_map); }
+
+GroundPtr makeShape(const GroundSpec& g) {
   switch (g.kind) {
     case GroundKind::Plane: return makePlane(g.normal.normalized(), g.offset);
     case GroundKind::Incline: return makeIncline(g.angle_deg * std::numbers::pi / 180.0, g.downhill);
@@ -107,6 +116,7 @@ GroundPtr makeGround(const GroundSpec& g) {
     case GroundKind::Cone: return makeCone(g.slope);
     case GroundKind::Bumps: return makeSinSinBumps(g.amplitude, g.wavelength_x, g.wavelength_y);
     case GroundKind::Expression: return std::make_shared<ExpressionGround>(g.expression, g.gradient_bound);
+    case GroundKind::Heightfield: return g.heightfield;
   }
   return nullptr;
 }

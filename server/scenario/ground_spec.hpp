@@ -6,14 +6,18 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "physics/ground.hpp"
+#include "physics/heightfield.hpp"
 #include "physics/math.hpp"
+#include "physics/surface_friction.hpp"
 
 namespace groundsim::scenario {
 
-enum class GroundKind { Plane, Incline, Cosine, Parabola, Cone, Bumps, Expression };
+enum class GroundKind { Plane, Incline, Cosine, Parabola, Cone, Bumps, Expression, Heightfield };
 
 struct GroundSpec {
   GroundKind kind = GroundKind::Plane;
@@ -29,11 +33,19 @@ struct GroundSpec {
   double slope = 0.0;               // -      cone
   std::string expression;           //        expression: H(x, y, z)
   double gradient_bound = std::numeric_limits<double>::infinity();  // expression
+  // heightfield: loaded and prefiltered once at validation; immutable, so
+  // every scene shares it (heightfield_section.cpp)
+  std::shared_ptr<const HeightfieldGround> heightfield;
+  // any kind: mu by place (friction_section.cpp)
+  std::vector<FrictionPatch> friction_patches;
+  std::shared_ptr<const FrictionGrid> friction_map;
 };
 
 const char* groundKindName(GroundKind k);
 // A fresh ground for one scene (throws what the factories throw; a spec
 // produced by validation never does).
 GroundPtr makeGround(const GroundSpec& spec);
+// The surface alone, without the friction patches and map.
+GroundPtr makeShape(const GroundSpec& spec);
 
 }  // namespace groundsim::scenario

@@ -254,6 +254,8 @@ Vec3 ObjectReader::vec3(const std::string& key, const Vec3& def, Range each) {
   return vector(key, Eigen::VectorXd(def), each);
 }
 
+nlohmann::json* ObjectReader::array(const std::string& key) { return get(key, &nlohmann::json::is_array, "an array"); }
+
 ObjectReader ObjectReader::object(const std::string& key) {
   known_.push_back(key);
   // inside a non-object nothing more can be read or reported

@@ -78,6 +78,9 @@ class ObjectReader {
   // A fixed-length array of numbers, each in range.
   Eigen::VectorXd vector(const std::string& key, const Eigen::VectorXd& def, Range each = Range::any());
   Vec3 vec3(const std::string& key, const Vec3& def, Range each = Range::any());
+  // An array for the caller to read element by element (type checked), or
+  // nullptr when absent or not an array.
+  nlohmann::json* array(const std::string& key);
   // A nested object; created empty when absent (its readers fill defaults).
   ObjectReader object(const std::string& key);
 

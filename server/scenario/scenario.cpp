@@ -89,36 +89,36 @@ nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget&
 
 namespace {
 
-Scenario validate(Scenario s, const Budget& budget);
+Scenario validate(Scenario s, const Budget& budget, const FileAccess& files);
 
 }  // namespace
 
-Scenario parseScenario(const std::string& json_text, const Budget& budget) {
-  return parseScenario(parseScenarioDocument(json_text, budget), budget);
+Scenario parseScenario(const std::string& json_text, const Budget& budget, const FileAccess& files) {
+  return parseScenario(parseScenarioDocument(json_text, budget), budget, files);
 }
 
-Scenario parseScenario(const nlohmann::json& input, const Budget& budget) {
+Scenario parseScenario(const nlohmann::json& input, const Budget& budget, const FileAccess& files) {
   // a tree built elsewhere: checked before the (recursive) copy below
   IssueList limits;
   checkTree(input, budget, limits);
   limits.throwIfAny();
   Scenario s;
   s.document = input;
-  return validate(std::move(s), budget);
+  return validate(std::move(s), budget, files);
 }
 
-Scenario parseScenario(nlohmann::json&& input, const Budget& budget) {
+Scenario parseScenario(nlohmann::json&& input, const Budget& budget, const FileAccess& files) {
   IssueList limits;
   checkTree(input, budget, limits);
   limits.throwIfAny();
   Scenario s;
   s.document = std::move(input);
-  return validate(std::move(s), budget);
+  return validate(std::move(s), budget, files);
 }
 
 namespace {
 
-Scenario validate(Scenario s, const Budget& budget) {
+Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
   nlohmann::json& doc = s.document;
   applyPreset(doc);  // its settings become ordinary keys, validated like any other
   IssueList issues;
@@ -144,7 +144,7 @@ Scenario validate(Scenario s, const Budget& budget) {
     top.allow("ground");
     issues.add("/ground", "missing required key (an object with \"type\")");
   } else {
-    s.ground = readGround(top.object("ground"), budget);
+    s.ground = readGround(top.object("ground"), budget, files);
   }
   readVehicles(top, doc, issues, s, budget);
   top.finish();
@@ -186,7 +186,7 @@ Scenario loadScenarioFile(const std::string& path, const Budget& budget) {
   nlohmann::json doc = loadScenarioDocument(path, budget);
   // an unnamed scenario is called after its file
   if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(path).stem().string();
-  return parseScenario(std::move(doc), budget);
+  return parseScenario(std::move(doc), budget, FileAccess::local(std::filesystem::path(path).parent_path().string()));
 }
 
 }  // namespace groundsim::scenario

@@ -20,6 +20,7 @@
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
 #include "scenario/budget.hpp"
+#include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -80,14 +81,24 @@ struct Scenario {
 // Parses and validates against the budget; throws ScenarioError listing
 // the problems found (the first kMaxListedIssues). A Scenario returned is
 // within the budget: buildScene(s) costs at most what the budget allows.
-Scenario parseScenario(const std::string& json_text, const Budget& budget = Budget{});
+// Files it names (heightfields, friction maps) are read under `files`; by
+// default none may be named.
+Scenario parseScenario(const std::string& json_text, const Budget& budget = Budget{},
+                       const FileAccess& files = FileAccess::none());
 // The tree's nesting depth and size are checked (without recursion) before
 // anything else.
-Scenario parseScenario(const nlohmann::json& doc, const Budget& budget = Budget{});
+Scenario parseScenario(const nlohmann::json& doc, const Budget& budget = Budget{},
+                       const FileAccess& files = FileAccess::none());
 // The same, taking the tree over instead of copying it (half the memory).
-Scenario parseScenario(nlohmann::json&& doc, const Budget& budget = Budget{});
+Scenario parseScenario(nlohmann::json&& doc, const Budget& budget = Budget{},
+                       const FileAccess& files = FileAccess::none());
+// The default budget, files read under `files`.
+inline Scenario parseScenario(const nlohmann::json& doc, const FileAccess& files) {
+  return parseScenario(doc, Budget{}, files);
+}
 // Reads a file; a missing, empty, unreadable or oversized file is a
-// ScenarioError too.
+// ScenarioError too. Files it names resolve against its directory
+// (FileAccess::local).
 Scenario loadScenarioFile(const std::string& path, const Budget& budget = Budget{});
 // Reads and parses a file's JSON without validating it (for overrides
 // before validation); the same file errors as loadScenarioFile.

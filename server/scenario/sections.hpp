@@ -4,6 +4,7 @@
 #pragma once
 
 #include "physics/model.hpp"
+#include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/vehicle_spec.hpp"
@@ -15,8 +16,9 @@ namespace groundsim::scenario {
 void readPhysics(ObjectReader physics, Options& opt);
 void readContact(ObjectReader contact, ContactParams& c);
 // ground_section.cpp: the budget bounds the expression's length (checked
-// before muParser sees it).
-GroundSpec readGround(ObjectReader ground, const Budget& budget);
+// before muParser sees it) and a heightfield's samples; files: where a
+// heightfield's file may be read.
+GroundSpec readGround(ObjectReader ground, const Budget& budget, const FileAccess& files);
 // vehicle_section.cpp: one vehicle object.
 VehicleSpec readVehicle(ObjectReader vehicle);
 
