@@ -1,6 +1,7 @@
 // Velocity Verlet (kick-drift-kick) and the helpers the integrators share.
 #include "forces.hpp"
 #include "integrators.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -15,6 +16,7 @@ Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& L,
 }
 
 bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
+  if (!m.road_cars.empty()) return true;  // velocity-level brakes, ABS and traction control
   if (m.opt.contact.friction_model == FrictionModel::StickSlip && m.opt.contact.friction > 0.0 &&
       ws.ncontacts > 0)
     return true;
@@ -29,6 +31,7 @@ namespace {
 // and any step: nothing in it reads a velocity (dashpots, ground damping,
 // friction, brakes) and no drive power is booked.
 bool velocityIndependent(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
+  if (!m.road_cars.empty()) return false;
   for (const auto& c : applied)
     if (c.brake_torque != 0.0 || c.drive_torque != 0.0) return false;
   for (const Spring& sp : m.springs)
@@ -76,6 +79,8 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
     p0 = ws.drive_power;
     kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
   }
+  kickRoadCars(m, s.y, ws, half);  // never cached: a road car's forces read velocities
+  driftRoadCars(m, s.y, ws, h);
   // drift with the half-step momenta
   for (int i = 0; i < nb; ++i) {
     bodyPos(s.y, i) += h * bodyVel(s.y, i);
@@ -89,6 +94,7 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
   computeForces(m, s.y, s.applied, half, ws);
   ++evaluations;
   kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
+  kickRoadCars(m, s.y, ws, half);
   s.drive_work += half * (p0 + ws.drive_power);
 
   cache_valid_ = velocityIndependent(m, s.applied, ws);
