@@ -115,7 +115,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
         const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
         Fx += tp.low_speed_damping * fade * dux;
         Fy += tp.low_speed_damping * fade * duy;
-        const double cap = mu_ground * tp.friction_scale * Fz, mag = std::hypot(Fx, Fy);
+        const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
         if (mag > cap && mag > 0.0) {
           Fx *= cap / mag;
           Fy *= cap / mag;
@@ -174,7 +174,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       d[3] = dux;
       d[4] = duy;
     }
-    const Eigen::Matrix<double, 6, 1> acc = M.ldlt().solve(G);
+    const Eigen::Matrix<double, 6, 1> acc = M.llt().solve(G);  // M is positive definite
     const Vec3 a_lin = acc.head<3>(), alpha = acc.tail<3>();
     ws.body_force[b] = m.bodies[b].mass * a_lin;
     ws.body_torque[b] = Iw * alpha + om_b.cross(Iw * om_b);

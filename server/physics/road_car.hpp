@@ -37,6 +37,8 @@ struct TyreParams {
   double relaxation_length = 0.3;   // m      sigma: deflection builds over this rolled distance
   double low_speed_damping = 3e3;   // N s/m  on the deflection rate, faded out by 3 m/s
   double rolling_resistance = 0.012;// -      C_rr
+  // derived from sliding_ratio when built (tyre.cpp), 0 = compute per call
+  double shape_c = 0.0, shape_tan = 0.0;
 };
 
 struct SuspensionParams {

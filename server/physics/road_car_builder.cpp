@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "road_car_builder.hpp"
+#include "tyre.hpp"
 
 namespace groundsim {
 
@@ -20,6 +21,10 @@ CarHandle addRoadCar(ModelBuilder& b, const std::string& name, const RoadCarPara
 
   RoadCar rc;
   rc.p = p;
+  for (TyreParams& t : rc.p.tyre) {
+    t.shape_c = shapeFactor(t.sliding_ratio);
+    t.shape_tan = std::tan(std::numbers::pi / (2.0 * t.shape_c));
+  }
   const double gmag = b.model().opt.gravity.norm();
   const double a = p.cg_to_front, bb = p.wheelbase - a, r = p.wheel_radius;
   for (int w = 0; w < 4; ++w) {

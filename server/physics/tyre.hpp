@@ -16,6 +16,9 @@ struct MagicFormula {
 // `peak_slip` and the large-slip asymptote `sliding_ratio * peak`:
 // C = 2 - (2/pi) asin(sliding_ratio), B = stiffness / (C D), E from the peak.
 MagicFormula fitMagicFormula(double stiffness, double peak, double peak_slip, double sliding_ratio);
+// The same with C and tan(pi / (2 C)) given (they depend on sliding_ratio only).
+MagicFormula fitMagicFormula(double stiffness, double peak, double peak_slip, double C, double tan_peak);
+double shapeFactor(double sliding_ratio);
 
 // Stiffness at load F_z: C0 z (1 - e (z - 1)), z = F_z / F_z0, never below 0.
 double loadedStiffness(double c0, double load_sensitivity, double Fz, double Fz0);
