@@ -33,7 +33,7 @@ struct ContactParams {
   int friction_iterations = 50;    // -        most Gauss-Seidel sweeps over contacts and brakes (stops once converged)
 };
 
-// Bounds beyond which a run is declared diverged (see health.hpp).
+// Bounds beyond which a run is declared diverged (checkHealth, diagnostics.hpp).
 struct Limits {
   double max_penetration = 0.5;    // m
   double max_speed = 1000.0;       // m/s     any body or particle

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "road_car_phase.hpp"
 
@@ -33,8 +34,7 @@ void applyControls(const Model& m, double dt, State& s) {
 bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
-  last_good_ = state_.y;  // same size every time: no allocation
-  const double t0 = state_.t;
+  ws_.last_good = state_;  // same sizes every time: no allocation
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
@@ -45,9 +45,11 @@ bool Simulator::step() {
   if (checkHealth(m, state_, ws_, state_.tick % kEnergyCheckInterval == 0)) return true;
   // divergence is terminal; keep the last finite state so nothing downstream
   // ever sees NaN, and report the reason through state().health
-  state_.y = last_good_;
-  state_.t = t0;
-  --state_.tick;
+  const Health why = state_.health;
+  std::string reason = std::move(state_.health_reason);
+  state_ = ws_.last_good;
+  state_.health = why;
+  state_.health_reason = std::move(reason);
   return false;
 }
 
@@ -59,7 +61,7 @@ void Simulator::restore(const State& s) {
   state_.car_controls.resize(model_->road_cars.size());
   state_.cars.resize(model_->road_cars.size());
   ws_.car_inputs = state_.cars;
-  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+  if (state_.tick == 0) state_.initial_energy = energy().total();
 }
 
 bool Simulator::step(long long n) {
@@ -74,6 +76,6 @@ int Simulator::roadCarIndex(int vehicle) const {
   return -1;
 }
 
-Energy Simulator::energy() { return computeEnergy(*model_, state_, ws_); }
+Energy Simulator::energy() const { return computeEnergy(*model_, state_, *ws_.diagnostics); }
 
 }  // namespace groundsim

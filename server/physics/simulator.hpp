@@ -22,7 +22,8 @@ class Simulator {
 
   // One step of opt.dt (in opt.substeps integrator steps): integrate, then
   // check. On divergence returns false, sets state().health and its reason,
-  // and keeps the last finite state; later calls do nothing.
+  // and restores the whole state from before the step (y, t, tick, h_next,
+  // drive work, applied controls); later calls do nothing.
   bool step();
   bool step(long long n);
 
@@ -43,8 +44,9 @@ class Simulator {
   const Workspace& workspace() const { return ws_; }
   bool healthy() const { return state_.health == Health::Ok; }
   long long forceEvaluations() const { return integrator_->evaluations; }
-  // Energy of the current state (recomputes the workspace's kinematics).
-  Energy energy();
+  // Energy of the current state, computed in the diagnostics' own scratch
+  // (workspace().diagnostics): the last force evaluation stays as it was.
+  Energy energy() const;
 
   static constexpr int kEnergyCheckInterval = 256;
 
@@ -53,7 +55,6 @@ class Simulator {
   State state_;
   Workspace ws_;
   std::unique_ptr<Integrator> integrator_;
-  Eigen::VectorXd last_good_;
 };
 
 }  // namespace groundsim

@@ -4,10 +4,10 @@
 
 namespace groundsim {
 
-VehicleSample sampleVehicle(Simulator& sim, int vehicle, bool with_energy) {
+VehicleSample sampleVehicle(const Simulator& sim, int vehicle, bool with_energy) {
   const Model& m = sim.model();
   VehicleSample out;
-  if (with_energy) out.energy = sim.energy().total();  // refreshes the workspace
+  if (with_energy) out.energy = sim.energy().total();
   const State& s = sim.state();
   const Workspace& ws = sim.workspace();
   const int b = m.vehicle_body.at(vehicle);

@@ -41,7 +41,8 @@ struct VehicleSample {
 };
 
 // Reads vehicle v from the simulator's state and its last force evaluation.
-// energy is filled only when with_energy (it costs one force-free pass).
-VehicleSample sampleVehicle(Simulator& sim, int vehicle, bool with_energy);
+// energy is filled only when with_energy (it costs one force-free pass, in
+// the diagnostics' scratch: the simulator is not changed).
+VehicleSample sampleVehicle(const Simulator& sim, int vehicle, bool with_energy);
 
 }  // namespace groundsim

@@ -7,12 +7,14 @@
 #include <numbers>
 
 #include "physics/road_car_builder.hpp"
+#include "physics/steering.hpp"
 #include "physics/simulator.hpp"
 #include "physics/telemetry.hpp"
 
 namespace groundsim::test {
 
 inline constexpr double kG = 9.81;
+inline constexpr double kPiRpm = std::numbers::pi / 30.0;  // rad/s per rpm
 
 inline RoadCarParams sedan() {
   RoadCarParams p;  // the defaults are the sedan's figures
@@ -45,6 +47,9 @@ inline RoadCarParams hatch() {
   p.powertrain.final_drive = 4.1;
   for (double& t : p.powertrain.torque) t *= 0.7;
   p.aero.drag_area = 0.62;
+  p.powertrain.drive = Drive::Front;
+  p.brakes.max_torque = 5000.0;
+  p.brakes.front_share = 0.72;
   p.tyre[0].rolling_resistance = p.tyre[1].rolling_resistance = 0.010;
   return p;
 }
