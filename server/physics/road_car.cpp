@@ -133,8 +133,12 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
         o.contact = false;
       }
       o.r = r_c;
-      // spin: drive, rolling resistance, the tyre's moment about the axle, then the brake
-      const double Mha = (r_c - r_hub).cross(F).dot(axle);
+      // spin: drive, rolling resistance, the tyre's moment about the axle, then
+      // the brake. The moment arm is the rolling radius r, the one the slip
+      // ratio uses: with the loaded radius the tyre would return more power
+      // to the car than the wheel gives it (by 1 - r_loaded / r, ~5%)
+      const double Mgeo = (r_c - r_hub).cross(F).dot(axle);  // what the body does not get
+      const double Mha = -(o.contact ? o.fx : 0.0) * r;
       const double t_rr = -tp.rolling_resistance * Fz * r * std::tanh(om * r / 0.1);
       double t_d = axle_torque[ax] * 0.5 + in.applied.wheel_torque[w];
       const double vx_c = o.contact ? (v + om_b.cross(r_c)).dot(o.tx) : 0.0;
@@ -164,7 +168,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       const double s_other = y[A + roadAux(w ^ 1, 0)];
       Q[w] = F.dot(nb) + p.wheel_mass * g.dot(nb) - springForce(rc, w, s, sd, s_other);
       G.head<3>() += F - Q[w] * nb;
-      G.tail<3>() += r_c.cross(F) - (Mha + t_d + t_b) * axle - Q[w] * r_hub.cross(nb);
+      G.tail<3>() += r_c.cross(F) - (Mgeo + t_d + t_b) * axle - Q[w] * r_hub.cross(nb);
       Eigen::Matrix<double, 6, 1> j;
       j << nb, r_hub.cross(nb);
       M.noalias() -= p.wheel_mass * j * j.transpose();

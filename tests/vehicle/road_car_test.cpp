@@ -21,6 +21,8 @@ struct Car {
   RoadCarParams p;
 };
 
+void PrintTo(const Car& c, std::ostream* os) { *os << c.name; }
+
 class RoadCarTest : public ::testing::TestWithParam<Car> {
  protected:
   const RoadCarParams& P() const { return GetParam().p; }
@@ -131,7 +133,7 @@ TEST_P(RoadCarTest, LockedWheelsSlideAtTheSlidingFriction) {
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(0.5));
   // every wheel locked
-  for (int w = 0; w < 4; ++w) EXPECT_EQ(cs.sample().wheels[w].spin, 0.0) << "wheel " << w;
+  for (int w = 0; w < 4; ++w) EXPECT_NEAR(cs.sample().wheels[w].spin, 0.0, 1e-9) << "wheel " << w;
   ASSERT_TRUE(cs.runUntil(20.0, [&] { return cs.speed() < 0.01; }));
   // the Magic Formula at a locked wheel, computed from its definition
   const double W = p.mass * kG, L = p.wheelbase;
