@@ -32,6 +32,12 @@ double springForce(const RoadCar& rc, int w, double s, double sd, double s_other
   return f;
 }
 
+void holdGrowth(double hold, double ux, double uy, double* dux, double* duy) {
+  if (hold <= 0.0) return;
+  if (*dux * ux > 0.0) *dux *= 1.0 - hold;
+  if (*duy * uy > 0.0) *duy *= 1.0 - hold;
+}
+
 }  // namespace
 
 void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
@@ -113,6 +119,13 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
                    &Fx, &Fy);
         // low-speed damping of the deflection springs (they would ring at standstill)
         const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
+        // near standstill a tread deflected past the peak slides instead of
+        // stretching further: stop its growth (else a sliding stop winds up
+        // a deflection that throws the car back once it halts)
+        const double kxn = ux / (tp.relaxation_length * tp.peak_slip_ratio);
+        const double kyn = uy / (tp.relaxation_length * tp.peak_slip_angle);
+        o.hold = kxn * kxn + kyn * kyn > 1.0 ? fade : 0.0;
+        holdGrowth(o.hold, ux, uy, &dux, &duy);
         Fx += tp.low_speed_damping * fade * dux;
         Fy += tp.low_speed_damping * fade * duy;
         const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
@@ -127,6 +140,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
         o.slip_angle = std::atan2(vy, std::max(std::abs(vx), 0.5));
         o.contact = true;
       } else {
+        o.hold = 0.0;
         dux = -20.0 * ux;  // off the ground the tread relaxes
         duy = -20.0 * uy;
         o.fx = o.fy = o.slip_ratio = o.slip_angle = 0.0;
@@ -219,6 +233,7 @@ void driftRoadCars(const Model& m, Eigen::VectorXd& y, const Workspace& ws, doub
       double dux, duy;
       deflectionRates(rc.p.tyre[w < 2 ? 0 : 1], vc.dot(o.tx), vc.dot(o.ty), y[i + 2] * rc.p.wheel_radius, y[i + 3],
                       y[i + 4], &dux, &duy);
+      holdGrowth(o.hold, y[i + 3], y[i + 4], &dux, &duy);
       y[i + 3] += h * dux;
       y[i + 4] += h * duy;
     }

@@ -156,6 +156,7 @@ struct RoadWheelOut {
   // for the semi-implicit deflection update: tyre frame and contact offset
   Vec3 tx = Vec3::UnitX(), ty = Vec3::UnitY(), r = Vec3::Zero();
   bool contact = false;
+  double hold = 0.0;                // 0..1: how far the deflection's growth is stopped (sliding near standstill)
 };
 
 struct RoadCarOut {
