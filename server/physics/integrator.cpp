@@ -27,6 +27,7 @@ Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& om
 }
 
 bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
+  if (!m.road_cars.empty()) return true;  // velocity-level brakes, ABS and traction control
   if (m.opt.contact.friction_model == FrictionModel::StickSlip && m.opt.contact.friction > 0.0 &&
       ws.ncontacts > 0)
     return true;

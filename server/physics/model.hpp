@@ -9,6 +9,7 @@
 
 #include "ground.hpp"
 #include "math.hpp"
+#include "road_car.hpp"
 
 namespace groundsim {
 
@@ -136,8 +137,11 @@ struct Model {
   std::vector<std::string> vehicle_names;
   std::vector<int> vehicle_of_wheel;  // which vehicle each wheel belongs to
   std::vector<int> vehicle_body;      // the chassis body of each vehicle
+  std::vector<RoadCar> road_cars;     // road_car.hpp; their states follow the particles in y
+  int aux_states = 0;                 // kRoadCarStates per road car
 
-  int stateSize() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
+  int auxBase() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
+  int stateSize() const { return auxBase() + aux_states; }
 };
 
 }  // namespace groundsim

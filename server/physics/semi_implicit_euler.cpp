@@ -4,6 +4,7 @@
 // Symplectic for conservative forces; stable for omega h < 2.
 #include "forces.hpp"
 #include "integrator_methods.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -32,6 +33,8 @@ void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double 
     s.y.segment<3>(o + 3) += h * ws.particle_force[j] / m.particles[j].mass;
     s.y.segment<3>(o) += h * s.y.segment<3>(o + 3);
   }
+  kickRoadCars(m, s.y, ws, h);
+  driftRoadCars(m, s.y, ws, h);
 }
 
 }  // namespace groundsim

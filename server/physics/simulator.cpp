@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "road_car_phase.hpp"
+
 namespace groundsim {
 
 Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
@@ -26,6 +28,7 @@ void applyControls(const Model& m, double dt, State& s) {
     const double most = wh.steer_rate * dt;
     a.steer += std::clamp(target - a.steer, -most, most);
   }
+  applyRoadCarControls(m, dt, s);
 }
 
 bool Simulator::step() {
@@ -35,6 +38,7 @@ bool Simulator::step() {
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
+  ws_.car_inputs = state_.cars;  // same size every step: no allocation
   for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
@@ -54,6 +58,9 @@ void Simulator::restore(const State& s) {
   if (&s != &state_) state_ = s;
   state_.controls.resize(model_->wheels.size());
   state_.applied.resize(model_->wheels.size());
+  state_.car_controls.resize(model_->road_cars.size());
+  state_.cars.resize(model_->road_cars.size());
+  ws_.car_inputs = state_.cars;
   if (state_.tick == 0) state_.initial_energy = energy().total();
 }
 
@@ -61,6 +68,12 @@ bool Simulator::step(long long n) {
   for (long long i = 0; i < n; ++i)
     if (!step()) return false;
   return true;
+}
+
+int Simulator::roadCarIndex(int vehicle) const {
+  for (size_t c = 0; c < model_->road_cars.size(); ++c)
+    if (model_->road_cars[c].vehicle == vehicle) return static_cast<int>(c);
+  return -1;
 }
 
 Energy Simulator::energy() const { return computeEnergy(*model_, state_, *ws_.diagnostics); }

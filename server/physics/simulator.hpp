@@ -35,6 +35,12 @@ class Simulator {
   // the reference of the energy divergence check, computed here.
   void restore(const State& s);
   std::vector<WheelControl>& controls() { return state_.controls; }
+  // A road car's controls (car: index among the model's road cars, see
+  // roadCarIndex); they hold until set again.
+  void setCarControls(int car, const CarControls& c) { state_.car_controls.at(static_cast<size_t>(car)) = c; }
+  const CarControls& carControls(int car) const { return state_.car_controls.at(static_cast<size_t>(car)); }
+  // The road car of a vehicle, or -1 when the vehicle is not one.
+  int roadCarIndex(int vehicle) const;
   const Workspace& workspace() const { return ws_; }
   bool healthy() const { return state_.health == Health::Ok; }
   long long forceEvaluations() const { return integrator_->evaluations; }

@@ -7,6 +7,7 @@
 // stays bit-exact. The cache lives in the Workspace (ws.verlet).
 #include "forces.hpp"
 #include "integrator_methods.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -16,6 +17,7 @@ namespace {
 // and any step: nothing in it reads a velocity (dashpots, ground damping,
 // friction, brakes) and no drive power is booked.
 bool velocityIndependent(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
+  if (!m.road_cars.empty()) return false;
   for (const auto& c : applied)
     if (c.brake_torque != 0.0 || c.drive_torque != 0.0) return false;
   for (const Spring& sp : m.springs)
@@ -64,6 +66,8 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
     p0 = ws.drive_power;
     kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
   }
+  kickRoadCars(m, s.y, ws, half);  // never cached: a road car's forces read velocities
+  driftRoadCars(m, s.y, ws, h);
   // drift with the half-step momenta
   for (int i = 0; i < nb; ++i) {
     bodyPos(s.y, i) += h * bodyVel(s.y, i);
@@ -79,6 +83,7 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
   computeForces(m, s.y, s.applied, half, ws);
   ++evaluations;
   kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
+  kickRoadCars(m, s.y, ws, half);
   s.drive_work += half * (p0 + ws.drive_power);
 
   cache.valid = velocityIndependent(m, s.applied, ws);

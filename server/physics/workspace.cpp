@@ -30,6 +30,9 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   wheel_normal.assign(nw, 0.0);
   wheel_friction.assign(nw, 0.0);
   wheel_slip.assign(nw, 0.0);
+  car_inputs.assign(m.road_cars.size(), CarRuntime{});
+  road.assign(m.road_cars.size(), RoadCarOut{});
+  aux_dot.setZero(m.aux_states);
   const int n = m.stateSize();
   for (Eigen::VectorXd* v : {&dy, &ytmp, &k1, &k2, &k3, &k4, &k5, &k6, &k7, &err}) v->setZero(n);
   if (with_diagnostics && m.opt.integrator == IntegratorKind::ImplicitEuler) {

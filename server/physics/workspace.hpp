@@ -88,6 +88,11 @@ struct Workspace {
   double drive_power = 0.0;            // W
   int friction_sweeps = 0;             // Gauss-Seidel sweeps the last evaluation needed
 
+  // road cars (road_car.cpp): per-step inputs, per-evaluation outputs, state rates
+  std::vector<CarRuntime> car_inputs;  // (nroadcar)
+  std::vector<RoadCarOut> road;        // (nroadcar)
+  Eigen::VectorXd aux_dot;             // (aux_states)
+
   // integrator scratch
   Eigen::VectorXd dy, ytmp, k1, k2, k3, k4, k5, k6, k7, err;
   // implicit Euler only (n x n, so left empty for the others): the Jacobian,
