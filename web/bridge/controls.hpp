@@ -18,10 +18,12 @@ struct Controls {
   int gear = 1;            // -1 reverse, 0 neutral, 1 drive
 };
 
-// Full-scale values of the mapping, per wheel (the report's 1.4 kg car:
-// `groundsim drive` reaches 5 N m; these stay below the server's --max-torque).
+// Full-scale values of the mapping, per wheel, for the report's 1.4 kg car
+// (wheels of 1 m, 0.1 kg; mu 0.5 carries about 1.7 N m per wheel before it
+// slips): full throttle accelerates it at about 2.7 m/s^2 without spinning
+// the wheels, full brake locks them.
 struct ControlScale {
-  double drive_torque = 4.0;  // N m  per wheel at full throttle
+  double drive_torque = 1.2;  // N m  per wheel at full throttle
   double brake_torque = 6.0;  // N m  per wheel at full brake
   double steer = 0.6;         // rad  front wheels at full lock (the server clamps to each wheel's limit)
 };

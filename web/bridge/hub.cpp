@@ -62,7 +62,8 @@ LcmHandlers Hub::lcmHandlers() {
     }
     if (!watched) return;
     // re-encoded once, shared by every browser watching
-    auto json = shared(stateJson(s));
+    const double wall = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    auto json = shared(stateJson(s, wall));
     asio::post(io_, [this, id, json] { onState(id, json); });
   };
   h.event = [this](const groundsim::event_t& e) {
@@ -184,7 +185,7 @@ void Hub::create(Peer* p, const CreateMsg& m) {
   std::string doc = text.str();
   if (m.vehicles > 0) {
     try {
-      doc = withVehicles(doc, m.vehicles, cfg_.vehicle_spacing);
+      doc = withVehicles(doc, m.vehicles, cfg_.vehicle_margin);
     } catch (const std::exception& e) {
       return refuse(p, "create", "/vehicles", std::string("cannot copy this scenario's vehicle: ") + e.what());
     }
@@ -214,12 +215,13 @@ void Hub::create(Peer* p, const CreateMsg& m) {
 // ---- joining a session -------------------------------------------------------
 
 void Hub::join(Peer* p, const JoinMsg& m) {
-  leave(p);
-  SessionEntry& s = sessions_[m.session];
-  if (m.role == Role::Drive && s.token.empty())
+  auto known = sessions_.find(m.session);
+  if (m.role == Role::Drive && (known == sessions_.end() || known->second.token.empty()))
     return refuse(p, "join", "/role",
                   "this bridge holds no token for session " + m.session +
                       ": it drives only sessions created through it (spectate instead)");
+  leave(p);
+  SessionEntry& s = sessions_[m.session];
   s.pending.emplace_back(p, m);
   PeerState& ps = peers_[p];
   ps.session = m.session;

@@ -33,7 +33,7 @@ struct HubConfig {
   ControlScale scale;
   int grid_n = 81;                // ground grid nodes per side
   double grid_step = 0.5;         // m between nodes
-  double vehicle_spacing = 4.0;   // m between the copies of a car (create with "vehicles")
+  double vehicle_margin = 1.0;    // m between the copies of a car (create with "vehicles")
   double reply_timeout_s = 3.0;   // s  a request without reply is answered as failed
   double orphan_stop_s = 30.0;    // s  a session this bridge created, watched by nobody, is stopped
   bool log = true;                // refusals and connections on stderr

@@ -186,9 +186,16 @@ json groundGrid(const Ground& g, double cx, double cy, int n, double step) {
   return {{"x0", x0}, {"y0", y0}, {"n", n}, {"step", step}, {"z", z}};
 }
 
-std::string withVehicles(const std::string& scenario_json, int count, double spacing) {
+std::string withVehicles(const std::string& scenario_json, int count, double margin) {
   json doc = scenario::parseScenarioDocument(scenario_json);
   if (count <= 0) return scenario_json;
+  // side by side, their bounding circles `margin` apart (the scenario layer
+  // refuses overlapping vehicles)
+  const scenario::Scenario sc = scenario::parseScenario(scenario_json);
+  if (sc.vehicles.empty()) return scenario_json;
+  const CarParams& p = sc.vehicles[0].params;
+  const double spacing =
+      2.0 * std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length) + margin;
   json base;
   if (doc.contains("vehicle")) {
     base = doc["vehicle"];
@@ -207,7 +214,7 @@ std::string withVehicles(const std::string& scenario_json, int count, double spa
     if (!init.is_object()) init = json::object();
     json pos = init.contains("position") ? init["position"] : json::array({0, 0, 0});
     if (!pos.is_array() || pos.size() != 3) pos = json::array({0, 0, 0});
-    pos[1] = pos[1].get<double>() + spacing * i;
+    pos[1] = (pos[1].is_number() ? pos[1].get<double>() : 0.0) + spacing * i;
     init["position"] = pos;
     list.push_back(v);
   }

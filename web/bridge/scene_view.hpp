@@ -38,7 +38,7 @@ nlohmann::json groundGrid(const Ground& g, double cx, double cy, int n, double s
 bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* z);
 
 // A scenario copy with `count` copies of its first vehicle side by side
-// (lateral spacing `spacing` m), for sessions with one car per player.
-std::string withVehicles(const std::string& scenario_json, int count, double spacing);
+// along y (bounding circles `margin` m apart), for one car per player.
+std::string withVehicles(const std::string& scenario_json, int count, double margin);
 
 }  // namespace groundsim::web

@@ -42,7 +42,7 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
-std::string stateJson(const groundsim::state_t& s) {
+std::string stateJson(const groundsim::state_t& s, double wall_s) {
   std::string out;
   out.reserve(256 + 640 * s.vehicles.size());
   out += "{\"op\":\"state\",\"session\":" + quoted(s.session_id) + ",\"seq\":" + std::to_string(s.seq) + ",\"t\":";
@@ -51,6 +51,8 @@ std::string stateJson(const groundsim::state_t& s) {
          ",\"status\":" + std::to_string(s.status) + ",\"health\":" + std::to_string(s.health) +
          ",\"reason\":" + quoted(s.status_reason) + ",\"energy\":";
   num(out, s.energy);
+  char wall[40];
+  out.append(wall, std::snprintf(wall, sizeof wall, ",\"wall\":%.6f", wall_s));
   out += ",\"vehicles\":[";
   for (std::size_t k = 0; k < s.vehicles.size(); ++k) {
     const groundsim::vehicle_state_t& v = s.vehicles[k];

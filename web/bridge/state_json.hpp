@@ -12,9 +12,11 @@
 namespace groundsim::web {
 
 // {"op":"state","session":..,"seq":..,"t":..,"status":..,"health":..,
-//  "reason":..,"energy":..,"vehicles":[{"name","p","q"(w x y z),"v","w",
-//  "speed","spin","N","F","slip","contact"}]}
-std::string stateJson(const groundsim::state_t& s);
+//  "reason":..,"energy":..,"wall":..,"vehicles":[{"name","p","q"(w x y z),
+//  "v","w","speed","spin","N","F","slip","contact"}]}
+// wall: s on the bridge's steady clock when the state arrived, so the page
+// measures the real-time factor even when its own thread is busy drawing.
+std::string stateJson(const groundsim::state_t& s, double wall_s);
 // {"op":"event","session","severity","code","reason","t"}
 std::string eventJson(const groundsim::event_t& e);
 // A JSON string literal (quotes and escapes) for any bytes.

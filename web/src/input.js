@@ -2,7 +2,7 @@
 // Throttle, brake and steering ramp while a key is held and return when it
 // is released; an analog gamepad sets them directly. The gear is automatic:
 // holding brake at a standstill engages reverse, throttle engages drive.
-const RISE = 2.0, FALL = 4.0, STEER_RISE = 2.5, STEER_BACK = 4.0, DEADZONE = 0.08;
+const KICK = 0.3, RISE = 2.0, FALL = 4.0, STEER_RISE = 2.5, STEER_BACK = 4.0, DEADZONE = 0.08;
 
 function approach(x, target, rate, dt) {
   return x < target ? Math.min(target, x + rate * dt) : Math.max(target, x - rate * dt);
@@ -14,6 +14,7 @@ export class Input {
     this.c = { throttle: 0, brake: 0, steer: 0, handbrake: false, gear: 1 };
     this.pads = () => (navigator.getGamepads ? navigator.getGamepads() : []);
     this.actions = [];
+    this.onChange = null;  // called at every key press and release
     target.addEventListener('keydown', (e) => {
       if (e.target && e.target.tagName === 'INPUT') return;
       const k = e.key.toLowerCase();
@@ -22,10 +23,15 @@ export class Input {
         if (k === 'p') this.actions.push('pause');
         if (k === 'c') this.actions.push('camera');
       }
+      const fresh = !this.down.has(k);
       this.down.add(k);
       if ([' ', 'arrowup', 'arrowdown', 'arrowleft', 'arrowright'].includes(k)) e.preventDefault();
+      if (fresh && this.onChange) this.onChange();
     });
-    target.addEventListener('keyup', (e) => this.down.delete(e.key.toLowerCase()));
+    target.addEventListener('keyup', (e) => {
+      this.down.delete(e.key.toLowerCase());
+      if (this.onChange) this.onChange();
+    });
     target.addEventListener('blur', () => this.down.clear());
   }
   held(...keys) { return keys.some((k) => this.down.has(k)); }
@@ -62,8 +68,9 @@ export class Input {
       c.throttle = c.gear >= 0 ? go : stop;
       c.brake = c.gear >= 0 ? stop : go;
     } else {
-      c.throttle = approach(c.throttle, accel ? 1 : 0, accel ? RISE : FALL, dt);
-      c.brake = approach(c.brake, decel ? 1 : 0, decel ? RISE * 2 : FALL, dt);
+      // a press acts at once (from KICK), then ramps to full
+      c.throttle = approach(accel ? Math.max(KICK, c.throttle) : c.throttle, accel ? 1 : 0, accel ? RISE : FALL, dt);
+      c.brake = approach(decel ? Math.max(KICK, c.brake) : c.brake, decel ? 1 : 0, decel ? RISE * 2 : FALL, dt);
     }
     return c;
   }

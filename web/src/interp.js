@@ -46,8 +46,11 @@ export class Playback {
     if (last) this.interval = 0.9 * this.interval + 0.1 * Math.max(1e-4, state.t - last.t);
     this.states.push(state);
     if (this.states.length > 64) this.states.shift();
+    // the bridge's arrival stamp when there is one: this page's own clock
+    // stalls while a slow (software) renderer draws
+    if (typeof state.wall === 'number') wallS = state.wall;
     this.rateWindow.push([wallS, state.t]);
-    while (this.rateWindow.length > 2 && wallS - this.rateWindow[0][0] > 1.0) this.rateWindow.shift();
+    while (this.rateWindow.length > 2 && wallS - this.rateWindow[0][0] > 2.0) this.rateWindow.shift();
     const [w0, t0] = this.rateWindow[0];
     if (wallS - w0 > 0.25) this.rate = (state.t - t0) / (wallS - w0);
   }

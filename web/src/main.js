@@ -55,6 +55,7 @@ const app = {
   frames: 0, fps: 0, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
 };
+app.send = (m) => net.send(m);
 window.groundsim = app;  // for tests and the latency benchmark
 
 function clearScene() {
@@ -141,10 +142,30 @@ function renderLobby() {
   $('lobby-server').textContent = m.server
     ? `server ${m.server.id}: ${m.server.sessions} sessions, ${m.server.workers} workers, load ${(100 * m.server.load).toFixed(0)} %`
     : 'no server heartbeat on this bus (sessions below are states seen on the bus)';
-  $('lobby-sessions').innerHTML = m.sessions.map((s) => `<tr data-session="${s.id}">
-      <td><code>${s.id}</code></td><td>${s.name || '(unknown)'}</td><td>${s.mode}</td><td>${STATUS[s.status] || s.status}</td>
-      <td>${s.t.toFixed(1)}</td><td>${s.vehicles.length || '?'}</td>
-      <td>${s.drivable ? `<button data-act="drive">drive</button>` : ''}<button data-act="spectate">spectate</button></td></tr>`).join('');
+  // rows are updated in place (a row rebuilt every heartbeat would eat clicks)
+  const body = $('lobby-sessions'), ids = new Set(m.sessions.map((x) => x.id));
+  for (const tr of [...body.children]) if (!ids.has(tr.dataset.session)) tr.remove();
+  for (const x of m.sessions) {
+    let tr = body.querySelector(`tr[data-session="${x.id}"]`);
+    if (!tr) {
+      tr = document.createElement('tr');
+      tr.dataset.session = x.id;
+      tr.innerHTML = '<td><code></code></td><td></td><td></td><td></td><td></td><td></td><td class="act"></td>';
+      body.appendChild(tr);
+    }
+    const cells = tr.children;
+    cells[0].firstChild.textContent = x.id;
+    cells[1].textContent = x.name || '(unknown)';
+    cells[2].textContent = x.mode;
+    cells[3].textContent = STATUS[x.status] || x.status;
+    cells[4].textContent = x.t.toFixed(1);
+    cells[5].textContent = x.vehicles.length || '?';
+    const acts = (x.drivable ? 'drive ' : '') + 'spectate';
+    if (cells[6].dataset.acts !== acts) {
+      cells[6].dataset.acts = acts;
+      cells[6].innerHTML = acts.split(' ').map((a) => `<button data-act="${a}">${a}</button>`).join('');
+    }
+  }
 }
 $('lobby-sessions').addEventListener('click', (e) => {
   const act = e.target.dataset && e.target.dataset.act;
@@ -172,8 +193,14 @@ function togglePause() {
 }
 
 // ---- controls ----------------------------------------------------------------------
-let lastSend = 0;
-function drive(dt, v) {
+let lastSend = 0, lastInput = performance.now();
+// Advances the input ramps by the time since the last call (whoever calls:
+// the frame loop, the timer, a key event) and sends the controls when they
+// changed or every SEND_PERIOD_MS.
+function drive(v) {
+  const t = performance.now();
+  const dt = Math.min(0.1, (t - lastInput) / 1000);
+  lastInput = t;
   for (const a of input.takeActions()) {
     if (a === 'camera') toggleCamera();
     else if (app.role === 'drive' && a === 'reset') net.send({ op: 'reset' });
@@ -195,7 +222,10 @@ function drive(dt, v) {
   }
 }
 // also while the tab's animation frames are throttled (hidden or headless)
-setInterval(() => { if (app.role === 'drive' && performance.now() - lastSend > SEND_PERIOD_MS) drive(SEND_PERIOD_MS / 1000, app.lastState && app.lastState.vehicles[app.vehicle]); }, SEND_PERIOD_MS);
+const ownState = () => app.lastState && app.lastState.vehicles[app.vehicle];
+setInterval(() => { if (app.role === 'drive' && performance.now() - lastSend > SEND_PERIOD_MS) drive(ownState()); }, SEND_PERIOD_MS);
+// a key press goes out at once, not at the next frame (latency)
+input.onChange = () => drive(ownState());
 
 // ---- the frame loop ------------------------------------------------------------------
 let lastFrame = performance.now(), fpsCount = 0, fpsStart = lastFrame, lastSimT = null;
@@ -206,7 +236,7 @@ renderer.setAnimationLoop(() => {
   lastFrame = now;
   const s = playback.frame(dt);
   const mine = s && s.vehicles[app.followed];
-  drive(dt, app.lastState && app.lastState.vehicles[app.vehicle]);
+  drive(ownState());
   if (s) {
     const simDt = lastSimT === null ? 0 : Math.max(0, s.t - lastSimT);
     lastSimT = s.t;
