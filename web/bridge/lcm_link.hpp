@@ -20,12 +20,12 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
 
+#include "channels.hpp"
+
 namespace groundsim::web {
 
-inline constexpr const char* kScenarioChannel = "GROUNDSIM_SCENARIO";  // scenario_t, server -> anyone
-// request_t.op asking for a session's scenario_t (answered on kScenarioChannel
-// and with a reply_t); a new op value, request_t itself is unchanged
-inline constexpr int8_t kOpScenario = 9;
+using net::kOpScenario;
+using net::kScenarioChannel;
 
 struct LcmHandlers {
   std::function<void(const groundsim::server_status_t&)> status;

@@ -14,7 +14,10 @@ const $ = (id) => document.getElementById(id);
 const STATUS = { 1: 'running', 2: 'paused', 3: 'finished', 4: 'diverged', 5: 'stopped' };
 const HEALTH = { 0: 'ok', 1: 'non-finite', 2: 'penetration', 3: 'speed', 4: 'energy' };
 const COLORS = [0xd94f3d, 0x3d7dd9, 0x4fbf5a, 0xe0a030, 0xa05fd0, 0x40c0c0, 0xc0c040, 0xd070a0];
-const SEND_PERIOD_MS = 50;  // controls are re-sent so the server's command timeout never fires
+const SEND_PERIOD_MS = 50;
+// ?render=0 runs everything but the drawing (the latency benchmark isolates
+// the network path from a software renderer's frame time with it)
+const DRAW = new URLSearchParams(location.search).get('render') !== '0';  // controls are re-sent so the server's command timeout never fires
 
 // ---- three.js ----------------------------------------------------------------
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -94,7 +97,9 @@ net.on('joined', (m) => {
   clearScene();
   app.session = m.session; app.role = m.role; app.vehicle = m.vehicle; app.layout = m.layout; app.note = m.note;
   app.followed = Math.max(0, m.vehicle);
-  history.replaceState(null, '', `?session=${m.session}`);
+  const q = new URLSearchParams(location.search);
+  q.set('session', m.session);
+  history.replaceState(null, '', `?${q}`);
   showLobby(false);
   $('hud-session').textContent = m.session;
   $('hud-role').textContent = m.role === 'drive' ? `driving vehicle ${m.vehicle}` : 'spectating';
@@ -256,7 +261,7 @@ renderer.setAnimationLoop(() => {
     }
     updateHud(s, mine);
   }
-  renderer.render(scene, camera);
+  if (DRAW) renderer.render(scene, camera);
   app.frames++;
   fpsCount++;
   if (now - fpsStart > 1000) { app.fps = (1000 * fpsCount) / (now - fpsStart); fpsCount = 0; fpsStart = now; }
