@@ -14,7 +14,8 @@ const id = h.cli('create', `${CONFIGS}/parabola.json`, '--duration', '-1').trim(
 console.log(`groundsim create: ${id}`);
 const row = await h.until('the session in the lobby', () => page.evaluate((sid) => {
   const tr = document.querySelector(`tr[data-session="${sid}"]`);
-  return tr && { text: tr.textContent, drive: !!tr.querySelector('button[data-act="drive"]') };
+  // first seen from its states on the bus, then named by the next heartbeat
+  return tr && tr.textContent.includes('parabola') && { text: tr.textContent, drive: !!tr.querySelector('button[data-act="drive"]') };
 }, id), 10000);
 console.log(`lobby row: ${row.text.replace(/\s+/g, ' ')}`);
 if (!row.text.includes('parabola')) await h.fail('the lobby row does not name the scenario');

@@ -282,7 +282,7 @@ function placeCamera(v, dt) {
   fwd.z = 0;
   if (fwd.lengthSq() < 1e-6) fwd.set(1, 0, 0);
   fwd.normalize();
-  const want = chaseTarget.clone().addScaledVector(fwd, -2.6 * size).add(new THREE.Vector3(0, 0, 1.2 * size));
+  const want = chaseTarget.clone().addScaledVector(fwd, -2.6 * size).add(new THREE.Vector3(0, 0, 1.5 * size));
   camera.position.lerp(want, Math.min(1, 4 * dt));
   camera.lookAt(chaseTarget);
 }
@@ -300,7 +300,8 @@ function updateHud(s, v) {
   st.className = s.status === 4 ? 'bad' : s.status !== 1 ? 'warn' : '';
   $('hud-health').textContent = HEALTH[s.health] || s.health;
   const car = app.vehicles[app.followed];
-  $('hud-wheels').textContent = car ? car.wheels.map((w, i) => `${(v.N[i] || 0).toFixed(1)} N/${(1000 * w.lift).toFixed(2)} mm`).join('  ') : '-';
+  $('hud-wheels').textContent = `${v.N.map((n) => n.toFixed(1)).join(' ')} N`;
+  $('hud-travel').textContent = car ? `${car.wheels.map((w) => (1000 * w.lift).toFixed(3)).join(' ')} mm` : '-';
   $('hud-fps').textContent = `${app.fps.toFixed(0)} frames/s`;
   $('btn-pause').textContent = s.status === 2 ? 'resume' : 'pause';
 }
