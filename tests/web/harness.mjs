@@ -6,7 +6,8 @@
 // run here (no Chromium) exits 77, which CTest reports as skipped.
 import { spawn, spawnSync } from 'node:child_process';
 import { createRequire } from 'node:module';
-import { existsSync } from 'node:fs';
+import { existsSync, mkdtempSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 
 const env = process.env;
 export const SERVER = env.GROUNDSIM_SERVER, BRIDGE = env.GROUNDSIM_WEB, CLI = env.GROUNDSIM_CLI;
@@ -72,16 +73,26 @@ export async function until(what, fn, timeoutMs = 20000, everyMs = 100) {
   }
 }
 
-// groundsim-server and groundsim-web; returns the page's URL.
-export async function startServices({ bridgeArgs = [] } = {}) {
+export function startServer() {
   if (!existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM} (apt-get install chromium, or scripts/setup-web.sh)`);
-  start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
+  return start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
+}
+
+// groundsim-web on 127.0.0.1, a port chosen by the kernel; returns its URL.
+export async function startBridge(bridgeArgs = []) {
   const bridge = start(BRIDGE, ['--lcm-url', LCM_URL, '--bind', '127.0.0.1', '--port', '0', ...bridgeArgs], 'bridge');
   const url = await until('the bridge to print its URL', () => {
     const m = bridge.output.match(/open (http:\/\/127\.0\.0\.1:\d+\/)/);
     return m && m[1];
   }, 15000);
   return { url, bridge };
+}
+
+// groundsim-server and groundsim-web; returns the page's URL.
+export async function startServices({ bridgeArgs = [] } = {}) {
+  const server = startServer();
+  const { url, bridge } = await startBridge(bridgeArgs);
+  return { url, bridge, server };
 }
 
 export async function launch() {
@@ -111,8 +122,11 @@ export async function createAndDrive(page, config, cars = 1) {
 }
 
 // The `groundsim` command line client on the same bus.
+// Its tokens file goes to a directory of this test, not the user's.
+const stateHome = mkdtempSync(`${tmpdir()}/groundsim-web-test-`);
 export function cli(...args) {
-  const r = spawnSync(CLI, [...args, '--lcm-url', LCM_URL], { encoding: 'utf8', timeout: 20000 });
+  const r = spawnSync(CLI, [...args, '--lcm-url', LCM_URL],
+    { encoding: 'utf8', timeout: 20000, env: { ...process.env, XDG_STATE_HOME: stateHome } });
   if (r.status !== 0) throw new Error(`groundsim ${args.join(' ')}: exit ${r.status}: ${r.stderr}`);
   return r.stdout;
 }
@@ -158,8 +172,11 @@ export async function hold(page, key, ms) {
 export async function stopCars(page, cars = [0], timeoutMs = 15000) {
   await page.keyboard.down(' ');
   try {
-    await until('the cars to stop', () => page.evaluate((ks) => ks.every((k) =>
-      Math.abs(window.groundsim.lastState.vehicles[k].speed) < 0.05), cars), timeoutMs);
+    // the body and every wheel (a front wheel still spinning would start the car again)
+    await until('the cars to stop', () => page.evaluate((ks) => ks.every((k) => {
+      const v = window.groundsim.lastState.vehicles[k];
+      return Math.abs(v.speed) < 0.05 && v.spin.every((w) => Math.abs(w) < 0.1);
+    }), cars), timeoutMs);
   } finally {
     await page.keyboard.up(' ');
   }

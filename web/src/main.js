@@ -237,9 +237,11 @@ let lastFrame = performance.now(), fpsCount = 0, fpsStart = lastFrame, lastSimT 
 const chaseTarget = new THREE.Vector3();
 renderer.setAnimationLoop(() => {
   const now = performance.now();
-  const dt = Math.min(0.1, (now - lastFrame) / 1000);
+  // the playback clock takes the whole wall time (a slow renderer must not
+  // make it fall behind); camera smoothing takes at most 0.1 s a frame
+  const wallDt = (now - lastFrame) / 1000, dt = Math.min(0.1, wallDt);
   lastFrame = now;
-  const s = playback.frame(dt);
+  const s = playback.frame(wallDt);
   const mine = s && s.vehicles[app.followed];
   drive(ownState());
   if (s) {
