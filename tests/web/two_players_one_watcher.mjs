@@ -22,7 +22,7 @@ if (roles[0][1] !== 0 || roles[1][1] !== 1 || roles[2][0] !== 'spectate') await 
 
 // both cars start rolling: stop them
 await Promise.all([h.stopCars(one, [0]), h.stopCars(two, [1])]);
-const speeds = () => watcher.evaluate(() => window.groundsim.lastState.vehicles.map((v) => v.speed));
+const speeds = async () => [await h.rolling(watcher, 0), await h.rolling(watcher, 1)];
 await watcher.waitForTimeout(300);
 const rest = await speeds();
 await h.hold(one, 'w', 1000);
@@ -32,7 +32,8 @@ await watcher.waitForTimeout(200);
 const afterTwo = await speeds();
 console.log(`watcher sees: rest ${rest}, after player one ${afterOne}, after player two ${afterTwo}`);
 if (!(afterOne[0] > rest[0] + 1)) await h.fail('player one did not move car 0');
-if (!(Math.abs(afterOne[1] - rest[1]) < 0.1)) await h.fail('car 1 moved when player one pressed W');
+// a released car creeps (~0.1 m/s in a second on undamped contacts): far from a driven one
+if (!(Math.abs(afterOne[1] - rest[1]) < 0.3)) await h.fail('car 1 moved when player one pressed W');
 if (!(afterTwo[1] > rest[1] + 1)) await h.fail('player two did not move car 1');
 const drawn = await watcher.evaluate(() => window.groundsim.vehicles.length);
 if (drawn !== 2) await h.fail(`the watcher draws ${drawn} cars`);
