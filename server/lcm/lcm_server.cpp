@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <groundsim/scenario_t.hpp>
+
 #include "convert.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
@@ -74,6 +76,18 @@ void LcmServer::publishState(const session::Frame& f) {
 
 void LcmServer::publishReply(const session::Reply& r) {
   try {
+    // the scenario first: a viewer that asked for it has it when the reply comes
+    if (r.ok && !r.scenario_json.empty()) {
+      groundsim::scenario_t m{};
+      m.utime = toUtime(r.t);
+      m.seq = scenario_seq_++;
+      m.request_id = r.op == session::Op::Scenario ? r.request_id : 0;
+      m.client_id = r.op == session::Op::Scenario ? r.client_id : "";
+      m.session_id = r.session_id;
+      m.name = r.scenario_name;
+      m.scenario_json = r.scenario_json;
+      publish(kScenarioChannel, m);
+    }
     publish(kReplyChannel, toMessage(r, reply_seq_++));
   } catch (const std::exception& e) {
     ++errors_;

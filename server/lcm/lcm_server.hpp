@@ -55,7 +55,7 @@ class LcmServer final : public session::Output {
   lcm::LCM lcm_;
   std::mutex publish_mutex_;
   std::string server_id_;
-  std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0};
+  std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0};
   std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0};
   std::unique_ptr<session::SessionService> service_;  // after lcm_: it publishes through it
 };

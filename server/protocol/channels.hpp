@@ -1,6 +1,7 @@
 // Channel names and LCM URLs of the groundsim protocol (docs/protocol.md).
 #pragma once
 
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 
@@ -12,6 +13,10 @@ inline constexpr const char* kDriveChannel = "GROUNDSIM_DRIVE";      // drive_t,
 inline constexpr const char* kEventChannel = "GROUNDSIM_EVENT";      // event_t, server -> anyone
 inline constexpr const char* kStatusChannel = "GROUNDSIM_STATUS";    // server_status_t, 1 Hz
 inline constexpr const char* kStatePrefix = "GROUNDSIM_STATE_";      // + session id: state_t
+inline constexpr const char* kScenarioChannel = "GROUNDSIM_SCENARIO";  // scenario_t, server -> anyone
+// request_t.op that asks for a session's scenario_t (answered on
+// kScenarioChannel, then with a reply_t); request_t itself is unchanged
+inline constexpr int8_t kOpScenario = 9;
 
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }
 

@@ -141,6 +141,16 @@ void SessionService::handleRequest(const Request& r) {
         pool_.wake(s);
         return;
       }
+      case Op::Scenario: {  // anyone may read a session's scenario, as its states
+        auto s = find(r.session_id);
+        if (!s) return fail(r, ErrorCode::UnknownSession, "unknown session '" + r.session_id + "'");
+        Reply reply;
+        reply.session_id = r.session_id;
+        reply.scenario_json = s->scenarioJson();
+        reply.scenario_name = s->name();
+        reply.sessions.push_back(s->info(Clock::now()));
+        return replyOk(r, std::move(reply));
+      }
       case Op::Step:
         if (r.steps < 1 || r.steps > cfg_.max_steps_per_request)
           return fail(r, ErrorCode::BadRequest,
@@ -203,6 +213,7 @@ void SessionService::build(const Request& r) {
     SessionSetup setup;
     setup.token = newToken();
     setup.name = sc.name;
+    setup.scenario_json = r.scenario_json;
     setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
                               ? scene.vehicle_names
                               : scene.built.model->vehicle_names;
@@ -222,6 +233,8 @@ void SessionService::build(const Request& r) {
     Reply reply;
     reply.session_id = setup.id;
     reply.token = setup.token;
+    reply.scenario_json = r.scenario_json;  // published for viewers and loggers (scenario_t)
+    reply.scenario_name = sc.name;
     reply.sessions.push_back(session->info(clock_.now()));
     replyOk(r, std::move(reply));
     // settings near or beyond a stability limit run, but the creator hears of it

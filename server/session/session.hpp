@@ -24,6 +24,7 @@ struct SessionSetup {
   std::string id;
   std::string token;
   std::string name;                   // scenario name
+  std::string scenario_json;          // the document it was created from (Op::Scenario)
   std::vector<std::string> vehicle_names;
   double duration = 5.0;              // s; <= 0: unlimited (lockstep ignores it)
   Mode mode = Mode::Realtime;
@@ -45,6 +46,8 @@ class Session : public Task {
           const ServiceConfig& cfg, Output& out, TimePoint now, const SessionClock& clock = steadyClock());
 
   const std::string& id() const { return setup_.id; }
+  const std::string& scenarioJson() const { return setup_.scenario_json; }
+  const std::string& name() const { return setup_.name; }
   bool tokenMatches(const std::string& token) const;
   const std::vector<VehicleWheels>& vehicles() const { return vehicles_; }
 

@@ -19,7 +19,8 @@ using TimePoint = Clock::time_point;
 
 enum class Mode : int { Realtime = 1, Fast = 2, Lockstep = 3 };
 enum class Status : int { Running = 1, Paused = 2, Finished = 3, Diverged = 4, Stopped = 5 };
-enum class Op : int { Create = 1, List = 2, Stop = 3, Reset = 4, Pause = 5, Resume = 6, Step = 7, SetMode = 8 };
+enum class Op : int { Create = 1, List = 2, Stop = 3, Reset = 4, Pause = 5, Resume = 6, Step = 7, SetMode = 8,
+                      Scenario = 9 };
 enum class Severity : int { Info = 0, Warning = 1, Error = 2 };
 
 // Numbered as event_t.ERR_* so the adapter copies them unchanged.
@@ -97,6 +98,8 @@ struct Reply {
   ErrorCode code = ErrorCode::None;
   std::string error;
   std::string token;
+  std::string scenario_json;      // Create and Scenario: the session's scenario document
+  std::string scenario_name;
   double t = 0.0;
   std::vector<SessionInfo> sessions;
   std::optional<Frame> state;

@@ -1,0 +1,185 @@
+// The bridge's pure parts: browser message validation, the controls
+// mapping, ground grids against the grounds' closed forms, the car layout
+// of the report's figure 1, and the state re-encoding.
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "bridge/browser_message.hpp"
+#include "bridge/controls.hpp"
+#include "bridge/scene_view.hpp"
+#include "bridge/state_json.hpp"
+
+using namespace groundsim::web;
+using nlohmann::json;
+
+namespace {
+
+MessageError refusal(const std::string& text) {
+  ParsedMessage m = parseBrowserMessage(text);
+  EXPECT_FALSE(m.message) << text;
+  return m.error;
+}
+
+std::string scenarioWithGround(const std::string& ground) {
+  return R"({"name": "t", "duration": 1, "ground": )" + ground +
+         R"(, "vehicle": {"name": "car", "initial": {"position": [0, 0, 0]}}})";
+}
+
+}  // namespace
+
+TEST(BrowserMessage, ControlsAreReadWithTheirValues) {
+  ParsedMessage m = parseBrowserMessage(R"({"op":"controls","throttle":0.5,"brake":0,"steer":-1,"handbrake":true,"gear":-1})");
+  ASSERT_TRUE(m.message);
+  const auto& c = std::get<ControlsMsg>(*m.message).controls;
+  EXPECT_EQ(c.throttle, 0.5);
+  EXPECT_EQ(c.steer, -1);
+  EXPECT_TRUE(c.handbrake);
+  EXPECT_EQ(c.gear, -1);
+}
+
+TEST(BrowserMessage, RefusalsNameTheField) {
+  EXPECT_EQ(refusal(R"({"op":"controls","throttle":1.5})").field, "/throttle");
+  EXPECT_EQ(refusal(R"({"op":"controls","steer":"left"})").field, "/steer");
+  EXPECT_EQ(refusal(R"({"op":"controls","gear":2})").field, "/gear");
+  EXPECT_EQ(refusal(R"({"op":"controls","gear":1.5})").field, "/gear");
+  EXPECT_EQ(refusal(R"({"op":"controls","turbo":1})").field, "/turbo");
+  EXPECT_EQ(refusal(R"({"op":"join","session":"abcdef12"})").field, "/session");
+  EXPECT_EQ(refusal(R"({"op":"join","session":"ABCDEF12","role":"admin"})").field, "/role");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"../../etc/passwd.json"})").field, "/config");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"plain.json","vehicles":100})").field, "/vehicles");
+  EXPECT_EQ(refusal(R"({"op":"ground","cx":0})").field, "/cy");
+  EXPECT_EQ(refusal(R"({"op":"warp"})").field, "/op");
+  EXPECT_EQ(refusal(R"({"op":null})").field, "/op");
+  EXPECT_EQ(refusal(R"({"throttle":1})").field, "/op");
+}
+
+TEST(BrowserMessage, TextSizeAndDepthAreBounded) {
+  EXPECT_NE(refusal(std::string(kMaxMessageBytes + 1, ' ')).reason.find("exceeds the limit"), std::string::npos);
+  std::string deep = R"({"op":"ping","t":)" + std::string(kMaxMessageDepth + 1, '[') + std::string(kMaxMessageDepth + 1, ']') + "}";
+  EXPECT_NE(refusal(deep).reason.find("nested deeper"), std::string::npos);
+  EXPECT_EQ(refusal("{\"op\":").reason, "not valid JSON");
+  EXPECT_EQ(refusal("[]").field, "");
+  // at the depth limit it parses (the field is still refused, for its type)
+  std::string ok = R"({"op":"ping","t":)" + std::string(kMaxMessageDepth - 1, '[') + std::string(kMaxMessageDepth - 1, ']') + "}";
+  EXPECT_EQ(refusal(ok).field, "/t");
+}
+
+TEST(Controls, MapToPerWheelTorquesAndFrontSteering) {
+  ControlScale k;
+  const auto d = toDrive(Controls{1.0, 0.0, 0.5, false, 1}, 2, 4, k);
+  EXPECT_EQ(d.vehicle, 2);
+  EXPECT_EQ(d.nwheels, 4);
+  for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(d.drive_torque[i], k.drive_torque);
+  EXPECT_DOUBLE_EQ(d.steer[0], 0.5 * k.steer);
+  EXPECT_DOUBLE_EQ(d.steer[1], 0.5 * k.steer);
+  EXPECT_EQ(d.steer[2], 0.0);
+  const auto r = toDrive(Controls{0.5, 0.0, 0.0, true, -1}, 0, 4, k);
+  EXPECT_DOUBLE_EQ(r.drive_torque[0], -0.5 * k.drive_torque);
+  EXPECT_EQ(r.brake_torque[0], 0.0);  // the handbrake holds the rear wheels only
+  EXPECT_DOUBLE_EQ(r.brake_torque[3], k.brake_torque);
+  const auto n = toDrive(Controls{1.0, 0.0, 0.0, false, 0}, 0, 4, k);
+  EXPECT_EQ(n.drive_torque[0], 0.0);  // neutral
+}
+
+TEST(GroundGrid, CosineWaveMatchesItsClosedForm) {
+  auto view = makeSceneView(scenarioWithGround(R"({"type":"cosine","amplitude":0.5,"wavelength":6.283185307179586})"));
+  const json g = groundGrid(*view->ground, 3.0, 1.0, 21, 0.5);
+  const int n = g["n"];
+  ASSERT_EQ(n, 21);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = g["x0"].get<double>() + j * 0.5;
+      EXPECT_NEAR(g["z"][i * n + j].get<double>(), 0.5 * std::cos(x), 6e-4) << x;  // rounded to mm
+    }
+  EXPECT_NEAR(g["x0"].get<double>(), 3.0 - 5.0, 1e-12);
+}
+
+TEST(GroundGrid, InclineAndExpressionMatchTheirClosedForms) {
+  auto incline = makeSceneView(scenarioWithGround(R"({"type":"incline","angle_deg":30,"downhill":[1,0]})"));
+  const json a = groundGrid(*incline->ground, 0, 0, 11, 1.0);
+  for (int j = 0; j < 11; ++j) {
+    const double x = a["x0"].get<double>() + j;
+    EXPECT_NEAR(a["z"][j].get<double>(), -std::tan(std::numbers::pi / 6) * x, 6e-4);
+  }
+  auto expr = makeSceneView(scenarioWithGround(R"j({"type":"expression","expression":"z + 0.15*x - 0.05*cos(3*x)","gradient_bound":1.05})j"));
+  const json e = groundGrid(*expr->ground, 0, 0, 11, 0.7);
+  for (int j = 0; j < 11; ++j) {
+    const double x = e["x0"].get<double>() + j * 0.7;
+    EXPECT_NEAR(e["z"][5 * 11 + j].get<double>(), -0.15 * x + 0.05 * std::cos(3 * x), 6e-4);
+  }
+}
+
+TEST(GroundGrid, HeightIsFoundFromAFarStart) {
+  auto view = makeSceneView(scenarioWithGround(R"({"type":"plane"})"));
+  double z = 0;
+  EXPECT_TRUE(surfaceHeight(*view->ground, 5, 5, 3.0, &z));
+  EXPECT_NEAR(z, 0.0, 1e-9);
+}
+
+TEST(Layout, ReportCarHasFigureOnePointsAndSprings) {
+  auto view = makeSceneView(scenarioWithGround(R"({"type":"plane"})"));
+  const json& v = view->layout["vehicles"][0];
+  ASSERT_EQ(v["wheels"].size(), 4u);
+  EXPECT_EQ(view->wheels[0], 4);
+  // 8 axle points + 4 rims of 20, each rim point tied to its corner's 2 axle points
+  EXPECT_EQ(v["points"].size(), 8u + 80u);
+  EXPECT_EQ(v["springs"].size(), 160u);
+  const double fx[] = {1.5, 1.5, -1.5, -1.5}, fy[] = {1, -1, 1, -1};
+  for (int i = 0; i < 4; ++i) {
+    const json& w = v["wheels"][i];
+    EXPECT_NEAR(w["offset"][0].get<double>(), fx[i], 1e-9);
+    EXPECT_NEAR(w["offset"][1].get<double>(), fy[i], 1e-9);
+    EXPECT_EQ(w["steerable"].get<bool>(), i < 2);
+    EXPECT_DOUBLE_EQ(w["radius"].get<double>(), 1.0);
+    EXPECT_GT(w["radial_stiffness"].get<double>(), 0.0);
+  }
+  int rim = 0;
+  for (const json& p : v["points"])
+    if (p[0].get<int>() >= 0) {
+      ++rim;
+      EXPECT_NEAR(std::hypot(p[2].get<double>(), p[4].get<double>()), 1.0, 1e-9);  // on the rim, axle along y
+    }
+  EXPECT_EQ(rim, 80);
+}
+
+TEST(Layout, CopiesOfACarMakeAValidScenario) {
+  const std::string doc = withVehicles(scenarioWithGround(R"({"type":"plane"})"), 3, 1.0);
+  auto view = makeSceneView(doc);
+  EXPECT_EQ(view->layout["vehicles"].size(), 3u);
+  EXPECT_EQ(view->layout["vehicles"][2]["name"], "car-3");
+}
+
+TEST(StateJson, ReEncodesEveryField) {
+  groundsim::state_t s{};
+  s.session_id = "ABCDEF12";
+  s.seq = 7;
+  s.t = 1.25;
+  s.status = 1;
+  s.status_reason = "quote \" and \\ and \n";
+  s.nvehicles = 1;
+  s.vehicles.resize(1);
+  auto& v = s.vehicles[0];
+  v.name = "car";
+  v.position[0] = 1.5;
+  v.orientation[0] = 1;
+  v.speed = 3.25;
+  v.wheel_count = 4;
+  v.wheel_spin[3] = -2;
+  v.in_contact[1] = true;
+  v.normal_force[2] = std::nan("");  // a foreign log: never NaN in the JSON
+  const json j = json::parse(stateJson(s, 12.5));
+  EXPECT_EQ(j["session"], "ABCDEF12");
+  EXPECT_EQ(j["seq"], 7);
+  EXPECT_EQ(j["t"], 1.25);
+  EXPECT_EQ(j["wall"], 12.5);
+  EXPECT_EQ(j["reason"], s.status_reason);
+  EXPECT_EQ(j["vehicles"][0]["p"][0], 1.5);
+  EXPECT_EQ(j["vehicles"][0]["speed"], 3.25);
+  EXPECT_EQ(j["vehicles"][0]["spin"][3], -2);
+  EXPECT_EQ(j["vehicles"][0]["contact"][1], true);
+  EXPECT_EQ(j["vehicles"][0]["N"][2], 0);
+}
