@@ -1,22 +1,34 @@
 #!/usr/bin/env bash
 # Installs the Debian (bookworm) packages groundsim needs, if any are missing.
 # Idempotent; needs root or sudo only when something is missing.
+#   scripts/setup.sh               everything: build, tests, sanitizers, fuzzing, benchmarks, tools
+#   scripts/setup.sh --build-only  only what `groundsim-server` and `groundsim` need to build
+#                                  (-DGROUNDSIM_BUILD_TESTS=OFF -DGROUNDSIM_BUILD_BENCH=OFF; docker/Dockerfile)
 set -euo pipefail
 
-packages=(
+build=(
   build-essential cmake ninja-build pkg-config   # C++20 toolchain and build
   libeigen3-dev                                  # physics core: vectors, rotations, small solves
   liblcm-dev liblcm-bin                          # LCM transport and lcm-gen for the message types
-  liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
   nlohmann-json3-dev                             # scenario files
   libmuparser-dev                                # ground given as an expression H(x,y,z)
   libpng-dev                                     # heightfields and friction maps as grayscale PNG
   libcli11-dev                                   # command lines
+)
+rest=(
+  liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
   googletest libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                               # benchmarks
   gnuplot-nox                                    # speed plots, accuracy plots
   iproute2 util-linux                            # ip + unshare: tests in private network namespaces
+  clang-14 libclang-rt-14-dev llvm-14            # libFuzzer targets (scripts/fuzz.sh), llvm-symbolizer
 )
+
+case "${1:-}" in
+  "") packages=("${build[@]}" "${rest[@]}") ;;
+  --build-only) packages=("${build[@]}") ;;
+  *) echo "usage: scripts/setup.sh [--build-only]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
@@ -32,4 +44,4 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null >/dev/null

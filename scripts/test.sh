@@ -1,7 +1,51 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs every test (unit, CLI and the
-# LCM integration tests, each in its own network namespace).
+# Installs what is missing, builds, and runs the tests (unit, CLI and the LCM
+# integration tests, each in its own network namespace). Extra arguments go
+# to ctest (e.g. -R physics).
+#   scripts/test.sh                             every test, Release build in build/
+#   scripts/test.sh --sanitize=address,undefined  every test under ASan + UBSan, in build-asan/
+#   scripts/test.sh --sanitize=thread           the integration tests (the multi-threaded
+#                                               server and clients) under TSan, in build-tsan/
+# A sanitizer report makes the process exit non-zero, so the test fails;
+# the report is in the test's output.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/build.sh
-ctest --test-dir build --output-on-failure -j "${JOBS:-2}" --timeout 600 "$@"
+
+sanitize=""
+if [[ "${1:-}" == --sanitize=* ]]; then
+  sanitize=${1#--sanitize=}
+  shift
+fi
+
+scripts/setup.sh
+. scripts/lib/build_dir.sh
+ctest_args=(--output-on-failure -j "${JOBS:-2}" --timeout 600)
+
+case "$sanitize" in
+  "")
+    scripts/build.sh
+    exec ctest --test-dir build "${ctest_args[@]}" "$@"
+    ;;
+  address,undefined | undefined,address | address | undefined)
+    dir=build-asan
+    build_dir "$dir" "" -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE="$sanitize" -DGROUNDSIM_BUILD_BENCH=OFF
+    # leaks are errors too; a UBSan report stops the process (-fno-sanitize-recover)
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+    exec ctest --test-dir "$dir" "${ctest_args[@]}" "$@"
+    ;;
+  thread)
+    dir=build-tsan
+    # only what the integration tests run: the server, the clients and the two suites
+    build_dir "$dir" "groundsim-server groundsim service_integration_tests lifecycle_integration_tests" \
+      -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE=thread -DGROUNDSIM_BUILD_BENCH=OFF
+    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+    # TSan's shadow memory needs the classic address layout: no ASLR (inherited by the
+    # test processes); the other suites are single-threaded
+    exec setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" -L integration "$@"
+    ;;
+  *)
+    echo "test.sh: --sanitize takes address,undefined or thread, got '$sanitize'" >&2
+    exit 2
+    ;;
+esac
