@@ -14,6 +14,7 @@ build=(
   libmuparser-dev                                # ground given as an expression H(x,y,z)
   libpng-dev                                     # heightfields and friction maps as grayscale PNG
   libcli11-dev                                   # command lines
+  libboost-dev                                   # Boost.Beast + Asio (header-only): groundsim-web's HTTP and WebSocket
 )
 rest=(
   liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
@@ -25,7 +26,9 @@ rest=(
 )
 
 case "${1:-}" in
-  "") packages=("${build[@]}" "${rest[@]}") ;;
+  "") packages=("${build[@]}" "${rest[@]}")
+      # the page's bundle (Node.js, npm) and its browser tests (Chromium)
+      "$(dirname "$0")/setup-web.sh" ;;
   --build-only) packages=("${build[@]}") ;;
   *) echo "usage: scripts/setup.sh [--build-only]" >&2; exit 2 ;;
 esac
