@@ -1,5 +1,5 @@
 // Hostile and unlucky clients against the real groundsim-server and the
-// real `groundsim` clients (docs/reliability-service.md): extreme settings
+// real `groundsim` clients (docs/reliability.md): extreme settings
 // are refused with the field named, clients notice a server that was
 // killed, `log` accounts for every seq and learns a session's end from the
 // heartbeat, oversized creates are refused before sending, usage errors
