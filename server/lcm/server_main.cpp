@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-lag", cfg.max_lag, "s behind the wall clock before a real time session skips ahead")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-vehicles", cfg.max_vehicles, "vehicles per session")->capture_default_str()->check(CLI::Range(1, 64));
   app.add_flag("--quiet", quiet, "do not log events on stderr");
+  app.add_option("--terrain-dir", cfg.terrain_dir, "folder a scenario's heightfield and friction-map files are read from (none: inline only)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--max-scenario-bytes", cfg.max_scenario_bytes, "largest scenario a create may carry")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, groundsim::net::kMaxScenarioBytes));
   app.add_option("--max-build-jobs", cfg.max_build_jobs, "scene builds at once (0: workers - 1, at least 1)")

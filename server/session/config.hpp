@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstddef>
 
+#include <string>
+
 #include "scenario/budget.hpp"
 
 namespace groundsim::session {
@@ -31,6 +33,10 @@ struct ServiceConfig {
   // built (scenario/budget.hpp); the service also holds its max_vehicles and
   // max_document_bytes to the two fields above, whichever is smaller.
   scenario::Budget budget = serverBudget();
+  // Where a scenario's files (heightfields, friction maps) may be read:
+  // relative paths inside this folder only (no absolute path, no "..", no
+  // symlink leading out), since scenarios come from remote clients; "": none.
+  std::string terrain_dir;
 
   static scenario::Budget serverBudget() {
     scenario::Budget b;

@@ -203,7 +203,9 @@ void SessionService::build(const Request& r) {
   std::shared_ptr<Session> session;
   try {
     // the budget is checked in validation, before anything is built
-    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json, cfg_.budget);
+    const scenario::Scenario sc = scenario::parseScenario(
+        r.scenario_json, cfg_.budget,
+        cfg_.terrain_dir.empty() ? scenario::FileAccess::none() : scenario::FileAccess::confined(cfg_.terrain_dir));
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
     const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
