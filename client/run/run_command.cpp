@@ -150,13 +150,14 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     while (sim.state().tick < target) {
       // progress is checked between chunks: a clock read per step costs more than the step
       const long long chunk = std::min<long long>(target - sim.state().tick, 2048);
-      if (!sim.step(chunk)) break;
+      if (!scenario::stepScene(scene, sim, chunk)) break;  // with the road cars' control tables
       bar.update(sim.state().t);
     }
     writeFrame();  // after a divergence: the last finite state, health set
   }
   // a duration that is not a whole number of frames still runs to its end
-  while (sim.healthy() && sim.state().tick < end_tick) sim.step(std::min<long long>(end_tick - sim.state().tick, 2048));
+  while (sim.healthy() && sim.state().tick < end_tick)
+    scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, 2048));
   r.wall = secondsSince(t0);
   bar.done();
   r.steps = sim.state().tick;

@@ -40,6 +40,10 @@ std::string csvHeader() {
   for (const char* col : {"spin", "normal", "friction", "slip"})
     for (const char* w : kWheelSuffix) h += std::string(",") + col + "_" + w;
   h += ",energy,health";
+  // road-car columns (empty for other vehicles' parts they lack: 0)
+  h += ",gear,engine_rpm,drive_power,yaw_rate";
+  for (const char* col : {"slip_ratio", "slip_angle", "travel"})
+    for (const char* w : kWheelSuffix) h += std::string(",") + col + "_" + w;
   return h;
 }
 
@@ -71,6 +75,13 @@ std::string csvRow(const groundsim::VehicleSample& s, const std::string& vehicle
   wheels([](const groundsim::WheelSample& w) { return w.slip; });
   put(row, s.energy);
   putText(row, groundsim::healthName(s.health));
+  put(row, s.gear);
+  put(row, s.engine_rpm);
+  put(row, s.drive_power);
+  put(row, s.yaw_rate);
+  wheels([](const groundsim::WheelSample& w) { return w.slip_ratio; });
+  wheels([](const groundsim::WheelSample& w) { return w.slip_angle; });
+  wheels([](const groundsim::WheelSample& w) { return w.travel; });
   return row;
 }
 

@@ -1,7 +1,11 @@
 // CSV rows of vehicle telemetry. Shared by `groundsim run` and the network
 // logger so that files from either have identical columns:
 //   t,x,y,z,vx,vy,vz,speed,vehicle,qw,qx,qy,qz,wx,wy,wz,
-//   spin_fl..spin_rr,normal_fl..,friction_fl..,slip_fl..,energy,health
+//   spin_fl..spin_rr,normal_fl..,friction_fl..,slip_fl..,energy,health,
+//   gear,engine_rpm,drive_power,yaw_rate,slip_ratio_fl..,slip_angle_fl..,travel_fl..
+// (the last group is a road car's: gear 1..n / -1 reverse / 0 neutral,
+// rpm, W at the wheels, rad/s about the body's vertical, slip ratio,
+// slip angle rad, suspension travel m with + = compression; 0 otherwise)
 // Units: s, m, m/s, quaternion body->world, rad/s (world), wheel spin rad/s
 // about the axle relative to the body, forces N, slip m/s, energy J (whole
 // scene), health one of ok|non_finite|... (physics healthName).

@@ -1,4 +1,4 @@
-// Bogacki-Shampine 3(2) with error control (see integrators.hpp).
+// Bogacki-Shampine 3(2) with error control (see integrator_methods.hpp).
 //
 // The tableau (Bogacki & Shampine 1989):
 //   k1 = f(y), k2 = f(y + h/2 k1), k3 = f(y + 3h/4 k2),
@@ -13,7 +13,7 @@
 #include <cmath>
 
 #include "forces.hpp"
-#include "integrators.hpp"
+#include "integrator_methods.hpp"
 
 namespace groundsim {
 namespace {

@@ -13,7 +13,7 @@ namespace {
 void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int point, int body,
                 int particle, int wheel, const Vec3& com) {
   Vec3 g;
-  const double H = m.ground->eval(p, &g);
+  const double H = ws.ground.eval(p, &g);
   if (!(H < 0.0)) return;
   const double gn = g.norm();
   if (!(gn > 0.0)) return;  // degenerate surface point: no normal, no force
@@ -35,11 +35,11 @@ void addContact(const Model& m, Workspace& ws, const Vec3& p, const Vec3& u, int
 // Deepest point of a wheel's circle: start from the direction of steepest
 // descent of H projected into the wheel plane, then repeat at the new point
 // (exact in one pass for a plane; two more passes settle curved grounds).
-Vec3 lowestCirclePoint(const Model& m, const Vec3& centre, const Vec3& axis, double radius) {
+Vec3 lowestCirclePoint(Workspace& ws, const Vec3& centre, const Vec3& axis, double radius) {
   Vec3 g;
   Vec3 p = centre;
   for (int iter = 0; iter < 3; ++iter) {
-    m.ground->eval(p, &g);
+    ws.ground.eval(p, &g);
     Vec3 d = -(g - g.dot(axis) * axis);
     const double dn = d.norm();
     d = dn < 1e-12 ? axis.unitOrthogonal() : Vec3(d / dn);  // lying flat: any rim point
@@ -64,10 +64,10 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     // ground, so none of the body's points (nor its wheel circle) can touch
     ws.body_far[i] = !b.has_contact_points ||
                      (m.opt.broad_phase && std::isfinite(L) &&
-                      m.ground->eval(ws.com[i], &g) > L * b.bound_radius * 1.000001);
+                      ws.ground.eval(ws.com[i], &g) > L * b.bound_radius * 1.000001);
     if (ws.body_far[i]) continue;
     const int begin = m.body_point_begin[i], end = m.body_point_end[i];
-    m.ground->heights(ws.px.data(), ws.py.data(), ws.pz.data(), begin, end, ws.H.data());
+    ws.ground.heights(ws.px.data(), ws.py.data(), ws.pz.data(), begin, end, ws.H.data());
     for (int k = begin; k < end; ++k)
       if (ws.H[k] < 0.0 && m.points[k].contact)
         addContact(m, ws, ws.pointPos(k), ws.pointVel(k), k, static_cast<int>(i), -1, m.points[k].wheel,
@@ -83,7 +83,7 @@ void detectGroundContacts(const Model& m, Workspace& ws) {
     const Wheel& wh = m.wheels[w];
     if (wh.contact != WheelContact::Circle || ws.body_far[wh.body]) continue;
     const Vec3 axis = ws.R[wh.body] * wh.axis;
-    const Vec3 p = lowestCirclePoint(m, ws.com[wh.body], axis, wh.radius);
+    const Vec3 p = lowestCirclePoint(ws, ws.com[wh.body], axis, wh.radius);
     const Vec3 u = ws.vel[wh.body] + ws.omega[wh.body].cross(p - ws.com[wh.body]);
     addContact(m, ws, p, u, -1, wh.body, -1, static_cast<int>(w), ws.com[wh.body]);
   }

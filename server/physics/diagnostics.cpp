@@ -99,7 +99,7 @@ bool checkHealth(const Model& m, State& s, Workspace& ws, bool check_energy) {
     return fail(s, Health::Speed, o.str());
   }
   if (check_energy) {
-    const double e = computeEnergy(m, s, ws).total();
+    const double e = computeEnergy(m, s, *ws.diagnostics).total();
     double weight = 0.0;
     for (const Body& b : m.bodies) weight += b.mass * m.opt.gravity.norm();
     for (const Particle& p : m.particles) weight += p.mass * m.opt.gravity.norm();

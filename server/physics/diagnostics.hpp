@@ -17,8 +17,10 @@ struct Energy {
   double total() const { return kinetic + gravity + spring + ground; }
 };
 
-// Recomputes kinematics and contacts of s into ws.
-Energy computeEnergy(const Model& m, const State& s, Workspace& ws);
+// Recomputes kinematics and contacts of s into scratch: pass a scratch that
+// is not the step's (Workspace::diagnostics), or its last force evaluation
+// is overwritten.
+Energy computeEnergy(const Model& m, const State& s, Workspace& scratch);
 Vec3 linearMomentum(const Model& m, const State& s);
 // world angular velocity of a body at state s
 Vec3 angularVelocity(const Model& m, const State& s, int body);
@@ -28,7 +30,8 @@ Vec3 angularMomentum(const Model& m, const State& s);
 // Sets s.health / s.health_reason if s has diverged: a non-finite state,
 // penetration or speed beyond model limits (ws holds the last force
 // evaluation), or, when check_energy, energy above the initial energy plus
-// drive work by more than the limit (recomputed into ws). True while healthy.
+// drive work by more than the limit (computed in ws.diagnostics, so ws's
+// force buffers are left as they are). True while healthy.
 bool checkHealth(const Model& m, State& s, Workspace& ws, bool check_energy);
 
 }  // namespace groundsim

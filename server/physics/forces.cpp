@@ -1,4 +1,5 @@
 #include "forces.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -13,6 +14,7 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   applyExplicitFriction(m, ws);      // regularised / sign models only
   accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
+  applyRoadCars(m, y, h, ws);        // tyres, suspension, powertrain, brakes, drag (road_car.cpp)
   // stick-slip friction and brakes need the velocities the other forces are
   // about to produce, so they come last
   solveVelocityConstraints(m, y, controls, h, ws);
@@ -37,6 +39,7 @@ void stateDerivative(const Model& m, const Eigen::VectorXd& y, const Workspace& 
     dy.segment<3>(o) = y.segment<3>(o + 3);
     dy.segment<3>(o + 3) = ws.particle_force[j] / m.particles[j].mass;
   }
+  if (m.aux_states > 0) dy.tail(m.aux_states) = ws.aux_dot;
 }
 
 }  // namespace groundsim

@@ -1,10 +1,36 @@
 #include "ground.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 
 namespace groundsim {
+
+bool groundPointBelow(GroundProbe& g, double x, double y, Vec3* point, Vec3* normal) {
+  // Newton on z, from z = 0, guarded by bisection once a bracket is known
+  double z = 0.0, lo = -1e9, hi = 1e9;
+  Vec3 grad;
+  for (int it = 0; it < 200; ++it) {
+    const double H = g.eval(Vec3(x, y, z), &grad);
+    if (std::abs(H) < 1e-12) break;
+    if (H > 0) hi = std::min(hi, z); else lo = std::max(lo, z);
+    double zn = (std::abs(grad.z()) > 1e-12) ? z - H / grad.z() : z - H;
+    if (!(zn > lo && zn < hi)) zn = (lo > -1e9 && hi < 1e9) ? 0.5 * (lo + hi) : z - H;
+    z = zn;
+  }
+  const double H = g.eval(Vec3(x, y, z), &grad);
+  if (!(std::abs(H) < 1e-6) || !(grad.norm() > 0)) return false;
+  *point = Vec3(x, y, z);
+  *normal = grad.normalized();
+  return true;
+}
+
+bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal) {
+  GroundProbe probe(g);
+  return groundPointBelow(probe, x, y, point, normal);
+}
+
 void Ground::heights(const double* x, const double* y, const double* z, int begin, int end,
                      double* H) const {
   Vec3 g;

@@ -2,6 +2,12 @@
 // below it. The core only asks H and grad H at a point (see the report,
 // eq. 10), so analytic grounds, parsed expressions and height fields are all
 // implementations of one small interface.
+//
+// A Ground is part of the immutable model and may be shared by simulations
+// on several threads: its const methods must be safe to call concurrently.
+// A ground that needs evaluation state (a parser's variables and stack)
+// keeps it out of the model, in a GroundEvaluator that each simulation's
+// Workspace owns (makeEvaluator).
 #pragma once
 
 #include <limits>
@@ -11,6 +17,15 @@
 #include "math.hpp"
 
 namespace groundsim {
+
+// Per-simulation evaluation state of a ground; one thread at a time.
+class GroundEvaluator {
+ public:
+  virtual ~GroundEvaluator() = default;
+  virtual double eval(const Vec3& p, Vec3* grad) = 0;
+  virtual void heights(const double* x, const double* y, const double* z, int begin, int end,
+                       double* H) = 0;
+};
 
 class Ground {
  public:
@@ -27,9 +42,35 @@ class Ground {
   // ground, so its points need no contact evaluation (broad phase).
   virtual double gradientBound() const { return std::numeric_limits<double>::infinity(); }
   virtual std::string describe() const = 0;
+  // The evaluator a simulation uses in its hot loop; nullptr (the default)
+  // means the ground is stateless and eval/heights are called directly.
+  virtual std::unique_ptr<GroundEvaluator> makeEvaluator() const { return nullptr; }
 };
 
 using GroundPtr = std::shared_ptr<const Ground>;
+
+// A ground with its evaluator, if it has one: what the force loop and the
+// scene placement call. Owned by one simulation (or one builder).
+class GroundProbe {
+ public:
+  explicit GroundProbe(const Ground& g) : ground_(&g), evaluator_(g.makeEvaluator()) {}
+  double eval(const Vec3& p, Vec3* grad) {
+    return evaluator_ ? evaluator_->eval(p, grad) : ground_->eval(p, grad);
+  }
+  void heights(const double* x, const double* y, const double* z, int begin, int end, double* H) {
+    if (evaluator_) evaluator_->heights(x, y, z, begin, end, H);
+    else ground_->heights(x, y, z, begin, end, H);
+  }
+  const Ground& ground() const { return *ground_; }
+
+ private:
+  const Ground* ground_;
+  std::unique_ptr<GroundEvaluator> evaluator_;
+};
+
+// Surface point below (x, y) (solving H(x, y, z) = 0 for z) and unit normal.
+bool groundPointBelow(GroundProbe& g, double x, double y, Vec3* point, Vec3* normal);
+bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal);
 
 // n . p - offset, with |n| = 1 (z = 0 is n = (0,0,1), offset 0).
 GroundPtr makePlane(const Vec3& normal, double offset);

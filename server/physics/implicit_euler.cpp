@@ -12,22 +12,13 @@
 #include <cmath>
 
 #include "forces.hpp"
-#include "integrators.hpp"
+#include "integrator_methods.hpp"
 
 namespace groundsim {
 
 void ImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double h) {
   const int n = m.stateSize();
-  const int nb = static_cast<int>(m.bodies.size());
-  if (scale_.size() != n) {
-    // first call: size the dense matrices once (never in later calls)
-    scale_.setOnes(n);
-    for (int i = 0; i < nb; ++i)
-      scale_.segment<3>(13 * i + 10).setConstant(std::max(m.bodies[i].inertia.diagonal().maxCoeff(), 1e-12));
-    ws.jac.setZero(n, n);
-    ws.lhs.setZero(n, n);
-    lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
-  }
+  // the matrices, their factorisation and fd_scale were sized by the Workspace
   Eigen::VectorXd& y = s.y;
   Eigen::VectorXd& yp = ws.ytmp;
   computeForces(m, y, s.applied, h, ws);
@@ -40,7 +31,7 @@ void ImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double h) {
   for (int j = 0; j < n; ++j) {
     const double yj = y[j];
     // a representable step, so (f(y + d) - f(y)) / d divides by what was added
-    const double d = (yj + root_eps * std::max(std::abs(yj), scale_[j])) - yj;
+    const double d = (yj + root_eps * std::max(std::abs(yj), ws.fd_scale[j])) - yj;
     yp[j] = yj + d;
     computeForces(m, yp, s.applied, h, ws);
     stateDerivative(m, yp, ws, ws.k2);
@@ -50,8 +41,8 @@ void ImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double h) {
   }
   ws.lhs.noalias() = -h * ws.jac;
   ws.lhs.diagonal().array() += 1.0;
-  lu_.compute(ws.lhs);
-  ws.dy.noalias() = lu_.solve(ws.k1);
+  ws.lu.compute(ws.lhs);
+  ws.dy.noalias() = ws.lu.solve(ws.k1);
   y += h * ws.dy;
   normalizeRotations(m, y);
   s.drive_work += h * power;

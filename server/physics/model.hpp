@@ -9,6 +9,7 @@
 
 #include "ground.hpp"
 #include "math.hpp"
+#include "road_car.hpp"
 
 namespace groundsim {
 
@@ -32,7 +33,7 @@ struct ContactParams {
   int friction_iterations = 50;    // -        most Gauss-Seidel sweeps over contacts and brakes (stops once converged)
 };
 
-// Bounds beyond which a run is declared diverged (see health.hpp).
+// Bounds beyond which a run is declared diverged (checkHealth, diagnostics.hpp).
 struct Limits {
   double max_penetration = 0.5;    // m
   double max_speed = 1000.0;       // m/s     any body or particle
@@ -133,8 +134,11 @@ struct Model {
   std::vector<std::string> vehicle_names;
   std::vector<int> vehicle_of_wheel;  // which vehicle each wheel belongs to
   std::vector<int> vehicle_body;      // the chassis body of each vehicle
+  std::vector<RoadCar> road_cars;     // road_car.hpp; their states follow the particles in y
+  int aux_states = 0;                 // kRoadCarStates per road car
 
-  int stateSize() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
+  int auxBase() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
+  int stateSize() const { return auxBase() + aux_states; }
 };
 
 }  // namespace groundsim

@@ -141,6 +141,14 @@ int ModelBuilder::beginVehicle(const std::string& name) {
 
 void ModelBuilder::setVehicleBody(int body) { m_.vehicle_body.at(current_vehicle_) = body; }
 
+void ModelBuilder::addRoadCar(const RoadCar& car, const std::array<double, kRoadCarStates>& initial) {
+  RoadCar rc = car;
+  rc.aux = m_.aux_states;
+  m_.road_cars.push_back(rc);
+  m_.aux_states += kRoadCarStates;
+  aux_.insert(aux_.end(), initial.begin(), initial.end());
+}
+
 BuiltModel ModelBuilder::build() {
   m_.contact_points.clear();
   m_.steered_points.clear();
@@ -192,6 +200,9 @@ BuiltModel ModelBuilder::build() {
     s.y.segment<3>(particleOffset(nb, j)) = particle_pos_[j];
     s.y.segment<3>(particleOffset(nb, j) + 3) = particle_vel_[j];
   }
+  for (size_t i = 0; i < aux_.size(); ++i) s.y[m_.auxBase() + static_cast<Eigen::Index>(i)] = aux_[i];
+  s.car_controls.assign(m_.road_cars.size(), CarControls{});
+  s.cars.assign(m_.road_cars.size(), CarRuntime{});
   s.controls.assign(m_.wheels.size(), WheelControl{});
   s.applied = s.controls;
   s.h_next = m_.opt.dt;

@@ -5,6 +5,7 @@
 // std::invalid_argument naming the part otherwise.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,6 +55,8 @@ class ModelBuilder {
   Vec3 bodyComOffset(int body) const { return com_offsets_[body]; }
   int beginVehicle(const std::string& name);  // following wheels belong to it
   void setVehicleBody(int body);
+  // Registers a road car (road_car_builder.cpp) with its initial states.
+  void addRoadCar(const RoadCar& car, const std::array<double, kRoadCarStates>& initial);
 
   BuiltModel build();
 
@@ -62,6 +65,7 @@ class ModelBuilder {
   std::vector<double> y_;  // initial state, grown as parts are added
   std::vector<Vec3> com_offsets_;
   std::vector<Vec3> particle_pos_, particle_vel_;
+  std::vector<double> aux_;  // road-car states
   int current_vehicle_ = -1;
 };
 

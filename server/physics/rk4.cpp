@@ -1,8 +1,8 @@
-// Classic Runge-Kutta 4 on the flat state (see integrators.hpp). Every stage
+// Classic Runge-Kutta 4 on the flat state (see integrator_methods.hpp). Every stage
 // passes the full step h to computeForces: velocity-level friction and brakes
 // then act as a relaxation of rate 1/h, which RK4's stability region holds.
 #include "forces.hpp"
-#include "integrators.hpp"
+#include "integrator_methods.hpp"
 
 namespace groundsim {
 

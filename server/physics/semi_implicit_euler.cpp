@@ -3,7 +3,8 @@
 // rotating each body by Rodrigues' formula with its new angular velocity.
 // Symplectic for conservative forces; stable for omega h < 2.
 #include "forces.hpp"
-#include "integrators.hpp"
+#include "integrator_methods.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -22,21 +23,18 @@ void SemiImplicitEuler::advance(const Model& m, State& s, Workspace& ws, double 
     // orientation (implicit midpoint, two fixed-point passes). With the
     // inertia of the start of the step only, a free body's energy drifts and
     // its precession runs fast; the midpoint rule is symmetric and does not.
+    // (one pass, from the start-of-step inertia the kinematics computed)
     auto q = bodyRot(s.y, i);
     const Quat q0(q);
-    const Mat3& Ib_inv = m.bodies[i].inv_inertia;
-    Vec3 omega = ws.inv_inertia_world[i] * L;
-    for (int pass = 0; pass < 1; ++pass) {
-      const Mat3 Rm = integrateRotation(q0, omega, 0.5 * h).toRotationMatrix();
-      omega = Rm * (Ib_inv * (Rm.transpose() * L));
-    }
-    q = integrateRotation(q0, omega, h);
+    q = rotateMidpoint(q0, m.bodies[i].inv_inertia, ws.inv_inertia_world[i] * L, L, h, 1);
   }
   for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
     const int o = particleOffset(nb, j);
     s.y.segment<3>(o + 3) += h * ws.particle_force[j] / m.particles[j].mass;
     s.y.segment<3>(o) += h * s.y.segment<3>(o + 3);
   }
+  kickRoadCars(m, s.y, ws, h);
+  driftRoadCars(m, s.y, ws, h);
 }
 
 }  // namespace groundsim

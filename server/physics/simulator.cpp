@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include "road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -25,25 +28,28 @@ void applyControls(const Model& m, double dt, State& s) {
     const double most = wh.steer_rate * dt;
     a.steer += std::clamp(target - a.steer, -most, most);
   }
+  applyRoadCarControls(m, dt, s);
 }
 
 bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
-  last_good_ = state_.y;  // same size every time: no allocation
-  const double t0 = state_.t;
+  ws_.last_good = state_;  // same sizes every time: no allocation
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
+  ws_.car_inputs = state_.cars;  // same size every step: no allocation
   for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
   if (checkHealth(m, state_, ws_, state_.tick % kEnergyCheckInterval == 0)) return true;
   // divergence is terminal; keep the last finite state so nothing downstream
   // ever sees NaN, and report the reason through state().health
-  state_.y = last_good_;
-  state_.t = t0;
-  --state_.tick;
+  const Health why = state_.health;
+  std::string reason = std::move(state_.health_reason);
+  state_ = ws_.last_good;
+  state_.health = why;
+  state_.health_reason = std::move(reason);
   return false;
 }
 
@@ -52,7 +58,10 @@ void Simulator::restore(const State& s) {
   if (&s != &state_) state_ = s;
   state_.controls.resize(model_->wheels.size());
   state_.applied.resize(model_->wheels.size());
-  if (state_.tick == 0) state_.initial_energy = computeEnergy(*model_, state_, ws_).total();
+  state_.car_controls.resize(model_->road_cars.size());
+  state_.cars.resize(model_->road_cars.size());
+  ws_.car_inputs = state_.cars;
+  if (state_.tick == 0) state_.initial_energy = energy().total();
 }
 
 bool Simulator::step(long long n) {
@@ -61,6 +70,12 @@ bool Simulator::step(long long n) {
   return true;
 }
 
-Energy Simulator::energy() { return computeEnergy(*model_, state_, ws_); }
+int Simulator::roadCarIndex(int vehicle) const {
+  for (size_t c = 0; c < model_->road_cars.size(); ++c)
+    if (model_->road_cars[c].vehicle == vehicle) return static_cast<int>(c);
+  return -1;
+}
+
+Energy Simulator::energy() const { return computeEnergy(*model_, state_, *ws_.diagnostics); }
 
 }  // namespace groundsim

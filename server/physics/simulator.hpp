@@ -22,7 +22,8 @@ class Simulator {
 
   // One step of opt.dt (in opt.substeps integrator steps): integrate, then
   // check. On divergence returns false, sets state().health and its reason,
-  // and keeps the last finite state; later calls do nothing.
+  // and restores the whole state from before the step (y, t, tick, h_next,
+  // drive work, applied controls); later calls do nothing.
   bool step();
   bool step(long long n);
 
@@ -34,11 +35,18 @@ class Simulator {
   // the reference of the energy divergence check, computed here.
   void restore(const State& s);
   std::vector<WheelControl>& controls() { return state_.controls; }
+  // A road car's controls (car: index among the model's road cars, see
+  // roadCarIndex); they hold until set again.
+  void setCarControls(int car, const CarControls& c) { state_.car_controls.at(static_cast<size_t>(car)) = c; }
+  const CarControls& carControls(int car) const { return state_.car_controls.at(static_cast<size_t>(car)); }
+  // The road car of a vehicle, or -1 when the vehicle is not one.
+  int roadCarIndex(int vehicle) const;
   const Workspace& workspace() const { return ws_; }
   bool healthy() const { return state_.health == Health::Ok; }
   long long forceEvaluations() const { return integrator_->evaluations; }
-  // Energy of the current state (recomputes the workspace's kinematics).
-  Energy energy();
+  // Energy of the current state, computed in the diagnostics' own scratch
+  // (workspace().diagnostics): the last force evaluation stays as it was.
+  Energy energy() const;
 
   static constexpr int kEnergyCheckInterval = 256;
 
@@ -47,7 +55,6 @@ class Simulator {
   State state_;
   Workspace ws_;
   std::unique_ptr<Integrator> integrator_;
-  Eigen::VectorXd last_good_;
 };
 
 }  // namespace groundsim

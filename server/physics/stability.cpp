@@ -161,6 +161,9 @@ std::vector<std::string> stabilityWarnings(const Model& m) {
         mass += m.bodies[m.wheels[w].body].mass;
         ++wheels;
       }
+    bool road_car = false;  // stands on its tyres' own vertical springs, not on the ground's
+    for (const RoadCar& rc : m.road_cars) road_car |= rc.vehicle == static_cast<int>(v);
+    if (road_car) continue;
     const double sag = mass * g / (std::max(wheels, 1) * S);
     if (sag < 0.5 * m.opt.limits.max_penetration) continue;
     std::ostringstream o;

@@ -4,6 +4,7 @@
 // y is one flat vector so that every integrator is generic over it:
 //   body i     at 13 i:        x (3, m) | q (4, quaternion x y z w) | v (3, m/s) | L (3, N m s, world)
 //   particle j at 13 nb + 6 j: x (3, m) | v (3, m/s)
+//   road car c at 13 nb + 6 np + 20 c: per wheel s, ds/dt, omega, u_x, u_y (road_car.hpp)
 // Angular momentum (not angular velocity) is the state, as in the report's
 // eq. (20): with no torque it is conserved exactly by every integrator.
 #pragma once
@@ -15,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "math.hpp"
+#include "road_car.hpp"
 
 namespace groundsim {
 
@@ -40,6 +42,8 @@ struct State {
   // command at the wheel's steering rate (an instant turn would snap the
   // axle points and fling the rim springs)
   std::vector<WheelControl> applied;
+  std::vector<CarControls> car_controls;  // (nroadcar) as commanded
+  std::vector<CarRuntime> cars;           // (nroadcar) as applied, gear (road_car.hpp)
   Health health = Health::Ok;
   std::string health_reason;
 };

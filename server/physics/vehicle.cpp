@@ -6,29 +6,10 @@
 
 namespace groundsim {
 
-bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal) {
-  // Newton on z, from z = 0, guarded by bisection once a bracket is known
-  double z = 0.0, lo = -1e9, hi = 1e9;
-  Vec3 grad;
-  for (int it = 0; it < 200; ++it) {
-    const double H = g.eval(Vec3(x, y, z), &grad);
-    if (std::abs(H) < 1e-12) break;
-    if (H > 0) hi = std::min(hi, z); else lo = std::max(lo, z);
-    double zn = (std::abs(grad.z()) > 1e-12) ? z - H / grad.z() : z - H;
-    if (!(zn > lo && zn < hi)) zn = (lo > -1e9 && hi < 1e9) ? 0.5 * (lo + hi) : z - H;
-    z = zn;
-  }
-  const double H = g.eval(Vec3(x, y, z), &grad);
-  if (!(std::abs(H) < 1e-6) || !(grad.norm() > 0)) return false;
-  *point = Vec3(x, y, z);
-  *normal = grad.normalized();
-  return true;
-}
-
 namespace {
 
 // Smallest signed distance of a wheel circle above the ground (sampled).
-double circleClearance(const Ground& g, const Vec3& c, const Vec3& axis, double r) {
+double circleClearance(GroundProbe& g, const Vec3& c, const Vec3& axis, double r) {
   const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
   double best = std::numeric_limits<double>::infinity();
   Vec3 grad;
@@ -54,8 +35,9 @@ std::pair<Mat3, Vec3> place(const ModelBuilder& b, const std::string& who, const
          Eigen::AngleAxisd(at.roll, Vec3::UnitX())).toRotationMatrix();
     return {R, origin};
   }
+  GroundProbe ground(*b.model().ground);
   Vec3 surf, n;
-  if (!groundPointBelow(*b.model().ground, at.position.x(), at.position.y(), &surf, &n))
+  if (!groundPointBelow(ground, at.position.x(), at.position.y(), &surf, &n))
     throw std::invalid_argument(who + ": no ground surface below its position");
   Vec3 f = Vec3(std::cos(at.yaw), std::sin(at.yaw), 0.0);
   f = (f - f.dot(n) * n).normalized();
@@ -67,7 +49,7 @@ std::pair<Mat3, Vec3> place(const ModelBuilder& b, const std::string& who, const
   for (int it = 0; it < 8; ++it) {
     double low = std::numeric_limits<double>::infinity();
     for (const Vec3& c : centres)
-      low = std::min(low, circleClearance(*b.model().ground, origin + R * c, R.col(1), r));
+      low = std::min(low, circleClearance(ground, origin + R * c, R.col(1), r));
     if (std::abs(low - at.clearance) < 1e-10) break;
     origin.z() += (at.clearance - low) / std::max(R(2, 2), 0.1);
   }

@@ -65,7 +65,6 @@ CarHandle addCar(ModelBuilder& b, const std::string& name, const CarParams& p, c
 // It is its own vehicle body; its drive torque is external (no carrier).
 CarHandle addLoneWheel(ModelBuilder& b, const std::string& name, const CarParams& p, const CarPlacement& at);
 
-// Surface point below (x, y) (solving H(x, y, z) = 0 for z) and unit normal.
-bool groundPointBelow(const Ground& g, double x, double y, Vec3* point, Vec3* normal);
+// groundPointBelow: see ground.hpp.
 
 }  // namespace groundsim

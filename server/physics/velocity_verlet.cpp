@@ -1,27 +1,15 @@
-// Velocity Verlet (kick-drift-kick) and the helpers the integrators share.
+// Velocity Verlet (kick-drift-kick).
+//
+// The end-of-step forces become the next step's start forces when they
+// cannot depend on velocity or on the step (no damping, friction, brakes or
+// drive) and the state and controls are still the ones they were evaluated
+// at: then reusing them gives the same bits as recomputing, so save/restore
+// stays bit-exact. The cache lives in the Workspace (ws.verlet).
 #include "forces.hpp"
-#include "integrators.hpp"
+#include "integrator_methods.hpp"
+#include "road_car_phase.hpp"
 
 namespace groundsim {
-
-Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& L, double h) {
-  const Mat3 R0 = q0.toRotationMatrix();
-  Vec3 omega = R0 * (inv_inertia_body * (R0.transpose() * L));
-  for (int pass = 0; pass < 2; ++pass) {
-    const Mat3 Rm = integrateRotation(q0, omega, 0.5 * h).toRotationMatrix();
-    omega = Rm * (inv_inertia_body * (Rm.transpose() * L));
-  }
-  return integrateRotation(q0, omega, h);
-}
-
-bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
-  if (m.opt.contact.friction_model == FrictionModel::StickSlip && m.opt.contact.friction > 0.0 &&
-      ws.ncontacts > 0)
-    return true;
-  for (const auto& c : applied)
-    if (c.brake_torque > 0.0) return true;
-  return false;
-}
 
 namespace {
 
@@ -29,6 +17,7 @@ namespace {
 // and any step: nothing in it reads a velocity (dashpots, ground damping,
 // friction, brakes) and no drive power is booked.
 bool velocityIndependent(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
+  if (!m.road_cars.empty()) return false;
   for (const auto& c : applied)
     if (c.brake_torque != 0.0 || c.drive_torque != 0.0) return false;
   for (const Spring& sp : m.springs)
@@ -65,22 +54,27 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
   const int np = static_cast<int>(m.particles.size());
   const double half = 0.5 * h;
 
-  const bool reuse = cache_valid_ && cache_y_.size() == s.y.size() &&
-                     (cache_y_.array() == s.y.array()).all() && sameControls(cache_controls_, s.applied);
+  Workspace::VerletCache& cache = ws.verlet;
+  const bool reuse = cache.valid && cache.y.size() == s.y.size() &&
+                     (cache.y.array() == s.y.array()).all() && sameControls(cache.controls, s.applied);
   double p0 = 0.0;  // drive power at the start (zero whenever the cache is used)
   if (reuse) {
-    kick(m, s.y, cache_force_, cache_torque_, cache_particle_force_, half);
+    kick(m, s.y, cache.force, cache.torque, cache.particle_force, half);
   } else {
     computeForces(m, s.y, s.applied, half, ws);
     ++evaluations;
     p0 = ws.drive_power;
     kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
   }
+  kickRoadCars(m, s.y, ws, half);  // never cached: a road car's forces read velocities
+  driftRoadCars(m, s.y, ws, h);
   // drift with the half-step momenta
   for (int i = 0; i < nb; ++i) {
     bodyPos(s.y, i) += h * bodyVel(s.y, i);
     auto q = bodyRot(s.y, i);
-    q = rotateMidpoint(Quat(q), m.bodies[i].inv_inertia, bodyMom(s.y, i), h);
+    const Quat q0(q);
+    const Vec3 L = bodyMom(s.y, i);
+    q = rotateMidpoint(q0, m.bodies[i].inv_inertia, angularVelocityAt(q0, m.bodies[i].inv_inertia, L), L, h, 2);
   }
   for (int j = 0; j < np; ++j) {
     const int o = particleOffset(nb, j);
@@ -89,16 +83,17 @@ void VelocityVerlet::advance(const Model& m, State& s, Workspace& ws, double h) 
   computeForces(m, s.y, s.applied, half, ws);
   ++evaluations;
   kick(m, s.y, ws.body_force, ws.body_torque, ws.particle_force, half);
+  kickRoadCars(m, s.y, ws, half);
   s.drive_work += half * (p0 + ws.drive_power);
 
-  cache_valid_ = velocityIndependent(m, s.applied, ws);
-  if (cache_valid_) {
-    // sized on the first use; same sizes afterwards, so no allocation
-    cache_y_ = s.y;
-    cache_controls_ = s.applied;
-    cache_force_ = ws.body_force;
-    cache_torque_ = ws.body_torque;
-    cache_particle_force_ = ws.particle_force;
+  cache.valid = velocityIndependent(m, s.applied, ws);
+  if (cache.valid) {
+    // sized by the Workspace: no allocation
+    cache.y = s.y;
+    cache.controls = s.applied;
+    cache.force = ws.body_force;
+    cache.torque = ws.body_torque;
+    cache.particle_force = ws.particle_force;
   }
 }
 

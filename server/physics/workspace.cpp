@@ -1,8 +1,10 @@
 #include "workspace.hpp"
 
+#include <algorithm>
+
 namespace groundsim {
 
-Workspace::Workspace(const Model& m) {
+Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) {
   const size_t nb = m.bodies.size(), np = m.points.size(), nq = m.particles.size(),
                nw = m.wheels.size();
   R.assign(nb, Mat3::Identity());
@@ -28,8 +30,31 @@ Workspace::Workspace(const Model& m) {
   wheel_normal.assign(nw, 0.0);
   wheel_friction.assign(nw, 0.0);
   wheel_slip.assign(nw, 0.0);
+  car_inputs.assign(m.road_cars.size(), CarRuntime{});
+  road.assign(m.road_cars.size(), RoadCarOut{});
+  aux_dot.setZero(m.aux_states);
   const int n = m.stateSize();
   for (Eigen::VectorXd* v : {&dy, &ytmp, &k1, &k2, &k3, &k4, &k5, &k6, &k7, &err}) v->setZero(n);
+  if (with_diagnostics && m.opt.integrator == IntegratorKind::ImplicitEuler) {
+    fd_scale.setOnes(n);
+    for (size_t i = 0; i < nb; ++i)
+      fd_scale.segment<3>(13 * i + 10).setConstant(std::max(m.bodies[i].inertia.diagonal().maxCoeff(), 1e-12));
+    jac.setZero(n, n);
+    lhs.setZero(n, n);
+    lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  }
+  if (with_diagnostics && m.opt.integrator == IntegratorKind::VelocityVerlet) {
+    verlet.y.setZero(n);
+    verlet.controls.assign(nw, WheelControl{});
+    verlet.force.assign(nb, Vec3::Zero());
+    verlet.torque.assign(nb, Vec3::Zero());
+    verlet.particle_force.assign(nq, Vec3::Zero());
+  }
+  last_good.y.setZero(n);
+  last_good.controls.assign(nw, WheelControl{});
+  last_good.applied.assign(nw, WheelControl{});
+  last_good.health_reason.reserve(256);
+  if (with_diagnostics) diagnostics = std::make_unique<Workspace>(m, false);
 }
 
 }  // namespace groundsim

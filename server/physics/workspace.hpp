@@ -1,13 +1,20 @@
-// Everything one force evaluation computes, sized once for a model so that
-// step() never allocates. Grouped by the phase that fills it; per-kind force
-// buffers stay separate until summed so telemetry and tests can read them.
+// All scratch of one simulation, sized once for a model so that step()
+// never allocates: what one force evaluation computes (grouped by the phase
+// that fills it; per-kind force buffers stay separate until summed so
+// telemetry and tests can read them), the ground's evaluator, the
+// integrators' scratch, the rollback copy, and a separate scratch for the
+// diagnostics so that sampling energy never overwrites the step's buffers.
+// Nothing here is part of the model: one Model serves many Workspaces.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include "model.hpp"
+#include "state.hpp"
 
 namespace groundsim {
 
@@ -31,7 +38,16 @@ struct Contact {
 };
 
 struct Workspace {
-  explicit Workspace(const Model& m);
+  // with_diagnostics: also build the diagnostics' own scratch (a Workspace
+  // of its own, without one in turn)
+  explicit Workspace(const Model& m, bool with_diagnostics = true);
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+  Workspace(Workspace&&) = default;
+  Workspace& operator=(Workspace&&) = default;
+
+  // the ground with this simulation's evaluation state (a parser's variables)
+  GroundProbe ground;
 
   // kinematics (report section 4.1): rotations and world points
   std::vector<Mat3> R;                 // (nbody) body to world
@@ -71,9 +87,34 @@ struct Workspace {
   double drive_power = 0.0;            // W
   int friction_sweeps = 0;             // Gauss-Seidel sweeps the last evaluation needed
 
+  // road cars (road_car.cpp): per-step inputs, per-evaluation outputs, state rates
+  std::vector<CarRuntime> car_inputs;  // (nroadcar)
+  std::vector<RoadCarOut> road;        // (nroadcar)
+  Eigen::VectorXd aux_dot;             // (aux_states)
+
   // integrator scratch
   Eigen::VectorXd dy, ytmp, k1, k2, k3, k4, k5, k6, k7, err;
+  // implicit Euler only (n x n, so left empty for the others): the Jacobian,
+  // I - h J and its factorisation, and the finite-difference scale per
+  // state component (positions and velocities on a metre scale,
+  // quaternions on 1, angular momenta on the body's largest inertia)
   Eigen::MatrixXd jac, lhs;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  Eigen::VectorXd fd_scale;
+  // velocity Verlet's end-of-step forces, reused as the next step's start
+  // forces while they are valid (see velocity_verlet.cpp)
+  struct VerletCache {
+    bool valid = false;
+    Eigen::VectorXd y;
+    std::vector<WheelControl> controls;
+    std::vector<Vec3> force, torque, particle_force;
+  } verlet;
+
+  // the state before the current step, restored whole on divergence
+  State last_good;
+
+  // the diagnostics' scratch (energy): never the buffers above
+  std::unique_ptr<Workspace> diagnostics;
 };
 
 }  // namespace groundsim

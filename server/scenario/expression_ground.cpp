@@ -5,25 +5,91 @@
 #include <numbers>
 #include <sstream>
 
+#include <muParser.h>
+
 namespace groundsim::scenario {
 
 ExpressionError::ExpressionError(int position, const std::string& reason)
     : std::runtime_error(position >= 0 ? "at position " + std::to_string(position) + ": " + reason : reason),
       position_(position), reason_(reason) {}
 
-ExpressionGround::ExpressionGround(std::string expression, double gradient_bound)
-    : text_(std::move(expression)), gradient_bound_(gradient_bound) {
-  try {
+namespace {
+
+// Fourth-order central difference (-f(2h) + 8 f(h) - 8 f(-h) + f(-2h)) / 12h,
+// muParser's Diff. Truncation error ~ h^4 |d5H| / 30 and rounding
+// ~ 1.5 eps |H| / h balance at h ~ eps^(1/5) L ~ 7e-4 L for a ground whose
+// features have length L. Grounds for vehicles vary on metre scales, so h
+// is fixed at 2^-10 m (~1e-3): a power of two keeps p +- h exact (for
+// |p| < 2^42 m) and the stencil symmetric. The step must not grow with |p|
+// (Diff's default would scale it to 1e-7 |p|): a ripple far from the origin
+// is as fine as one near it. Both errors are then ~1e-13 for metre-scale
+// grounds; coordinates near 1e4 m add ~1e-9 from the rounding of x itself.
+constexpr double kDiffStep = 0x1p-10;
+
+// One parser with its own variables: the evaluation state of one simulation.
+// muParser's bulk mode (Eval(results, n) over arrays) is not used: Debian
+// builds muParser with OpenMP, so each bulk call forks a thread team, which
+// for the 20-80 points of one body costs more than it saves and puts
+// threads inside a step that other simulations share the machine with.
+class ExpressionEvaluator final : public GroundEvaluator {
+ public:
+  explicit ExpressionEvaluator(const std::string& text) {
     // only x, y, z exist: muParser then rejects any other name as it parses
     // (no variable factory), which is the "unknown variable" check
     parser_.DefineVar("x", &x_);
     parser_.DefineVar("y", &y_);
     parser_.DefineVar("z", &z_);
     parser_.DefineConst("pi", std::numbers::pi);
-    parser_.SetExpr(text_);
-    // muParser finishes parsing at the first Eval: do it now, at load time
+    parser_.SetExpr(text);
+    // muParser finishes parsing at the first Eval: do it now, not in a step
     x_ = y_ = z_ = 0.0;
-    const double h0 = parser_.Eval();
+    origin_ = parser_.Eval();
+  }
+  ExpressionEvaluator(const ExpressionEvaluator&) = delete;  // the parser points at our members
+  ExpressionEvaluator& operator=(const ExpressionEvaluator&) = delete;
+
+  double origin() const { return origin_; }
+
+  double value(const Vec3& p) {
+    x_ = p.x();
+    y_ = p.y();
+    z_ = p.z();
+    return parser_.Eval();
+  }
+
+  double eval(const Vec3& p, Vec3* grad) override {
+    const double H = value(p);
+    if (grad) {
+      // Diff moves one variable and puts it back
+      *grad = Vec3(parser_.Diff(&x_, p.x(), kDiffStep), parser_.Diff(&y_, p.y(), kDiffStep),
+                   parser_.Diff(&z_, p.z(), kDiffStep));
+    }
+    return H;
+  }
+
+  // The contact test needs H alone: one evaluation per point instead of the
+  // 13 that eval() spends on the gradient.
+  void heights(const double* x, const double* y, const double* z, int begin, int end, double* H) override {
+    for (int k = begin; k < end; ++k) {
+      x_ = x[k];
+      y_ = y[k];
+      z_ = z[k];
+      H[k] = parser_.Eval();
+    }
+  }
+
+ private:
+  mu::Parser parser_;
+  double x_ = 0.0, y_ = 0.0, z_ = 0.0, origin_ = 0.0;
+};
+
+}  // namespace
+
+ExpressionGround::ExpressionGround(std::string expression, double gradient_bound)
+    : text_(std::move(expression)), gradient_bound_(gradient_bound) {
+  try {
+    const ExpressionEvaluator check(text_);
+    const double h0 = check.origin();
     if (!std::isfinite(h0)) {
       std::ostringstream s;
       s << "evaluates to " << h0 << " at the origin (0, 0, 0); H must be finite everywhere the vehicle goes";
@@ -39,59 +105,30 @@ ExpressionGround::ExpressionGround(std::string expression, double gradient_bound
   }
 }
 
-double ExpressionGround::value(const Vec3& p) const {
-  x_ = p.x();
-  y_ = p.y();
-  z_ = p.z();
-  return parser_.Eval();
+std::unique_ptr<GroundEvaluator> ExpressionGround::makeEvaluator() const {
+  return std::make_unique<ExpressionEvaluator>(text_);
 }
 
-// Fourth-order central difference (-f(2h) + 8 f(h) - 8 f(-h) + f(-2h)) / 12h.
-// Truncation error ~ h^4 |d5H| / 30 and rounding ~ 1.5 eps |H| / h balance
-// at h ~ eps^(1/5) L ~ 7e-4 L for a ground whose features have length L.
-// Grounds for vehicles vary on metre scales, so h is fixed at 2^-10 m
-// (~1e-3): a power of two keeps p +- h exact (for |p| < 2^42 m) and the
-// stencil symmetric. The step must not grow with |p|: a ripple far from the
-// origin is as fine as one near it (cos x at x = 1000 with h scaled to |x|
-// would be off by 1e-3). Both errors are then ~1e-13 for metre-scale
-// grounds; coordinates near 1e4 m add ~1e-9 from the rounding of x itself.
-double ExpressionGround::partial(const Vec3& p, int axis) const {
-  constexpr double h = 0x1p-10;
-  const double c = p[axis];
-  Vec3 q = p;
-  auto at = [&](double offset) {
-    q[axis] = c + offset;
-    return value(q);
-  };
-  const double f2 = at(2 * h), f1 = at(h), m1 = at(-h), m2 = at(-2 * h);
-  return (8.0 * (f1 - m1) - (f2 - m2)) / (12.0 * h);
-}
+double ExpressionGround::value(const Vec3& p) const { return ExpressionEvaluator(text_).value(p); }
 
-double ExpressionGround::eval(const Vec3& p, Vec3* grad) const {
-  if (grad) *grad = Vec3(partial(p, 0), partial(p, 1), partial(p, 2));
-  return value(p);
-}
+double ExpressionGround::eval(const Vec3& p, Vec3* grad) const { return ExpressionEvaluator(text_).eval(p, grad); }
 
 void ExpressionGround::heights(const double* x, const double* y, const double* z, int begin, int end,
                                double* H) const {
-  for (int k = begin; k < end; ++k) {
-    x_ = x[k];
-    y_ = y[k];
-    z_ = z[k];
-    H[k] = parser_.Eval();
-  }
+  ExpressionEvaluator(text_).heights(x, y, z, begin, end, H);
 }
 
 std::string ExpressionGround::describe() const { return "expression H(x,y,z) = " + text_; }
 
 std::optional<std::string> refuteGradientBound(const ExpressionGround& g, double bound) {
   // 41 x 41 x 9 points over [-20, 20]^2 x [-2, 2] m: where vehicles start
+  GroundProbe probe(g);
   Vec3 grad;
   for (int i = -20; i <= 20; ++i)
     for (int j = -20; j <= 20; ++j)
       for (int k = -4; k <= 4; ++k) {
         const Vec3 p(i, j, 0.5 * k);
-        g.eval(p, &grad);
+        probe.eval(p, &grad);
         const double n = grad.norm();
         if (std::isfinite(n) && n <= bound * (1.0 + 1e-9)) continue;
         std::ostringstream s;

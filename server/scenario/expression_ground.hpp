@@ -1,21 +1,24 @@
 // A ground given as text, H(x, y, z) = 0, evaluated with muParser.
 //
-// The text is parsed once, at construction; eval() only runs muParser's
-// bytecode. The gradient comes from fourth-order central differences (see
-// expression_ground.cpp for the step choice), accurate to about 1e-12
-// relative for smooth H varying on metre scales, far below what the
-// contact force can notice.
+// The text is checked at construction (it parses, names only x, y, z, and
+// is finite at the origin). The ground itself holds no parser: muParser
+// evaluates through variables it points at, which is state, and one
+// shared_ptr<const Model> may be stepped by several simulations on several
+// threads. Each simulation's Workspace gets its own parser and variables
+// from makeEvaluator(); the const eval()/heights() build a temporary one per
+// call (thread-safe, slow: for one-off queries, not the force loop).
 //
-// eval() is const but writes the parser's variables: like every Ground, one
-// instance serves one model, stepped by one thread at a time.
+// The gradient is muParser's own Diff, a fourth-order central difference
+// (see expression_ground.cpp for the step), accurate to about 1e-12
+// relative for smooth H varying on metre scales, far below what the contact
+// force can notice.
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
-
-#include <muParser.h>
 
 #include "physics/ground.hpp"
 
@@ -42,26 +45,19 @@ class ExpressionGround final : public Ground {
   // phase); see refuteGradientBound.
   explicit ExpressionGround(std::string expression,
                             double gradient_bound = std::numeric_limits<double>::infinity());
-  ExpressionGround(const ExpressionGround&) = delete;  // the parser points at our members
-  ExpressionGround& operator=(const ExpressionGround&) = delete;
 
   double eval(const Vec3& p, Vec3* grad) const override;
-  // The contact test needs H alone: one evaluation per point instead of the
-  // 13 that eval() spends on the gradient.
   void heights(const double* x, const double* y, const double* z, int begin, int end,
                double* H) const override;
   double value(const Vec3& p) const;
   double gradientBound() const override { return gradient_bound_; }
   std::string describe() const override;
+  std::unique_ptr<GroundEvaluator> makeEvaluator() const override;
   const std::string& expression() const { return text_; }
 
  private:
-  double partial(const Vec3& p, int axis) const;
-
   std::string text_;
   double gradient_bound_;
-  mutable mu::Parser parser_;
-  mutable double x_ = 0.0, y_ = 0.0, z_ = 0.0;
 };
 
 // A wrong gradient bound lets the broad phase skip real contacts, so the

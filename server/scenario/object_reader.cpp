@@ -254,6 +254,49 @@ Vec3 ObjectReader::vec3(const std::string& key, const Vec3& def, Range each) {
   return vector(key, Eigen::VectorXd(def), each);
 }
 
+std::vector<double> ObjectReader::numbers(const std::string& key, const std::vector<double>& def, Range each,
+                                          size_t min_len, size_t max_len) {
+  const bool present = has(key);
+  nlohmann::json* v = get(key, &nlohmann::json::is_array, "an array");
+  if (!v) {
+    if (!present && valid_) (*obj_)[key] = def;
+    return def;
+  }
+  if (v->size() < min_len || v->size() > max_len) {
+    issue(key, "expected " + std::to_string(min_len) + " to " + std::to_string(max_len) + " numbers, got " +
+                   std::to_string(v->size()));
+    return def;
+  }
+  std::vector<double> out;
+  bool ok = true;
+  for (size_t i = 0; i < v->size(); ++i) {
+    const nlohmann::json& e = (*v)[i];
+    const std::string sub = pathOf(key) + "/" + std::to_string(i);
+    if (!e.is_number()) {
+      issues_->add(sub, "expected a number, got " + jsonTypeName(e));
+      ok = false;
+      continue;
+    }
+    const double x = e.get<double>();
+    if (auto why = each.violation(x)) {
+      issues_->add(sub, *why);
+      ok = false;
+      continue;
+    }
+    out.push_back(x);
+  }
+  return ok ? out : def;
+}
+
+std::vector<ObjectReader> ObjectReader::objects(const std::string& key) {
+  std::vector<ObjectReader> out;
+  nlohmann::json* v = get(key, &nlohmann::json::is_array, "an array");
+  if (!v) return out;
+  for (size_t i = 0; i < v->size(); ++i)
+    out.push_back(ObjectReader(&(*v)[i], pathOf(key) + "/" + std::to_string(i), *issues_));
+  return out;
+}
+
 ObjectReader ObjectReader::object(const std::string& key) {
   known_.push_back(key);
   // inside a non-object nothing more can be read or reported

@@ -80,6 +80,11 @@ class ObjectReader {
   Vec3 vec3(const std::string& key, const Vec3& def, Range each = Range::any());
   // A nested object; created empty when absent (its readers fill defaults).
   ObjectReader object(const std::string& key);
+  // An array of numbers of length [min_len, max_len], each in range.
+  std::vector<double> numbers(const std::string& key, const std::vector<double>& def, Range each, size_t min_len,
+                              size_t max_len);
+  // An array of objects (absent: none), one reader per element.
+  std::vector<ObjectReader> objects(const std::string& key);
 
   // Reports every key that no accessor asked for.
   void finish();

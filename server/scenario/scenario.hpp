@@ -17,6 +17,7 @@
 
 #include "physics/model.hpp"
 #include "physics/model_builder.hpp"
+#include "physics/simulator.hpp"
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
 #include "scenario/budget.hpp"
@@ -116,8 +117,15 @@ void checkRunLength(const Scenario& s, double duration, const Budget& budget);
 // cannot be set.
 void applyOverride(nlohmann::json& doc, const std::string& assignment, const Budget& budget = Budget{});
 
+// A road car's scripted controls: row i holds from rows[i].t on.
+struct ControlTable {
+  int road_car = 0;               // index among the model's road cars
+  std::vector<TimedControls> rows;
+};
+
 struct Scene {
   BuiltModel built;               // model and initial state (controls set)
+  std::vector<ControlTable> control_tables;  // one per road car
   std::vector<CarHandle> cars;    // one per vehicle, in document order
   std::vector<std::string> vehicle_names;
   double duration = 5.0;          // s
@@ -130,5 +138,10 @@ struct Scene {
 // Builds the physics model and initial state. Throws ScenarioError for
 // problems only visible while building (e.g. no ground below a vehicle).
 Scene buildScene(const Scenario& s);
+
+// n steps of the scene, each starting with the road cars' controls of its
+// table row at the step's start time (rows at t take effect on the first
+// step starting at or after t). False once the run diverged.
+bool stepScene(const Scene& scene, Simulator& sim, long long n);
 
 }  // namespace groundsim::scenario

@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "physics/road_car_builder.hpp"
 #include "physics/stability.hpp"
 #include "physics/integrator.hpp"
 #include "scenario/object_reader.hpp"
@@ -49,12 +50,17 @@ std::string vehiclePath(const Scenario& s, size_t i) {
 }
 
 // Radius of the vehicle's footprint about its centre, in the ground plane.
-double footprint(const CarParams& p) {
+double footprint(const VehicleSpec& v) {
+  if (v.road_car) {
+    const RoadCarParams& p = v.road;
+    return std::hypot(std::max(p.cg_to_front, p.wheelbase - p.cg_to_front) + p.wheel_radius, 0.5 * p.track + 0.2);
+  }
+  const CarParams& p = v.params;
   return std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length);
 }
 
 bool overlap(const VehicleSpec& a, const VehicleSpec& b, double* dist, double* need) {
-  *need = footprint(a.params) + footprint(b.params);
+  *need = footprint(a) + footprint(b);
   const Vec3 d = b.placement.position - a.placement.position;
   // with on_ground only x and y count; placed freely, z separates too
   *dist = (a.placement.on_ground || b.placement.on_ground) ? std::hypot(d.x(), d.y()) : d.norm();
@@ -70,7 +76,7 @@ bool overlap(const VehicleSpec& a, const VehicleSpec& b, double* dist, double* n
 // vehicles piled on one spot used to list 499,500 pairs).
 void checkOverlaps(const Scenario& s, IssueList& issues) {
   double cell = 0.0;
-  for (const VehicleSpec& v : s.vehicles) cell = std::max(cell, 2.0 * footprint(v.params));
+  for (const VehicleSpec& v : s.vehicles) cell = std::max(cell, 2.0 * footprint(v));
   if (!(cell > 0.0)) return;
   auto cellOf = [&](const VehicleSpec& v) {
     // positions are bounded (|x| <= 1e9), so the cell indices fit
@@ -125,8 +131,10 @@ Scene buildScene(const Scenario& s) {
   for (size_t i = 0; i < s.vehicles.size(); ++i) {
     const VehicleSpec& v = s.vehicles[i];
     try {
-      scene.cars.push_back((v.lone_wheel ? addLoneWheel(builder, v.name, v.params, v.placement)
-                                    : addCar(builder, v.name, v.params, v.placement)));
+      scene.cars.push_back(v.road_car     ? addRoadCar(builder, v.name, v.road, v.placement)
+                           : v.lone_wheel ? addLoneWheel(builder, v.name, v.params, v.placement)
+                                          : addCar(builder, v.name, v.params, v.placement));
+      if (v.road_car) scene.control_tables.push_back({static_cast<int>(scene.control_tables.size()), v.controls});
       scene.vehicle_names.push_back(v.name);
     } catch (const std::invalid_argument& e) {
       issues.add(vehiclePath(s, i), e.what());
@@ -139,11 +147,35 @@ Scene buildScene(const Scenario& s) {
     throw ScenarioError({Issue{"", std::string("cannot build the model: ") + e.what()}});
   }
   for (size_t i = 0; i < s.vehicles.size(); ++i)
-    setControls(s.vehicles[i].control, scene.cars[i], scene.built.initial.controls);
+    if (!s.vehicles[i].road_car) setControls(s.vehicles[i].control, scene.cars[i], scene.built.initial.controls);
+  for (const ControlTable& ct : scene.control_tables)
+    if (!ct.rows.empty() && ct.rows.front().t <= 0.0)
+      scene.built.initial.car_controls.at(static_cast<size_t>(ct.road_car)) = ct.rows.front().controls;
   scene.duration = s.duration;
   scene.output_rate = s.output_rate;
   scene.warnings = stabilityWarnings(*scene.built.model);
   return scene;
+}
+
+}  // namespace groundsim::scenario
+
+namespace groundsim::scenario {
+
+bool stepScene(const Scene& scene, Simulator& sim, long long n) {
+  if (scene.control_tables.empty()) return sim.step(n);
+  for (long long i = 0; i < n; ++i) {
+    // half a step of slack: a row at t = k dt applies to step k despite rounding
+    const double t = sim.state().t + 0.5 * sim.model().opt.dt;
+    for (const ControlTable& ct : scene.control_tables) {
+      const TimedControls* row = nullptr;
+      for (const TimedControls& r : ct.rows)
+        if (r.t <= t) row = &r;
+        else break;
+      if (row) sim.setCarControls(ct.road_car, row->controls);
+    }
+    if (!sim.step()) return false;
+  }
+  return true;
 }
 
 }  // namespace groundsim::scenario

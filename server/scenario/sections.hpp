@@ -19,5 +19,9 @@ void readContact(ObjectReader contact, ContactParams& c);
 GroundSpec readGround(ObjectReader ground, const Budget& budget);
 // vehicle_section.cpp: one vehicle object.
 VehicleSpec readVehicle(ObjectReader vehicle);
+// road_car_section.cpp: the keys of a road car, and its `controls` table
+// (gears: how many forward gears a "gear" entry may name).
+void readRoadCar(ObjectReader& vehicle, RoadCarParams& p);
+std::vector<TimedControls> readControlTable(ObjectReader& vehicle, int gears);
 
 }  // namespace groundsim::scenario

@@ -80,7 +80,16 @@ VehicleSpec readVehicle(ObjectReader r) {
   v.name = r.string("name", v.name);
   if (!validName(v.name))
     r.issue("name", "must be 1-32 letters, digits, '_' or '-', got " + quote(v.name));
-  v.lone_wheel = r.choice("kind", "car", {"car", "wheel"}) == "wheel";
+  const std::string kind = r.choice("kind", "car", {"car", "wheel", "road_car"});
+  v.lone_wheel = kind == "wheel";
+  v.road_car = kind == "road_car";
+  if (v.road_car) {
+    readRoadCar(r, v.road);
+    readInitial(r.object("initial"), v.placement);
+    v.controls = readControlTable(r, static_cast<int>(v.road.powertrain.gears.size()));
+    r.finish();
+    return v;
+  }
   readParams(r, v.params);
   if (v.lone_wheel && v.params.deformable)
     r.issue("wheel_model", "a lone wheel is \"rim_points\" or \"circle\"; \"deformable\" needs a car");

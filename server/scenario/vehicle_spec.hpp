@@ -3,7 +3,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "physics/road_car.hpp"
 #include "physics/vehicle.hpp"
 
 namespace groundsim::scenario {
@@ -17,12 +19,22 @@ struct VehicleControlSpec {
   double steer = 0.0;               // rad    front wheels
 };
 
+// One row of a road car's `controls` table, with the fields earlier rows set
+// held (road_car_section.cpp).
+struct TimedControls {
+  double t = 0.0;                   // s      from this time on
+  CarControls controls;
+};
+
 struct VehicleSpec {
   std::string name = "car";
   bool lone_wheel = false;  // "kind": "wheel": one wheel, no body (wheel_* keys and initial only)
   CarParams params;
   CarPlacement placement;
   VehicleControlSpec control;
+  bool road_car = false;    // "kind": "road_car": the keys of road_car_section.cpp instead of the report car's
+  RoadCarParams road;
+  std::vector<TimedControls> controls;  // road car only; empty: none (all zero)
 };
 
 }  // namespace groundsim::scenario

@@ -4,25 +4,12 @@
 // bit-exact save/restore and no allocation per step.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 
 #include "physics/diagnostics.hpp"
 #include "scenes.hpp"
-
-// Count every malloc in this executable (alloc_test.cpp owns operator new,
-// which forwards here too), so a test can prove a loop allocates nothing.
-// Forwards to glibc's own allocator.
-extern "C" void* __libc_malloc(std::size_t n);
-namespace {
-std::atomic<long> g_mallocs{0};
-}
-extern "C" void* malloc(std::size_t n) {
-  g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
 
 using namespace groundsim;
 using namespace groundsim::test;
@@ -241,25 +228,6 @@ TEST_P(EveryIntegrator, SaveAndRestoreContinuesBitForBit) {
     EXPECT_EQ(x.state().drive_work, z.state().drive_work);
     EXPECT_EQ(x.state().h_next, z.state().h_next);
   }
-}
-
-TEST_P(EveryIntegrator, StepAllocatesNothingAfterWarmUp) {
-  Options o;
-  o.dt = 2e-4;
-  o.integrator = GetParam();
-  CarPlacement at;
-  at.wheel_spin = 5.0;
-  CarParams p;
-  p.coupling = WheelCoupling::Bearing;
-  p.rim_points = 8;
-  auto built = reportCar(o, makeCosineWave(0.5, 2 * kPi), p, at);
-  Simulator sim(built.model, built.initial);
-  sim.controls()[1].brake_torque = 0.05;
-  sim.controls()[0].steer = 0.2;
-  ASSERT_TRUE(sim.step(3));
-  const long before = g_mallocs.load();
-  ASSERT_TRUE(sim.step(300));  // crosses an energy check (every 256 steps)
-  EXPECT_EQ(g_mallocs.load(), before);
 }
 
 TEST_P(EveryIntegrator, CountsForceEvaluations) {

@@ -1,9 +1,10 @@
-// The concrete integrators (one file each); see integrator.hpp.
+// The concrete integrators (one .cpp each) and the helpers they share.
+// The interface, the factory and the names are in integrator.hpp; all their
+// scratch lives in the Workspace (workspace.hpp), so an Integrator object
+// holds only its statistics.
 #pragma once
 
 #include <vector>
-
-#include <Eigen/LU>
 
 #include "integrator.hpp"
 
@@ -32,17 +33,6 @@ class VelocityVerlet final : public Integrator {
  public:
   void advance(const Model& m, State& s, Workspace& ws, double h) override;
   const char* name() const override { return "velocity_verlet"; }
-
- private:
-  // The end-of-step forces become the next step's start forces when they
-  // cannot depend on velocity or on the step (no damping, friction, brakes
-  // or drive) and the state and controls are still the ones they were
-  // evaluated at: then reusing them gives the same bits as recomputing, so
-  // save/restore stays bit-exact.
-  bool cache_valid_ = false;
-  Eigen::VectorXd cache_y_;
-  std::vector<WheelControl> cache_controls_;
-  std::vector<Vec3> cache_force_, cache_torque_, cache_particle_force_;
 };
 
 // Classic fourth-order Runge-Kutta on the flat state vector, quaternions
@@ -63,10 +53,6 @@ class ImplicitEuler final : public Integrator {
  public:
   void advance(const Model& m, State& s, Workspace& ws, double h) override;
   const char* name() const override { return "implicit_euler"; }
-
- private:
-  Eigen::VectorXd scale_;  // typical magnitude per component (perturbation size)
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 
 // Bogacki-Shampine 3(2) with first-same-as-last, error-controlled by
@@ -81,12 +67,17 @@ class Adaptive final : public Integrator {
   long long accepted = 0, rejected = 0;  // substep statistics
 };
 
-// ---- helpers shared by the integrators (velocity_verlet.cpp) ----
+// ---- helpers shared by the integrators (integrator.cpp) ----
 
 // q0 advanced over h by the angular velocity at the half-step orientation,
-// omega = R I^-1 R^T L (implicit midpoint, two fixed-point passes): keeps a
-// free body's energy and precession right, unlike the start-of-step inertia.
-Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& L, double h);
+// omega = R I^-1 R^T L (implicit midpoint by fixed-point passes, starting
+// from omega0, the angular velocity at q0): keeps a free body's energy and
+// precession right, unlike the start-of-step inertia. Semi-implicit Euler
+// takes one pass, velocity Verlet two.
+Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& omega0, const Vec3& L,
+                    double h, int passes);
+// omega = R I^-1 R^T L at orientation q.
+Vec3 angularVelocityAt(const Quat& q, const Mat3& inv_inertia_body, const Vec3& L);
 
 // True when the last force evaluation in ws depended on the step h passed to
 // computeForces: stick-slip contacts with friction, or brakes.

@@ -1,0 +1,224 @@
+// One evaluation of the road cars' forces (see road_car.hpp for the parts).
+//
+// The suspension is a prismatic joint solved analytically: each wheel
+// carrier moves with the body except along the strut axis n (the body's
+// z), where its travel s is a state. With the body's accelerations a (6)
+// and the carrier's along-strut equation
+//   m_u (n . a_hub + s'') = Q = F_tyre . n + m_u g . n - F_spring,
+// eliminating s'' leaves the body with the 6x6 mass matrix
+//   M_car - sum m_u J^T n n^T J   (J: body twist -> hub velocity),
+// i.e. the whole car's mass and inertia less the wheels' motion along their
+// struts. No stiff joint springs: the stiffest modes left are the tyre's
+// vertical spring on the unsprung mass (~16 Hz) and the tyre's deflection
+// spring on the wheel's spin inertia, both far below 1 / dt at dt = 2 ms.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+#include "road_car_phase.hpp"
+#include "steering.hpp"
+#include "tyre.hpp"
+
+namespace groundsim {
+namespace {
+
+double springForce(const RoadCar& rc, int w, double s, double sd, double s_other) {
+  const SuspensionParams& sp = rc.p.suspension[w < 2 ? 0 : 1];
+  double f = rc.preload[w] + rc.spring_rate[w] * s + rc.damper_rate[w] * sd;
+  if (s > sp.bump_travel) f += sp.stop_stiffness * (s - sp.bump_travel);
+  if (s < -sp.droop_travel) f += sp.stop_stiffness * (s + sp.droop_travel);
+  f += sp.anti_roll * (s - s_other);
+  return f;
+}
+
+}  // namespace
+
+void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
+  const int base = m.auxBase();
+  const Vec3& g = m.opt.gravity;
+  for (size_t c = 0; c < m.road_cars.size(); ++c) {
+    const RoadCar& rc = m.road_cars[c];
+    const RoadCarParams& p = rc.p;
+    const CarRuntime& in = ws.car_inputs[c];
+    RoadCarOut& out = ws.road[c];
+    const int b = rc.body, A = base + rc.aux;
+    const Mat3& R = ws.R[b];
+    const Vec3 nb = R.col(2), v = ws.vel[b], om_b = ws.omega[b];
+    const Mat3 Iw = R * m.bodies[b].inertia * R.transpose();
+    const double r = p.wheel_radius, I = p.wheel_inertia, mu_ground = m.opt.contact.friction;
+
+    // powertrain: one engine for the driven wheels
+    const PowertrainParams& pt = p.powertrain;
+    const bool fd = pt.drive != Drive::Rear, rd = pt.drive != Drive::Front;
+    double wsum = 0.0;
+    int nd = 0;
+    for (int w = 0; w < 4; ++w)
+      if ((w < 2 && fd) || (w >= 2 && rd)) {
+        wsum += y[A + roadAux(w, 2)];
+        ++nd;
+      }
+    const DriveOut drive = driveTorque(pt, in.gear, in.applied.throttle, nd ? wsum / nd : 0.0);
+    out.engine_rpm = drive.engine_omega * 60.0 / (2.0 * 3.14159265358979323846);
+    double axle_torque[2] = {0.0, 0.0};  // open differential: equal halves per axle
+    if (pt.drive == Drive::All) {
+      axle_torque[0] = pt.front_share * drive.wheel_torque;
+      axle_torque[1] = (1.0 - pt.front_share) * drive.wheel_torque;
+    } else {
+      axle_torque[pt.drive == Drive::Front ? 0 : 1] = drive.wheel_torque;
+    }
+
+    double delta[4] = {0.0, 0.0, 0.0, 0.0};
+    ackermannAngles(p.steering, p.wheelbase, p.track, in.steer_angle, &delta[0], &delta[1]);
+
+    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+    M.topLeftCorner<3, 3>() = m.bodies[b].mass * Mat3::Identity();
+    M.bottomRightCorner<3, 3>() = Iw;
+    Eigen::Matrix<double, 6, 1> G;
+    G.head<3>() = ws.body_force[b] - 0.5 * p.aero.air_density * p.aero.drag_area * v.norm() * v;
+    G.tail<3>() = ws.body_torque[b] - om_b.cross(Iw * om_b);
+    double Q[4];
+    Vec3 rhub[4];
+    double drive_power = 0.0;
+    for (int w = 0; w < 4; ++w) {
+      const int ax = w < 2 ? 0 : 1;
+      const TyreParams& tp = p.tyre[ax];
+      RoadWheelOut& o = out.wheel[w];
+      const double s = y[A + roadAux(w, 0)], sd = y[A + roadAux(w, 1)], om = y[A + roadAux(w, 2)];
+      const double ux = y[A + roadAux(w, 3)], uy = y[A + roadAux(w, 4)];
+      const Vec3 r_hub = R * rc.hub[w] + s * nb;
+      rhub[w] = r_hub;
+      const Vec3 p_hub = ws.com[b] + r_hub, v_hub = v + om_b.cross(r_hub) + sd * nb;
+      const double cd = std::cos(delta[w]), sn = std::sin(delta[w]);
+      const Vec3 axle = R * Vec3(-sn, cd, 0.0);
+      Vec3 grad;
+      const double H = m.ground->eval(p_hub, &grad);
+      const double gn = std::max(grad.norm(), 1e-12);
+      const Vec3 n = grad / gn;
+      const double dist = H / gn, pen = r - dist;
+      Vec3 F = Vec3::Zero();
+      double Fz = 0.0, dux, duy;
+      Vec3 r_c = r_hub - r * nb;
+      if (pen > 0.0) {
+        r_c = r_hub - dist * n;
+        const Vec3 head = R * Vec3(cd, sn, 0.0);
+        o.tx = (head - head.dot(n) * n).normalized();
+        o.ty = n.cross(o.tx);
+        const Vec3 vc = v + om_b.cross(r_c) + sd * nb;
+        const double vx = vc.dot(o.tx), vy = vc.dot(o.ty);
+        Fz = std::max(0.0, tp.vertical_stiffness * pen - tp.vertical_damping * v_hub.dot(n));
+        deflectionRates(tp, vx, vy, om * r, ux, uy, &dux, &duy);
+        double Fx, Fy;
+        tyreForces(tp, Fz, rc.nominal_load[w], mu_ground, ux / tp.relaxation_length, uy / tp.relaxation_length,
+                   &Fx, &Fy);
+        // low-speed damping of the deflection springs (they would ring at standstill)
+        const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
+        Fx += tp.low_speed_damping * fade * dux;
+        Fy += tp.low_speed_damping * fade * duy;
+        const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
+        if (mag > cap && mag > 0.0) {
+          Fx *= cap / mag;
+          Fy *= cap / mag;
+        }
+        F = Fx * o.tx + Fy * o.ty + Fz * n;
+        o.fx = Fx;
+        o.fy = Fy;
+        o.slip_ratio = (om * r - vx) / std::max(std::abs(vx), 0.5);
+        o.slip_angle = std::atan2(vy, std::max(std::abs(vx), 0.5));
+        o.contact = true;
+      } else {
+        dux = -20.0 * ux;  // off the ground the tread relaxes
+        duy = -20.0 * uy;
+        o.fx = o.fy = o.slip_ratio = o.slip_angle = 0.0;
+        o.contact = false;
+      }
+      o.r = r_c;
+      // spin: drive, rolling resistance, the tyre's moment about the axle, then the brake
+      const double Mha = (r_c - r_hub).cross(F).dot(axle);
+      const double t_rr = -tp.rolling_resistance * Fz * r * std::tanh(om * r / 0.1);
+      double t_d = axle_torque[ax] * 0.5 + in.applied.wheel_torque[w];
+      const double vx_c = o.contact ? (v + om_b.cross(r_c)).dot(o.tx) : 0.0;
+      const double kp = tp.peak_slip_ratio;
+      if (p.brakes.traction_control && o.contact && t_d > 0.0) {
+        const double w_top = (vx_c + std::max(kp * std::abs(vx_c), 0.3)) / r;
+        t_d = std::min(t_d, std::max(0.0, I * (w_top - om) / h - (t_rr + Mha)));
+      }
+      const BrakeParams& bp = p.brakes;
+      const bool hand = ax == 1 && in.applied.handbrake;
+      const double cap = in.applied.brake * bp.max_torque * 0.5 * (ax == 0 ? bp.front_share : 1.0 - bp.front_share) +
+                         (hand ? bp.handbrake_torque : 0.0);
+      const double t_other = t_d + t_rr + Mha;
+      double t_b = std::clamp(-(I * om / h + t_other), -cap, cap);  // stops the wheel within h at most
+      if (bp.abs && !hand && o.contact && std::abs(vx_c) > bp.abs_min_speed) {
+        const double lim = I * ((1.0 - kp) * vx_c / r - om) / h - t_other;
+        t_b = vx_c > 0.0 ? std::max(t_b, std::min(0.0, lim)) : std::min(t_b, std::max(0.0, lim));
+      }
+      o.drive_torque = t_d;
+      o.brake_torque = t_b;
+      o.normal = Fz;
+      o.force = F;
+      o.travel = s;
+      o.steer = delta[w];
+      drive_power += t_d * om;
+
+      const double s_other = y[A + roadAux(w ^ 1, 0)];
+      Q[w] = F.dot(nb) + p.wheel_mass * g.dot(nb) - springForce(rc, w, s, sd, s_other);
+      G.head<3>() += F - Q[w] * nb;
+      G.tail<3>() += r_c.cross(F) - (Mha + t_d + t_b) * axle - Q[w] * r_hub.cross(nb);
+      Eigen::Matrix<double, 6, 1> j;
+      j << nb, r_hub.cross(nb);
+      M.noalias() -= p.wheel_mass * j * j.transpose();
+      double* d = ws.aux_dot.data() + rc.aux + 5 * w;
+      d[0] = sd;
+      d[2] = (t_d + t_b + t_rr + Mha) / I;
+      d[3] = dux;
+      d[4] = duy;
+    }
+    const Eigen::Matrix<double, 6, 1> acc = M.llt().solve(G);  // M is positive definite
+    const Vec3 a_lin = acc.head<3>(), alpha = acc.tail<3>();
+    ws.body_force[b] = m.bodies[b].mass * a_lin;
+    ws.body_torque[b] = Iw * alpha + om_b.cross(Iw * om_b);
+    for (int w = 0; w < 4; ++w)
+      ws.aux_dot[rc.aux + 5 * w + 1] = Q[w] / p.wheel_mass - (nb.dot(a_lin) + rhub[w].cross(nb).dot(alpha));
+    out.drive_power = drive_power;
+    ws.drive_power += drive_power;
+  }
+}
+
+void kickRoadCars(const Model& m, Eigen::VectorXd& y, const Workspace& ws, double k) {
+  const int base = m.auxBase();
+  for (const RoadCar& rc : m.road_cars)
+    for (int w = 0; w < 4; ++w) {
+      const int i = rc.aux + 5 * w;
+      y[base + i + 1] += k * ws.aux_dot[i + 1];
+      y[base + i + 2] += k * ws.aux_dot[i + 2];
+    }
+}
+
+void driftRoadCars(const Model& m, Eigen::VectorXd& y, const Workspace& ws, double h) {
+  const int base = m.auxBase();
+  for (size_t c = 0; c < m.road_cars.size(); ++c) {
+    const RoadCar& rc = m.road_cars[c];
+    const int b = rc.body;
+    // body velocities after the kick (angular from the new momentum)
+    const Vec3 v = bodyVel(y, b), om_b = ws.inv_inertia_world[b] * bodyMom(y, b);
+    for (int w = 0; w < 4; ++w) {
+      const int i = base + rc.aux + 5 * w;
+      const RoadWheelOut& o = ws.road[c].wheel[w];
+      y[i] += h * y[i + 1];
+      if (!o.contact) {
+        y[i + 3] += h * ws.aux_dot[i - base + 3];
+        y[i + 4] += h * ws.aux_dot[i - base + 4];
+        continue;
+      }
+      const Vec3 vc = v + om_b.cross(o.r);
+      double dux, duy;
+      deflectionRates(rc.p.tyre[w < 2 ? 0 : 1], vc.dot(o.tx), vc.dot(o.ty), y[i + 2] * rc.p.wheel_radius, y[i + 3],
+                      y[i + 4], &dux, &duy);
+      y[i + 3] += h * dux;
+      y[i + 4] += h * duy;
+    }
+  }
+}
+
+}  // namespace groundsim
