@@ -1,0 +1,166 @@
+// What every browser test shares: the real groundsim-server and
+// groundsim-web (bound to 127.0.0.1, port chosen by the kernel) on the
+// private LCM bus of the test's network namespace (netns_run.sh), and
+// Debian's Chromium driven by playwright-core, rendering WebGL 2 in software
+// (SwiftShader). Tests end by calling pass() or fail(); a test that cannot
+// run here (no Chromium) exits 77, which CTest reports as skipped.
+import { spawn, spawnSync } from 'node:child_process';
+import { createRequire } from 'node:module';
+import { existsSync } from 'node:fs';
+
+const env = process.env;
+export const SERVER = env.GROUNDSIM_SERVER, BRIDGE = env.GROUNDSIM_WEB, CLI = env.GROUNDSIM_CLI;
+export const CONFIGS = env.GROUNDSIM_CONFIG_DIR;
+export const LCM_URL = 'udpm://239.255.76.67:7667?ttl=0';
+export const CHROMIUM = env.GROUNDSIM_CHROMIUM || '/usr/bin/chromium';
+// no network: background services of Chromium would try to reach out
+export const CHROMIUM_ARGS = ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
+  '--disable-quic', '--disable-default-apps', '--mute-audio',
+  // several pages play at once in one browser: none of them is "in the background"
+  '--disable-background-timer-throttling', '--disable-renderer-backgrounding', '--disable-backgrounding-occluded-windows'];
+
+const children = [];
+let browser = null;
+
+export function skip(reason) {
+  console.log(`SKIP: ${reason}`);
+  process.exit(77);
+}
+
+export async function cleanup() {
+  if (browser) await browser.close().catch(() => {});
+  browser = null;
+  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  await new Promise((r) => setTimeout(r, 300));
+  for (const c of children) if (c.exitCode === null) c.kill('SIGKILL');
+}
+
+export async function pass(msg = '') {
+  await cleanup();
+  console.log(`PASS ${msg}`);
+  process.exit(0);
+}
+
+export async function fail(msg) {
+  console.error(`FAIL: ${msg}`);
+  await cleanup();
+  process.exit(1);
+}
+
+// whatever ends this process ends the services too
+process.on('exit', () => { for (const c of children) if (c.exitCode === null) c.kill('SIGKILL'); });
+process.on('uncaughtException', (e) => fail(e && e.stack ? e.stack : String(e)));
+process.on('unhandledRejection', (e) => fail(e && e.stack ? e.stack : String(e)));
+
+function start(cmd, args, name) {
+  const c = spawn(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  c.output = '';
+  c.stdout.on('data', (d) => { c.output += d; });
+  c.stderr.on('data', (d) => { process.stderr.write(`[${name}] ${d}`); });
+  children.push(c);
+  return c;
+}
+
+export async function until(what, fn, timeoutMs = 20000, everyMs = 100) {
+  const t0 = Date.now();
+  for (;;) {
+    const v = await fn();
+    if (v) return v;
+    if (Date.now() - t0 > timeoutMs) throw new Error(`timed out after ${timeoutMs} ms waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, everyMs));
+  }
+}
+
+// groundsim-server and groundsim-web; returns the page's URL.
+export async function startServices({ bridgeArgs = [] } = {}) {
+  if (!existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM} (apt-get install chromium, or scripts/setup-web.sh)`);
+  start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
+  const bridge = start(BRIDGE, ['--lcm-url', LCM_URL, '--bind', '127.0.0.1', '--port', '0', ...bridgeArgs], 'bridge');
+  const url = await until('the bridge to print its URL', () => {
+    const m = bridge.output.match(/open (http:\/\/127\.0\.0\.1:\d+\/)/);
+    return m && m[1];
+  }, 15000);
+  return { url, bridge };
+}
+
+export async function launch() {
+  const require = createRequire(`${env.GROUNDSIM_WEB_NODE_MODULES}/`);
+  const { chromium } = require('playwright-core');
+  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
+  return browser;
+}
+
+export async function newPage(url, size = { width: 960, height: 540 }) {
+  const ctx = await browser.newContext({ viewport: size });
+  const page = await ctx.newPage();
+  page.on('pageerror', (e) => console.error(`[page] ${e.message}`));
+  await page.goto(url);
+  await until('the page to connect', () => page.evaluate(() => window.groundsim && window.groundsim.configs.length > 0));
+  return page;
+}
+
+// Creates a session from the lobby (as a user would: pick, click) and waits
+// until this page drives it and draws its states.
+export async function createAndDrive(page, config, cars = 1) {
+  await page.selectOption('#create-config', config);
+  await page.fill('#create-vehicles', String(cars));
+  await page.click('#create-drive');
+  await until('the session to be joined', () => page.evaluate(() => window.groundsim.role === 'drive' && window.groundsim.states > 2));
+  return page.evaluate(() => window.groundsim.session);
+}
+
+// The `groundsim` command line client on the same bus.
+export function cli(...args) {
+  const r = spawnSync(CLI, [...args, '--lcm-url', LCM_URL], { encoding: 'utf8', timeout: 20000 });
+  if (r.status !== 0) throw new Error(`groundsim ${args.join(' ')}: exit ${r.status}: ${r.stderr}`);
+  return r.stdout;
+}
+
+// Spread of the canvas' pixel values: a blank or one-colour frame is 0.
+export async function canvasStats(page) {
+  return page.evaluate(() => {
+    const src = document.querySelector('#view canvas');
+    const c = document.createElement('canvas');
+    c.width = 160; c.height = 90;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0, c.width, c.height);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    const colours = new Set();
+    let sum = 0, sum2 = 0, n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      const y = 0.299 * d[i] + 0.587 * d[i + 1] + 0.114 * d[i + 2];
+      sum += y; sum2 += y * y; n++;
+      colours.add((d[i] >> 4) << 8 | (d[i + 1] >> 4) << 4 | (d[i + 2] >> 4));
+    }
+    const mean = sum / n;
+    return { mean, std: Math.sqrt(Math.max(0, sum2 / n - mean * mean)), colours: colours.size };
+  });
+}
+
+// Speeds (m/s) of every vehicle in `groundsim watch`'s next state line: what
+// the server publishes, read without the bridge.
+export function serverSpeeds(session) {
+  const out = cli('watch', session, '--count', '1');
+  const line = out.trim().split('\n').pop();
+  return [...line.matchAll(/speed=(-?[0-9.]+) m\/s/g)].map((m) => parseFloat(m[1]));
+}
+
+export const hudSpeedKmh = (page) => page.evaluate(() => parseFloat(document.getElementById('hud-speed').textContent));
+export const pageSpeed = (page, i) => page.evaluate((k) => window.groundsim.lastState.vehicles[k].speed, i);
+export async function hold(page, key, ms) {
+  await page.keyboard.down(key);
+  await page.waitForTimeout(ms);
+  await page.keyboard.up(key);
+}
+
+// Holds the handbrake (space) until every listed car of the page's state is still.
+export async function stopCars(page, cars = [0], timeoutMs = 15000) {
+  await page.keyboard.down(' ');
+  try {
+    await until('the cars to stop', () => page.evaluate((ks) => ks.every((k) =>
+      Math.abs(window.groundsim.lastState.vehicles[k].speed) < 0.05), cars), timeoutMs);
+  } finally {
+    await page.keyboard.up(' ');
+  }
+}

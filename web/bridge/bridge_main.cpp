@@ -1,0 +1,92 @@
+// groundsim-web: the browser front end's bridge. One more LCM client of
+// groundsim-server: it serves the page over HTTP, talks to browsers over
+// WebSocket (JSON), subscribes to the sessions they watch and publishes the
+// controls of the players it serves (docs/front-end.md).
+#include <csignal>
+#include <cstdio>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+
+#include "bridge/hub.hpp"
+#include "bridge/lcm_link.hpp"
+#include "bridge/web_server.hpp"
+#include "channels.hpp"
+
+int main(int argc, char** argv) {
+  using namespace groundsim::web;
+  CLI::App app{"groundsim-web: drive and watch groundsim sessions in a browser"};
+  std::string bind = "127.0.0.1";
+  int port = 8080;
+  std::string lcm_url = groundsim::net::defaultUrl();
+  std::string static_dir = GROUNDSIM_WEB_DIST;
+  HubConfig cfg;
+  cfg.configs_dir = GROUNDSIM_CONFIG_DIR;
+  bool quiet = false;
+  app.add_option("--bind", bind, "address to listen on (127.0.0.1: this machine only)")->capture_default_str();
+  app.add_option("--port", port, "TCP port (0: any free one, printed)")->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--lcm-url", lcm_url, "LCM URL of the server's bus")->capture_default_str();
+  app.add_option("--static", static_dir, "folder of the bundled page (index.html, bundle.js)")->capture_default_str();
+  app.add_option("--configs", cfg.configs_dir, "scenarios a browser may create sessions from")->capture_default_str();
+  app.add_option("--drive-torque", cfg.scale.drive_torque, "N m per wheel at full throttle")->capture_default_str();
+  app.add_option("--brake-torque", cfg.scale.brake_torque, "N m per wheel at full brake")->capture_default_str();
+  app.add_option("--steer", cfg.scale.steer, "rad of front-wheel steering at full lock")->capture_default_str();
+  app.add_flag("--quiet", quiet, "no connection and refusal log on stderr");
+  CLI11_PARSE(app, argc, argv);
+  cfg.log = !quiet;
+
+  auto files = loadStaticFiles(static_dir);
+  if (!files.count("/")) {
+    std::fprintf(stderr, "groundsim-web: no index.html in %s (build the page: ninja groundsim_web_page)\n",
+                 static_dir.c_str());
+    return 1;
+  }
+
+  boost::asio::io_context io;
+  Bus bus;
+  LcmLink* link_ptr = nullptr;
+  bus.request = [&](const groundsim::request_t& r) { link_ptr->publish(r); };
+  bus.drive = [&](const groundsim::drive_t& d) { link_ptr->publish(d); };
+  // the hub needs the client id before the link exists: the link picks it
+  std::unique_ptr<Hub> hub;
+  LcmHandlers forward;
+  LcmLink link(lcm_url, LcmHandlers{
+                            [&](const auto& m) { if (forward.status) forward.status(m); },
+                            [&](const auto& m) { if (forward.state) forward.state(m); },
+                            [&](const auto& m) { if (forward.event) forward.event(m); },
+                            [&](const auto& m) { if (forward.reply) forward.reply(m); },
+                            [&](const auto& m) { if (forward.scenario) forward.scenario(m); },
+                            [&](const auto& c, const auto& r) { if (forward.bad) forward.bad(c, r); }});
+  if (!link.good()) {
+    std::fprintf(stderr, "groundsim-web: cannot open LCM %s (no multicast route? ip route add 224.0.0.0/4 dev lo)\n",
+                 lcm_url.c_str());
+    return 1;
+  }
+  link_ptr = &link;
+  bus.client_id = link.clientId();
+  hub = std::make_unique<Hub>(io, cfg, bus);
+  forward = hub->lcmHandlers();
+
+  WebServer server(io, *hub, std::move(files));
+  try {
+    server.listen(bind, static_cast<unsigned short>(port));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundsim-web: cannot listen on %s:%d: %s\n", bind.c_str(), port, e.what());
+    return 1;
+  }
+  link.start();
+
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code&, int) {
+    hub->stopOwnedSessions();
+    io.stop();
+  });
+  std::printf("groundsim-web: open http://%s:%u/ (LCM %s)\n", bind == "0.0.0.0" ? "127.0.0.1" : bind.c_str(),
+              server.port(), lcm_url.c_str());
+  std::fflush(stdout);
+  io.run();
+  link.stop();
+  return 0;
+}

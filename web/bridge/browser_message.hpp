@@ -1,0 +1,67 @@
+// Messages from a browser: JSON text, one object with an "op" field.
+// Everything a browser sends is hostile until checked here: the text's size
+// and nesting depth are bounded before and while parsing, every field is
+// checked for type and range, and unknown fields are refused. A refusal
+// names the field as a JSON pointer and the reason.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "bridge/controls.hpp"
+
+namespace groundsim::web {
+
+inline constexpr std::size_t kMaxMessageBytes = 4096;
+inline constexpr int kMaxMessageDepth = 4;
+
+enum class Role { Drive, Spectate };
+
+struct CreateMsg {
+  std::string config;          // a file name from the bridge's config folder
+  std::string mode = "realtime";
+  double publish_rate = 0.0;   // Hz, 0: the scenario's
+  int vehicles = 0;            // 0: the scenario's; n > 0 puts n copies of its car side by side
+  bool drive = true;           // join it as its first driver
+};
+struct JoinMsg {
+  std::string session;
+  Role role = Role::Spectate;
+  int vehicle = -1;            // -1: the first free one
+};
+struct ControlsMsg {
+  Controls controls;
+  double seq = 0;              // echoed in states' "ack" (latency measurement)
+};
+struct GroundMsg {
+  double cx = 0, cy = 0;       // m, centre of the grid wanted
+};
+struct SessionOpMsg {
+  std::string op;              // "reset" | "pause" | "resume"
+};
+struct LeaveMsg {};
+struct PingMsg {
+  double t = 0;
+};
+
+using BrowserMessage =
+    std::variant<CreateMsg, JoinMsg, ControlsMsg, GroundMsg, SessionOpMsg, LeaveMsg, PingMsg>;
+
+struct MessageError {
+  std::string field;   // JSON pointer, "" for the text itself
+  std::string reason;
+};
+
+struct ParsedMessage {
+  std::optional<BrowserMessage> message;
+  MessageError error;  // when !message
+  std::string op;      // the op, when it could be read
+};
+
+ParsedMessage parseBrowserMessage(const std::string& text);
+
+bool validSessionId(const std::string& id);
+
+}  // namespace groundsim::web

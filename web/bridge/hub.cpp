@@ -1,0 +1,566 @@
+#include "bridge/hub.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <boost/asio/post.hpp>
+
+#include "bridge/state_json.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::web {
+
+namespace asio = boost::asio;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::shared_ptr<const std::string> shared(std::string s) { return std::make_shared<const std::string>(std::move(s)); }
+
+const char* modeName(int m) {
+  return m == 1 ? "realtime" : m == 2 ? "fast" : m == 3 ? "lockstep" : "unknown";
+}
+
+std::int8_t modeValue(const std::string& m) {
+  return m == "fast" ? groundsim::request_t::MODE_FAST
+         : m == "lockstep" ? groundsim::request_t::MODE_LOCKSTEP
+                           : groundsim::request_t::MODE_REALTIME;
+}
+
+}  // namespace
+
+Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move(cfg)), bus_(std::move(bus)), ticker_(io) {
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(cfg_.configs_dir, ec))
+    if (e.path().extension() == ".json") configs_.push_back(e.path().filename().string());
+  std::sort(configs_.begin(), configs_.end());
+  tick();
+}
+
+Hub::~Hub() { ticker_.cancel(); }
+
+// ---- LCM thread -------------------------------------------------------------
+
+LcmHandlers Hub::lcmHandlers() {
+  LcmHandlers h;
+  h.status = [this](const groundsim::server_status_t& s) { asio::post(io_, [this, s] { onStatus(s); }); };
+  h.state = [this](const groundsim::state_t& s) {
+    const std::string& id = s.session_id;
+    bool watched = false;
+    {
+      std::lock_guard<std::mutex> lk(shared_mu_);
+      BusSeen& b = seen_[id];
+      b.t = s.t;
+      b.nvehicles = s.nvehicles;
+      b.last = Clock::now();
+      auto it = watched_.find(id);
+      watched = it != watched_.end() && it->second > 0;
+    }
+    if (!watched) return;
+    // re-encoded once, shared by every browser watching
+    const double wall = std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+    auto json = shared(stateJson(s, wall));
+    asio::post(io_, [this, id, json] { onState(id, json); });
+  };
+  h.event = [this](const groundsim::event_t& e) {
+    auto json = shared(eventJson(e));
+    asio::post(io_, [this, e, json] { onEvent(e, json); });
+  };
+  h.reply = [this](const groundsim::reply_t& r) {
+    if (r.client_id != bus_.client_id) return;
+    asio::post(io_, [this, r] { onReply(r); });
+  };
+  h.scenario = [this](const groundsim::scenario_t& s) { asio::post(io_, [this, s] { onScenario(s); }); };
+  h.bad = [this](const std::string& channel, const std::string& reason) {
+    if (cfg_.log) std::fprintf(stderr, "groundsim-web: undecodable message on %s: %s\n", channel.c_str(), reason.c_str());
+  };
+  return h;
+}
+
+// ---- browsers -----------------------------------------------------------------
+
+void Hub::attach(Peer* p) {
+  peers_[p] = PeerState{};
+  json configs = configs_;
+  sendJson(p, json{{"op", "welcome"}, {"configs", configs}, {"max_message_bytes", kMaxMessageBytes}}.dump());
+  publishLobby();
+  if (cfg_.log) std::fprintf(stderr, "groundsim-web: browser %s connected\n", p->describe().c_str());
+}
+
+void Hub::detach(Peer* p) {
+  if (!peers_.count(p)) return;
+  leave(p);
+  peers_.erase(p);
+  for (auto& [id, s] : sessions_)
+    s.pending.erase(std::remove_if(s.pending.begin(), s.pending.end(), [p](auto& j) { return j.first == p; }),
+                    s.pending.end());
+  if (cfg_.log) std::fprintf(stderr, "groundsim-web: browser %s disconnected\n", p->describe().c_str());
+}
+
+void Hub::sendJson(Peer* p, const std::string& text) { p->send(shared(text)); }
+
+void Hub::refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason) {
+  ++refused_;
+  auto it = peers_.find(p);
+  if (cfg_.log && it != peers_.end() && it->second.logged < 20) {
+    ++it->second.logged;
+    std::fprintf(stderr, "groundsim-web: browser %s: refused %s%s%s: %s\n", p->describe().c_str(),
+                 op.empty() ? "message" : op.c_str(), field.empty() ? "" : " at ", field.c_str(), reason.c_str());
+  }
+  sendJson(p, json{{"op", "error"}, {"request", op}, {"field", field}, {"reason", reason}}.dump());
+}
+
+void Hub::onBinary(Peer* p) { refuse(p, "", "", "binary messages are not accepted: send JSON text"); }
+
+void Hub::onText(Peer* p, const std::string& text) {
+  auto it = peers_.find(p);
+  if (it == peers_.end()) return;
+  ParsedMessage m = parseBrowserMessage(text);
+  if (!m.message) return refuse(p, m.op, m.error.field, m.error.reason);
+  try {
+    handle(p, it->second, *m.message);
+  } catch (const std::exception& e) {
+    // nothing a browser sends may take the bridge down
+    refuse(p, m.op, "", std::string("internal error: ") + e.what());
+  }
+}
+
+void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
+  if (auto* c = std::get_if<ControlsMsg>(&m)) return controls(p, ps, *c);
+  if (auto* g = std::get_if<GroundMsg>(&m)) return ground(p, ps, *g);
+  if (auto* j = std::get_if<JoinMsg>(&m)) return join(p, *j);
+  if (auto* c = std::get_if<CreateMsg>(&m)) return create(p, *c);
+  if (auto* o = std::get_if<SessionOpMsg>(&m)) return sessionOp(p, ps, *o);
+  if (std::get_if<LeaveMsg>(&m)) {
+    leave(p);
+    return sendJson(p, R"({"op":"left"})");
+  }
+  if (auto* ping = std::get_if<PingMsg>(&m)) {
+    char b[64];
+    std::snprintf(b, sizeof b, "{\"op\":\"pong\",\"t\":%.17g}", ping->t);
+    return sendJson(p, b);
+  }
+}
+
+// ---- requests to the server -----------------------------------------------
+
+void Hub::request(groundsim::request_t r, std::function<void(const groundsim::reply_t*)> done) {
+  r.client_id = bus_.client_id;
+  r.request_id = next_request_++;
+  r.utime = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
+  auto timer = std::make_shared<asio::steady_timer>(io_);
+  timer->expires_after(std::chrono::milliseconds(static_cast<int>(cfg_.reply_timeout_s * 1000)));
+  const std::int64_t id = r.request_id;
+  timer->async_wait([this, id](const boost::system::error_code& ec) {
+    if (ec) return;
+    auto it = pending_.find(id);
+    if (it == pending_.end()) return;
+    auto done = std::move(it->second.done);
+    pending_.erase(it);
+    if (done) done(nullptr);
+  });
+  pending_[id] = Pending{std::move(done), timer};
+  bus_.request(r);
+}
+
+void Hub::onReply(const groundsim::reply_t& r) {
+  auto it = pending_.find(r.request_id);
+  if (it == pending_.end()) return;
+  auto done = std::move(it->second.done);
+  it->second.timer->cancel();
+  pending_.erase(it);
+  if (done) done(&r);
+}
+
+void Hub::create(Peer* p, const CreateMsg& m) {
+  if (std::find(configs_.begin(), configs_.end(), m.config) == configs_.end())
+    return refuse(p, "create", "/config", "no shipped scenario named \"" + m.config + "\"");
+  std::ifstream f(std::filesystem::path(cfg_.configs_dir) / m.config);
+  std::stringstream text;
+  text << f.rdbuf();
+  std::string doc = text.str();
+  if (m.vehicles > 0) {
+    try {
+      doc = withVehicles(doc, m.vehicles, cfg_.vehicle_margin);
+    } catch (const std::exception& e) {
+      return refuse(p, "create", "/vehicles", std::string("cannot copy this scenario's vehicle: ") + e.what());
+    }
+  }
+  groundsim::request_t r{};
+  r.op = groundsim::request_t::OP_CREATE;
+  r.scenario_json = doc;
+  r.mode = modeValue(m.mode);
+  r.publish_rate = m.publish_rate;
+  r.duration = -1;  // a game runs until its players leave
+  const bool drive = m.drive;
+  request(r, [this, p, drive, doc](const groundsim::reply_t* rep) {
+    if (!peers_.count(p)) return;
+    if (!rep) return refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
+    if (!rep->ok) return refuse(p, "create", "", rep->error);
+    SessionEntry& s = sessions_[rep->session_id];
+    s.token = rep->token;  // kept here: never sent to a browser
+    scenario_texts_[rep->session_id] = doc;
+    sendJson(p, json{{"op", "created"}, {"session", rep->session_id}}.dump());
+    JoinMsg j;
+    j.session = rep->session_id;
+    j.role = drive ? Role::Drive : Role::Spectate;
+    join(p, j);
+  });
+}
+
+// ---- joining a session -------------------------------------------------------
+
+void Hub::join(Peer* p, const JoinMsg& m) {
+  auto known = sessions_.find(m.session);
+  if (m.role == Role::Drive && (known == sessions_.end() || known->second.token.empty()))
+    return refuse(p, "join", "/role",
+                  "this bridge holds no token for session " + m.session +
+                      ": it drives only sessions created through it (spectate instead)");
+  leave(p);
+  SessionEntry& s = sessions_[m.session];
+  s.pending.emplace_back(p, m);
+  PeerState& ps = peers_[p];
+  ps.session = m.session;
+  ps.role = Role::Spectate;
+  ps.vehicle = -1;
+  s.watchers.insert(p);
+  updateWatched(m.session);
+  ensureView(m.session);
+}
+
+void Hub::ensureView(const std::string& id) {
+  SessionEntry& s = sessions_[id];
+  if (s.view || s.view_failed) {
+    auto pending = std::move(s.pending);
+    s.pending.clear();
+    for (auto& [p, m] : pending) finishJoin(p, m);
+    return;
+  }
+  if (s.building) return;
+  auto text = scenario_texts_.find(id);
+  if (text != scenario_texts_.end()) {
+    s.building = true;
+    std::string doc = text->second;
+    worker_.post([this, id, doc] {
+      std::shared_ptr<SceneView> view;
+      std::string error;
+      try {
+        view = makeSceneView(doc);
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      asio::post(io_, [this, id, view, error] {
+        SessionEntry& s = sessions_[id];
+        s.building = false;
+        s.view = view;
+        if (view) {
+          s.joined_layout = shared(view->layout.dump());
+          if (s.drivers.size() < view->wheels.size()) s.drivers.resize(view->wheels.size(), nullptr);
+        } else {
+          s.view_failed = true;
+          s.view_error = "the session's scenario does not build here: " + error;
+        }
+        ensureView(id);
+      });
+    });
+    return;
+  }
+  if (s.fetching) return;
+  s.fetching = true;
+  groundsim::request_t r{};
+  r.op = kOpScenario;
+  r.session_id = id;
+  request(r, [this, id](const groundsim::reply_t* rep) {
+    SessionEntry& s = sessions_[id];
+    s.fetching = false;
+    if (scenario_texts_.count(id)) return ensureView(id);
+    // a replayed session has no server to ask: draw it without its ground
+    s.view_failed = true;
+    s.view_error = !rep ? "no server knows this session's scenario (a replay?): its ground is not drawn"
+                        : "the server did not send the scenario: " + rep->error;
+    ensureView(id);
+  });
+}
+
+void Hub::onScenario(const groundsim::scenario_t& m) {
+  if (!validSessionId(m.session_id)) return;
+  scenario_texts_[m.session_id] = m.scenario_json;
+  auto it = sessions_.find(m.session_id);
+  if (it != sessions_.end() && !it->second.pending.empty()) {
+    it->second.view_failed = false;
+    ensureView(m.session_id);
+  }
+}
+
+void Hub::finishJoin(Peer* p, const JoinMsg& m) {
+  auto pit = peers_.find(p);
+  if (pit == peers_.end() || pit->second.session != m.session) return;
+  PeerState& ps = pit->second;
+  SessionEntry& s = sessions_[m.session];
+  if (m.role == Role::Drive) {
+    if (!s.view) return refuse(p, "join", "/session", s.view_error);
+    int v = m.vehicle;
+    if (v >= static_cast<int>(s.drivers.size()))
+      return refuse(p, "join", "/vehicle",
+                    "session " + m.session + " has " + std::to_string(s.drivers.size()) + " vehicles, got " +
+                        std::to_string(v));
+    if (v < 0) {
+      auto free = std::find(s.drivers.begin(), s.drivers.end(), nullptr);
+      if (free == s.drivers.end())
+        return refuse(p, "join", "/role", "every vehicle of session " + m.session + " has a driver (spectate instead)");
+      v = static_cast<int>(free - s.drivers.begin());
+    } else if (s.drivers[v] && s.drivers[v] != p) {
+      return refuse(p, "join", "/vehicle", "vehicle " + std::to_string(v) + " already has a driver");
+    }
+    s.drivers[v] = p;
+    ps.role = Role::Drive;
+    ps.vehicle = v;
+  }
+  std::string msg = "{\"op\":\"joined\",\"session\":" + quoted(m.session) +
+                    ",\"role\":" + (ps.role == Role::Drive ? "\"drive\"" : "\"spectate\"") +
+                    ",\"vehicle\":" + std::to_string(ps.vehicle) + ",\"note\":" + quoted(s.view ? "" : s.view_error) +
+                    ",\"layout\":" + (s.joined_layout ? *s.joined_layout : std::string("null")) + "}";
+  sendJson(p, msg);
+  publishLobby();
+}
+
+void Hub::leave(Peer* p) {
+  auto it = peers_.find(p);
+  if (it == peers_.end() || it->second.session.empty()) return;
+  PeerState& ps = it->second;
+  auto sit = sessions_.find(ps.session);
+  if (sit != sessions_.end()) {
+    SessionEntry& s = sit->second;
+    s.watchers.erase(p);
+    for (auto& d : s.drivers)
+      if (d == p) d = nullptr;
+    if (ps.role == Role::Drive && !s.token.empty() && s.view && ps.vehicle >= 0) {
+      // release the car's controls rather than leaving its last command held
+      groundsim::drive_t d = toDrive(Controls{0, 0, 0, false, 0}, ps.vehicle, s.view->wheels[ps.vehicle], cfg_.scale);
+      d.client_id = bus_.client_id;
+      d.session_id = ps.session;
+      d.token = s.token;
+      bus_.drive(d);
+    }
+    if (s.watchers.empty()) s.unwatched_since = Clock::now();
+  }
+  const std::string id = ps.session;
+  const int logged = ps.logged;
+  ps = PeerState{};
+  ps.logged = logged;
+  updateWatched(id);
+  publishLobby();
+}
+
+void Hub::updateWatched(const std::string& id) {
+  auto it = sessions_.find(id);
+  const int n = it == sessions_.end() ? 0 : static_cast<int>(it->second.watchers.size());
+  std::lock_guard<std::mutex> lk(shared_mu_);
+  if (n) watched_[id] = n; else watched_.erase(id);
+}
+
+// ---- playing ---------------------------------------------------------------------
+
+void Hub::controls(Peer* p, PeerState& ps, const ControlsMsg& m) {
+  if (ps.role != Role::Drive) return refuse(p, "controls", "", "not driving a vehicle (join with role drive first)");
+  SessionEntry& s = sessions_[ps.session];
+  // a browser cannot flood the server: at most one command per 4 ms each
+  const auto now = Clock::now();
+  if (now - ps.last_drive < std::chrono::milliseconds(4)) return;
+  ps.last_drive = now;
+  groundsim::drive_t d = toDrive(m.controls, ps.vehicle, s.view->wheels[ps.vehicle], cfg_.scale);
+  d.utime = std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count();
+  d.seq = ps.drive_seq++;
+  d.client_id = bus_.client_id;
+  d.session_id = ps.session;
+  d.token = s.token;
+  bus_.drive(d);
+}
+
+void Hub::sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m) {
+  if (ps.role != Role::Drive) return refuse(p, m.op, "", "only a driver may " + m.op + " its session");
+  groundsim::request_t r{};
+  r.op = m.op == "reset" ? groundsim::request_t::OP_RESET
+         : m.op == "pause" ? groundsim::request_t::OP_PAUSE
+                           : groundsim::request_t::OP_RESUME;
+  r.session_id = ps.session;
+  r.token = sessions_[ps.session].token;
+  const std::string op = m.op;
+  request(r, [this, p, op](const groundsim::reply_t* rep) {
+    if (!peers_.count(p)) return;
+    if (!rep) return refuse(p, op, "", "no server answered");
+    if (!rep->ok) return refuse(p, op, "", rep->error);
+    sendJson(p, json{{"op", "reply"}, {"request", op}, {"ok", true}}.dump());
+  });
+}
+
+void Hub::ground(Peer* p, PeerState& ps, const GroundMsg& m) {
+  if (ps.session.empty()) return refuse(p, "ground", "", "not in a session (join first)");
+  SessionEntry& s = sessions_[ps.session];
+  if (!s.view) return refuse(p, "ground", "", s.view_error.empty() ? "the session's scene is not known yet" : s.view_error);
+  if (ps.grid_busy) {
+    ps.grid_next = m;  // only the newest request waiting
+    return;
+  }
+  ps.grid_busy = true;
+  auto view = s.view;
+  const std::string id = ps.session;
+  const int n = cfg_.grid_n;
+  const double step = cfg_.grid_step;
+  worker_.post([this, p, view, id, m, n, step] {
+    json grid = groundGrid(*view->ground, m.cx, m.cy, n, step);
+    grid["op"] = "ground";
+    grid["session"] = id;
+    auto text = shared(grid.dump());
+    asio::post(io_, [this, p, id, text] {
+      auto it = peers_.find(p);
+      if (it == peers_.end()) return;
+      it->second.grid_busy = false;
+      if (it->second.session == id) p->send(text);
+      if (auto next = it->second.grid_next) {
+        it->second.grid_next.reset();
+        ground(p, it->second, *next);
+      }
+    });
+  });
+}
+
+// ---- from the server -------------------------------------------------------------
+
+void Hub::onState(const std::string& id, std::shared_ptr<const std::string> json) {
+  auto it = sessions_.find(id);
+  if (it == sessions_.end()) return;
+  for (Peer* p : it->second.watchers) p->sendLatest(Slot::State, json);
+}
+
+void Hub::onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string> json) {
+  if (e.session_id.empty()) return;
+  auto it = sessions_.find(e.session_id);
+  if (it == sessions_.end()) return;
+  for (Peer* p : it->second.watchers) p->send(json);
+}
+
+void Hub::onStatus(const groundsim::server_status_t& s) {
+  status_ = s;
+  status_time_ = Clock::now();
+  have_status_ = true;
+  publishLobby();
+}
+
+void Hub::tick() {
+  const auto now = Clock::now();
+  for (auto& [id, s] : sessions_) {
+    if (s.token.empty() || !s.watchers.empty() || s.unwatched_since == Clock::time_point{}) continue;
+    if (now - s.unwatched_since < std::chrono::milliseconds(static_cast<int>(cfg_.orphan_stop_s * 1000))) continue;
+    groundsim::request_t r{};
+    r.op = groundsim::request_t::OP_STOP;
+    r.session_id = id;
+    r.token = s.token;
+    request(r, nullptr);
+    s.token.clear();
+    s.unwatched_since = {};
+  }
+  // forget views of sessions nobody watches (a hostile browser cannot grow the table)
+  for (auto it = sessions_.begin(); it != sessions_.end();) {
+    const SessionEntry& s = it->second;
+    if (s.token.empty() && s.watchers.empty() && s.pending.empty() && !s.building && !s.fetching)
+      it = sessions_.erase(it);
+    else
+      ++it;
+  }
+  publishLobby();
+  ticker_.expires_after(std::chrono::seconds(1));
+  ticker_.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) tick();
+  });
+}
+
+void Hub::stopOwnedSessions() {
+  for (auto& [id, s] : sessions_) {
+    if (s.token.empty()) continue;
+    groundsim::request_t r{};
+    r.op = groundsim::request_t::OP_STOP;
+    r.session_id = id;
+    r.token = s.token;
+    r.client_id = bus_.client_id;
+    r.request_id = next_request_++;
+    bus_.request(r);
+    s.token.clear();
+  }
+}
+
+void Hub::publishLobby() {
+  const auto now = Clock::now();
+  json sessions = json::array();
+  std::set<std::string> listed;
+  auto entry = [&](const std::string& id) -> json {
+    json j;
+    auto it = sessions_.find(id);
+    int drivers = 0, free = 0, watchers = 0;
+    bool owned = false, unsized = true;
+    if (it != sessions_.end()) {
+      unsized = it->second.drivers.empty();
+      owned = !it->second.token.empty();
+      watchers = static_cast<int>(it->second.watchers.size());
+      for (Peer* d : it->second.drivers) d ? ++drivers : ++free;
+    }
+    j["drivable"] = owned && (free > 0 || unsized);
+    j["free"] = free;
+    j["drivers"] = drivers;
+    j["watchers"] = watchers;
+    return j;
+  };
+  const bool fresh = have_status_ && now - status_time_ < std::chrono::seconds(3);
+  if (fresh) {
+    for (const auto& si : status_.sessions) {
+      json j = entry(si.session_id);
+      j["id"] = si.session_id;
+      j["name"] = si.name;
+      j["mode"] = modeName(si.mode);
+      j["status"] = si.status;
+      j["reason"] = si.status_reason;
+      j["t"] = si.utime * 1e-6;
+      j["rate"] = si.rate;
+      j["publish_rate"] = si.publish_rate;
+      j["vehicles"] = si.vehicle_names;
+      j["source"] = "server";
+      listed.insert(si.session_id);
+      sessions.push_back(std::move(j));
+    }
+  }
+  {
+    // states on the bus that no heartbeat lists: a replay, or another server's
+    std::lock_guard<std::mutex> lk(shared_mu_);
+    for (auto it = seen_.begin(); it != seen_.end();) {
+      if (now - it->second.last > std::chrono::seconds(5)) {
+        it = seen_.erase(it);
+        continue;
+      }
+      if (!listed.count(it->first) && validSessionId(it->first)) {
+        json j = entry(it->first);
+        j["id"] = it->first;
+        j["name"] = "";
+        j["mode"] = "unknown";
+        j["status"] = 1;
+        j["reason"] = "";
+        j["t"] = it->second.t;
+        j["vehicles"] = json::array();
+        j["source"] = "bus";
+        sessions.push_back(std::move(j));
+      }
+      ++it;
+    }
+  }
+  json lobby = {{"op", "lobby"}, {"sessions", sessions}, {"server", nullptr}};
+  if (fresh)
+    lobby["server"] = {{"id", status_.server_id}, {"workers", status_.workers}, {"load", status_.load},
+                       {"sessions", status_.nsessions}, {"errors", status_.errors}};
+  auto text = shared(lobby.dump());
+  for (auto& [p, ps] : peers_) p->sendLatest(Slot::Lobby, text);
+}
+
+}  // namespace groundsim::web

@@ -1,0 +1,147 @@
+// The bridge's logic, on the I/O thread: which browser watches or drives
+// which session, the tokens of the sessions this bridge created, the lobby,
+// and the translation of browser messages to requests and drive commands.
+// LCM callbacks (on the LCM thread) only decode, re-encode and post here;
+// scene views and ground grids are computed on the worker thread.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "bridge/browser_message.hpp"
+#include "bridge/controls.hpp"
+#include "bridge/lcm_link.hpp"
+#include "bridge/peer.hpp"
+#include "bridge/scene_view.hpp"
+#include "bridge/worker.hpp"
+
+namespace groundsim::web {
+
+struct HubConfig {
+  std::string configs_dir;        // the shipped scenarios a browser may create sessions from
+  ControlScale scale;
+  int grid_n = 81;                // ground grid nodes per side
+  double grid_step = 0.5;         // m between nodes
+  double vehicle_margin = 1.0;    // m between the copies of a car (create with "vehicles")
+  double reply_timeout_s = 3.0;   // s  a request without reply is answered as failed
+  double orphan_stop_s = 30.0;    // s  a session this bridge created, watched by nobody, is stopped
+  bool log = true;                // refusals and connections on stderr
+};
+
+// What the hub publishes (LcmLink in the bridge, a recorder in tests).
+struct Bus {
+  std::string client_id;
+  std::function<void(const groundsim::request_t&)> request;
+  std::function<void(const groundsim::drive_t&)> drive;
+};
+
+class Hub {
+ public:
+  Hub(boost::asio::io_context& io, HubConfig cfg, Bus bus);
+  ~Hub();
+
+  // LCM thread: callbacks that only re-encode and post to the I/O thread.
+  LcmHandlers lcmHandlers();
+
+  // I/O thread.
+  void attach(Peer* p);
+  void detach(Peer* p);
+  void onText(Peer* p, const std::string& text);
+  void onBinary(Peer* p);
+  // Stops the sessions this bridge created (at shutdown).
+  void stopOwnedSessions();
+  const std::vector<std::string>& configs() const { return configs_; }
+
+  // Counters, for logs and tests.
+  std::int64_t refused() const { return refused_; }
+
+ private:
+  struct PeerState {
+    std::string session;
+    Role role = Role::Spectate;
+    int vehicle = -1;
+    std::int64_t drive_seq = 0;
+    std::chrono::steady_clock::time_point last_drive{};
+    bool grid_busy = false;
+    std::optional<GroundMsg> grid_next;
+    int logged = 0;
+  };
+  struct SessionEntry {
+    std::string token;                     // "" unless this bridge created it
+    std::shared_ptr<SceneView> view;
+    std::shared_ptr<const std::string> joined_layout;  // view->layout dumped once
+    bool view_failed = false;
+    std::string view_error;
+    bool building = false, fetching = false;
+    std::vector<Peer*> drivers;            // per vehicle; nullptr: free
+    std::set<Peer*> watchers;
+    std::vector<std::pair<Peer*, JoinMsg>> pending;
+    std::chrono::steady_clock::time_point unwatched_since{};
+  };
+  struct BusSeen {
+    double t = 0;
+    int nvehicles = 0;
+    std::chrono::steady_clock::time_point last{};
+  };
+
+  void handle(Peer* p, PeerState& ps, const BrowserMessage& m);
+  void create(Peer* p, const CreateMsg& m);
+  void join(Peer* p, const JoinMsg& m);
+  void finishJoin(Peer* p, const JoinMsg& m);
+  void leave(Peer* p);
+  void controls(Peer* p, PeerState& ps, const ControlsMsg& m);
+  void ground(Peer* p, PeerState& ps, const GroundMsg& m);
+  void sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m);
+  void refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason);
+  void sendJson(Peer* p, const std::string& text);
+
+  void request(groundsim::request_t r, std::function<void(const groundsim::reply_t*)> done);
+  void ensureView(const std::string& id);
+  void onReply(const groundsim::reply_t& r);
+  void onScenario(const groundsim::scenario_t& s);
+  void onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string> json);
+  void onState(const std::string& id, std::shared_ptr<const std::string> json);
+  void onStatus(const groundsim::server_status_t& s);
+  void tick();  // 1 Hz: lobby, orphaned sessions
+  void publishLobby();
+  void updateWatched(const std::string& id);
+
+  boost::asio::io_context& io_;
+  HubConfig cfg_;
+  Bus bus_;
+  std::vector<std::string> configs_;
+  std::map<Peer*, PeerState> peers_;
+  std::map<std::string, SessionEntry> sessions_;
+  std::map<std::string, std::string> scenario_texts_;  // session -> scenario document seen on the bus
+  std::int64_t next_request_ = 1;
+  struct Pending {
+    std::function<void(const groundsim::reply_t*)> done;
+    std::shared_ptr<boost::asio::steady_timer> timer;
+  };
+  std::map<std::int64_t, Pending> pending_;
+  groundsim::server_status_t status_{};
+  std::chrono::steady_clock::time_point status_time_{};
+  bool have_status_ = false;
+  std::int64_t refused_ = 0;
+  boost::asio::steady_timer ticker_;
+
+  // shared with the LCM thread
+  std::mutex shared_mu_;
+  std::unordered_map<std::string, int> watched_;   // session -> browsers watching
+  std::unordered_map<std::string, BusSeen> seen_;  // sessions whose states are on the bus
+
+  Worker worker_;  // last: its thread stops before the rest goes
+};
+
+}  // namespace groundsim::web

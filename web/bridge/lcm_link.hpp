@@ -1,0 +1,66 @@
+// The bridge's LCM side: one receive thread, the server's channels decoded
+// (with the reason for anything undecodable) and handed to callbacks that
+// must not block (they only post work to the browser side). Publishing is
+// thread-safe in LCM and happens from the caller's thread.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <groundsim/drive_t.hpp>
+#include <groundsim/event_t.hpp>
+#include <groundsim/reply_t.hpp>
+#include <groundsim/request_t.hpp>
+#include <groundsim/scenario_t.hpp>
+#include <groundsim/server_status_t.hpp>
+#include <groundsim/state_t.hpp>
+
+namespace groundsim::web {
+
+inline constexpr const char* kScenarioChannel = "GROUNDSIM_SCENARIO";  // scenario_t, server -> anyone
+// request_t.op asking for a session's scenario_t (answered on kScenarioChannel
+// and with a reply_t); a new op value, request_t itself is unchanged
+inline constexpr int8_t kOpScenario = 9;
+
+struct LcmHandlers {
+  std::function<void(const groundsim::server_status_t&)> status;
+  std::function<void(const groundsim::state_t&)> state;
+  std::function<void(const groundsim::event_t&)> event;
+  std::function<void(const groundsim::reply_t&)> reply;
+  std::function<void(const groundsim::scenario_t&)> scenario;
+  std::function<void(const std::string& channel, const std::string& reason)> bad;
+};
+
+class LcmLink {
+ public:
+  LcmLink(const std::string& url, LcmHandlers handlers);
+  ~LcmLink();
+  bool good() const { return lcm_.good(); }
+  void start();
+  void stop();
+  const std::string& clientId() const { return client_id_; }
+
+  // Any thread. Fill client_id (and request_id for requests) before.
+  void publish(const groundsim::request_t& r);
+  void publish(const groundsim::drive_t& d);
+
+ private:
+  void onStatus(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onState(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onEvent(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onReply(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onScenario(const lcm::ReceiveBuffer* b, const std::string& channel);
+
+  lcm::LCM lcm_;
+  LcmHandlers h_;
+  std::string client_id_;
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace groundsim::web

@@ -1,0 +1,44 @@
+// What the page needs to draw a session, computed here through the scenario
+// layer so the browser never re-implements the ground or the car:
+//  - the layout of each vehicle (points and springs of the report's figure 1,
+//    the wheels' placement on the body, their radius and radial stiffness),
+//    sent once when a browser joins;
+//  - height grids of the ground H(x, y, z) = 0 around a point, sent as the
+//    followed vehicle moves.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scenario/scenario.hpp"
+
+namespace groundsim::web {
+
+struct SceneView {
+  std::string scenario_json;     // the document as given
+  std::string name;
+  nlohmann::json layout;         // {"vehicles": [...]} (see vehicleLayout in scene_view.cpp)
+  std::vector<int> wheels;       // wheel count per vehicle (drive_t.nwheels)
+  GroundPtr ground;              // this view's own instance: use from one thread at a time
+};
+
+// Parses, validates and builds the scenario (throws scenario::ScenarioError).
+std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json);
+
+// Heights of the ground on an n x n grid of spacing `step` centred on the
+// grid node nearest (cx, cy): z[i * n + j] at x = x0 + j step, y = y0 + i step,
+// solving H(x, y, z) = 0 for z (Newton guarded by bisection, started from the
+// neighbour's height). Nodes with no surface below get null.
+nlohmann::json groundGrid(const Ground& g, double cx, double cy, int n, double step);
+
+// One node: the height z with H(x, y, z) = 0 near z_start, or false.
+bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* z);
+
+// A scenario copy with `count` copies of its first vehicle side by side
+// along y (bounding circles `margin` m apart), for one car per player.
+std::string withVehicles(const std::string& scenario_json, int count, double margin);
+
+}  // namespace groundsim::web

@@ -1,0 +1,95 @@
+#include "bridge/state_json.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace groundsim::web {
+namespace {
+
+void num(std::string& out, double x) {
+  char b[32];
+  // the server never sends NaN; a replayed or foreign log might
+  const int n = std::isfinite(x) ? std::snprintf(b, sizeof b, "%.7g", x) : std::snprintf(b, sizeof b, "0");
+  out.append(b, n);
+}
+
+template <class Get>
+void array(std::string& out, int n, Get get) {
+  out += '[';
+  for (int i = 0; i < n; ++i) {
+    if (i) out += ',';
+    num(out, get(i));
+  }
+  out += ']';
+}
+
+}  // namespace
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      out += b;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+std::string stateJson(const groundsim::state_t& s, double wall_s) {
+  std::string out;
+  out.reserve(256 + 640 * s.vehicles.size());
+  out += "{\"op\":\"state\",\"session\":" + quoted(s.session_id) + ",\"seq\":" + std::to_string(s.seq) + ",\"t\":";
+  num(out, s.t);
+  out += ",\"tick\":" + std::to_string(s.tick) + ",\"mode\":" + std::to_string(s.mode) +
+         ",\"status\":" + std::to_string(s.status) + ",\"health\":" + std::to_string(s.health) +
+         ",\"reason\":" + quoted(s.status_reason) + ",\"energy\":";
+  num(out, s.energy);
+  char wall[40];
+  out.append(wall, std::snprintf(wall, sizeof wall, ",\"wall\":%.6f", wall_s));
+  out += ",\"vehicles\":[";
+  for (std::size_t k = 0; k < s.vehicles.size(); ++k) {
+    const groundsim::vehicle_state_t& v = s.vehicles[k];
+    const int nw = std::max(0, std::min<int>(v.wheel_count, 4));
+    if (k) out += ',';
+    out += "{\"name\":" + quoted(v.name) + ",\"p\":";
+    array(out, 3, [&](int i) { return v.position[i]; });
+    out += ",\"q\":";
+    array(out, 4, [&](int i) { return v.orientation[i]; });
+    out += ",\"v\":";
+    array(out, 3, [&](int i) { return v.velocity[i]; });
+    out += ",\"w\":";
+    array(out, 3, [&](int i) { return v.angular_velocity[i]; });
+    out += ",\"speed\":";
+    num(out, v.speed);
+    out += ",\"spin\":";
+    array(out, nw, [&](int i) { return v.wheel_spin[i]; });
+    out += ",\"N\":";
+    array(out, nw, [&](int i) { return v.normal_force[i]; });
+    out += ",\"F\":";
+    array(out, nw, [&](int i) { return v.friction_force[i]; });
+    out += ",\"slip\":";
+    array(out, nw, [&](int i) { return v.slip[i]; });
+    out += ",\"contact\":[";
+    for (int i = 0; i < nw; ++i) out += std::string(i ? "," : "") + (v.in_contact[i] ? "true" : "false");
+    out += "]}";
+  }
+  out += "]}";
+  return out;
+}
+
+std::string eventJson(const groundsim::event_t& e) {
+  std::string out = "{\"op\":\"event\",\"session\":" + quoted(e.session_id) +
+                    ",\"severity\":" + std::to_string(e.severity) + ",\"code\":" + std::to_string(e.code) +
+                    ",\"reason\":" + quoted(e.reason) + ",\"t\":";
+  num(out, e.utime * 1e-6);
+  return out + "}";
+}
+
+}  // namespace groundsim::web

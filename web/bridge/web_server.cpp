@@ -1,0 +1,244 @@
+#include "bridge/web_server.hpp"
+
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+namespace groundsim::web {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+
+namespace {
+
+// ordered messages a browser may fall behind by before it is dropped
+constexpr std::size_t kMaxQueued = 1024;
+// frames larger than this close the connection (Beast refuses them while
+// reading); smaller ones above kMaxMessageBytes are answered with an error
+constexpr std::size_t kMaxFrameBytes = 64 * 1024;
+
+const char* contentType(const std::string& name) {
+  auto ends = [&](const char* ext) {
+    const std::string e(ext);
+    return name.size() >= e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
+  };
+  if (ends(".html")) return "text/html; charset=utf-8";
+  if (ends(".js")) return "text/javascript; charset=utf-8";
+  if (ends(".css")) return "text/css; charset=utf-8";
+  if (ends(".map") || ends(".json")) return "application/json";
+  if (ends(".png")) return "image/png";
+  return "application/octet-stream";
+}
+
+class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(tcp::socket socket, Hub& hub) : ws_(std::move(socket)), hub_(hub) {
+    beast::error_code ec;
+    const auto ep = ws_.next_layer().socket().remote_endpoint(ec);
+    name_ = ec ? "?" : ep.address().to_string() + ":" + std::to_string(ep.port());
+  }
+
+  void start(http::request<http::string_body> req) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxFrameBytes);
+    ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
+      if (ec) return;
+      self->open_ = true;
+      self->hub_.attach(self.get());
+      self->read();
+    });
+  }
+
+  void send(std::shared_ptr<const std::string> msg) override {
+    if (!open_ || closing_) return;
+    if (queue_.size() >= kMaxQueued) {
+      std::fprintf(stderr, "groundsim-web: browser %s stopped reading (%zu messages queued): closing\n",
+                   name_.c_str(), queue_.size());
+      // not from inside the hub's loop over its peers: later, on its own
+      closing_ = true;
+      asio::post(ws_.get_executor(), [self = shared_from_this()] { self->close(); });
+      return;
+    }
+    queue_.push_back(std::move(msg));
+    write();
+  }
+  void sendLatest(Slot slot, std::shared_ptr<const std::string> msg) override {
+    if (!open_) return;
+    auto& s = latest_[static_cast<int>(slot)];
+    if (s) ++dropped_;
+    s = std::move(msg);
+    write();
+  }
+  std::string describe() const override { return name_; }
+
+ private:
+  void read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->close();
+      const std::string text = beast::buffers_to_string(self->buffer_.data());
+      self->buffer_.consume(self->buffer_.size());
+      if (self->ws_.got_text()) self->hub_.onText(self.get(), text); else self->hub_.onBinary(self.get());
+      if (self->open_) self->read();
+    });
+  }
+
+  void write() {
+    if (writing_ || !open_) return;
+    if (!queue_.empty()) {
+      current_ = std::move(queue_.front());
+      queue_.pop_front();
+    } else if (latest_[0]) {
+      current_ = std::move(latest_[0]);
+    } else if (latest_[1]) {
+      current_ = std::move(latest_[1]);
+    } else {
+      return;
+    }
+    writing_ = true;
+    ws_.text(true);
+    ws_.async_write(asio::buffer(*current_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->writing_ = false;
+      self->current_.reset();
+      if (ec) return self->close();
+      self->write();
+    });
+  }
+
+  // Detaches from the hub once; the socket goes when the last handler
+  // holding this session returns.
+  void close() {
+    if (!open_) return;
+    open_ = false;
+    hub_.detach(this);
+    queue_.clear();
+    latest_[0].reset();
+    latest_[1].reset();
+    beast::error_code ec;
+    ws_.next_layer().socket().shutdown(tcp::socket::shutdown_both, ec);
+    ws_.next_layer().socket().close(ec);
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  Hub& hub_;
+  std::string name_;
+  beast::flat_buffer buffer_;
+  std::deque<std::shared_ptr<const std::string>> queue_;
+  std::shared_ptr<const std::string> latest_[kSlots];
+  std::shared_ptr<const std::string> current_;
+  bool writing_ = false, open_ = false, closing_ = false;
+  std::uint64_t dropped_ = 0;
+};
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files)
+      : stream_(std::move(socket)), hub_(hub), files_(std::move(files)) {}
+
+  void read() {
+    parser_.emplace();
+    parser_->body_limit(4096);
+    parser_->header_limit(8192);
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return;
+      self->handle(self->parser_->release());
+    });
+  }
+
+ private:
+  void handle(http::request<http::string_body> req) {
+    std::string target(req.target());
+    const auto q = target.find('?');
+    const std::string path = target.substr(0, q);
+    if (path == "/ws" && websocket::is_upgrade(req)) {
+      stream_.expires_never();
+      std::make_shared<WsSession>(stream_.release_socket(), hub_)->start(std::move(req));
+      return;
+    }
+    auto res = std::make_shared<http::response<http::string_body>>();
+    res->version(req.version());
+    res->keep_alive(req.keep_alive());
+    res->set(http::field::server, "groundsim-web");
+    auto it = files_->find(path);
+    if (req.method() != http::verb::get && req.method() != http::verb::head) {
+      res->result(http::status::method_not_allowed);
+      res->set(http::field::content_type, "text/plain");
+      res->body() = "only GET\n";
+    } else if (it == files_->end()) {
+      res->result(http::status::not_found);
+      res->set(http::field::content_type, "text/plain");
+      res->body() = "not found: " + path + "\n";
+    } else {
+      res->result(http::status::ok);
+      res->set(http::field::content_type, it->second.content_type);
+      res->set(http::field::cache_control, "no-cache");
+      if (req.method() == http::verb::get) res->body() = it->second.body;
+    }
+    res->prepare_payload();
+    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
+      if (ec || !res->keep_alive()) {
+        beast::error_code e;
+        self->stream_.socket().shutdown(tcp::socket::shutdown_send, e);
+        return;
+      }
+      self->read();
+    });
+  }
+
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  Hub& hub_;
+  std::shared_ptr<const std::map<std::string, StaticFile>> files_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+};
+
+}  // namespace
+
+std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir) {
+  std::map<std::string, StaticFile> files;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    if (!e.is_regular_file()) continue;
+    std::ifstream f(e.path(), std::ios::binary);
+    std::stringstream body;
+    body << f.rdbuf();
+    const std::string name = e.path().filename().string();
+    files["/" + name] = {contentType(name), body.str()};
+    if (name == "index.html") files["/"] = files["/" + name];
+  }
+  return files;
+}
+
+WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files)
+    : io_(io), hub_(hub), files_(std::make_shared<const std::map<std::string, StaticFile>>(std::move(files))), acceptor_(io) {}
+
+void WebServer::listen(const std::string& address, unsigned short port) {
+  const tcp::endpoint ep(asio::ip::make_address(address), port);
+  acceptor_.open(ep.protocol());
+  acceptor_.set_option(asio::socket_base::reuse_address(true));
+  acceptor_.bind(ep);
+  acceptor_.listen();
+  port_ = acceptor_.local_endpoint().port();
+  accept();
+}
+
+void WebServer::accept() {
+  acceptor_.async_accept([this](beast::error_code ec, tcp::socket socket) {
+    if (!ec) {
+      socket.set_option(tcp::no_delay(true), ec);
+      std::make_shared<HttpSession>(std::move(socket), hub_, files_)->read();
+    }
+    if (acceptor_.is_open()) accept();
+  });
+}
+
+}  // namespace groundsim::web

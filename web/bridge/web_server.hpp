@@ -1,0 +1,43 @@
+// HTTP and WebSocket on Boost.Beast: GET serves the bundled page (files read
+// into memory at start, so no path from a browser ever reaches the file
+// system), GET /ws upgrades to the WebSocket the page talks on. One I/O
+// thread runs every socket; nothing here blocks it.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+
+#include "bridge/hub.hpp"
+
+namespace groundsim::web {
+
+struct StaticFile {
+  std::string content_type;
+  std::string body;
+};
+// Reads every file of `dir` (not recursively): URL path "/" + name, and "/"
+// for index.html.
+std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir);
+
+class WebServer {
+ public:
+  WebServer(boost::asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files);
+  // Throws boost::system::system_error when the address cannot be bound.
+  void listen(const std::string& address, unsigned short port);
+  unsigned short port() const { return port_; }
+
+ private:
+  void accept();
+
+  boost::asio::io_context& io_;
+  Hub& hub_;
+  std::shared_ptr<const std::map<std::string, StaticFile>> files_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  unsigned short port_ = 0;
+};
+
+}  // namespace groundsim::web

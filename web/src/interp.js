@@ -1,0 +1,77 @@
+// Smooth motion between states: states arrive at the session's publish
+// rate, frames are drawn at the display's rate. A playback clock runs at the
+// measured real-time factor a little behind the newest state and each frame
+// interpolates the two states around it (positions linearly, orientations
+// by slerp). No three.js here: the module is plain data.
+
+export function slerp(a, b, u) {  // quaternions [w, x, y, z]
+  let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  let bb = b;
+  if (dot < 0) { dot = -dot; bb = b.map((x) => -x); }
+  if (dot > 0.9995) {
+    const q = a.map((x, i) => x + (bb[i] - x) * u);
+    const n = Math.hypot(...q);
+    return q.map((x) => x / n);
+  }
+  const th = Math.acos(dot), s = Math.sin(th);
+  const wa = Math.sin((1 - u) * th) / s, wb = Math.sin(u * th) / s;
+  return a.map((x, i) => wa * x + wb * bb[i]);
+}
+
+const lerp = (a, b, u) => a.map((x, i) => x + (b[i] - x) * u);
+
+export function interpolateVehicle(a, b, u) {
+  if (!b || a === b) return a;
+  return {
+    ...a,
+    p: lerp(a.p, b.p, u), q: slerp(a.q, b.q, u), v: lerp(a.v, b.v, u), w: lerp(a.w, b.w, u),
+    speed: a.speed + (b.speed - a.speed) * u,
+    spin: lerp(a.spin, b.spin, u), N: lerp(a.N, b.N, u),
+  };
+}
+
+export class Playback {
+  constructor() { this.reset(); }
+  reset() {
+    this.states = [];       // ascending t
+    this.clock = null;      // sim time being shown
+    this.rate = 1;          // measured real-time factor
+    this.interval = 0.02;   // measured s of sim time between states
+    this.rateWindow = [];   // [wall s, sim t]
+  }
+  push(state, wallS) {
+    const last = this.states[this.states.length - 1];
+    if (last && state.t < last.t - 1e-9) this.states = [];  // reset or a replay restarted
+    if (last && Math.abs(state.t - last.t) < 1e-12) { this.states[this.states.length - 1] = state; return; }
+    if (last) this.interval = 0.9 * this.interval + 0.1 * Math.max(1e-4, state.t - last.t);
+    this.states.push(state);
+    if (this.states.length > 64) this.states.shift();
+    // the bridge's arrival stamp when there is one: this page's own clock
+    // stalls while a slow (software) renderer draws
+    if (typeof state.wall === 'number') wallS = state.wall;
+    this.rateWindow.push([wallS, state.t]);
+    while (this.rateWindow.length > 2 && wallS - this.rateWindow[0][0] > 2.0) this.rateWindow.shift();
+    const [w0, t0] = this.rateWindow[0];
+    if (wallS - w0 > 0.25) this.rate = (state.t - t0) / (wallS - w0);
+  }
+  newest() { return this.states[this.states.length - 1] || null; }
+  // The state to draw after dtWall seconds of wall time.
+  frame(dtWall) {
+    const n = this.states.length;
+    if (!n) return null;
+    const newest = this.states[n - 1];
+    const target = newest.t - 1.5 * this.interval;
+    if (this.clock === null || Math.abs(this.clock - target) > Math.max(0.5, 5 * this.interval)) this.clock = target;
+    else this.clock += dtWall * Math.max(0, this.rate) + (target - this.clock) * 0.05;
+    if (newest.status !== 1) this.clock = Math.min(this.clock, newest.t);  // paused or over: hold
+    let i = n - 1;
+    while (i > 0 && this.states[i - 1].t > this.clock) --i;
+    const b = this.states[i], a = i > 0 ? this.states[i - 1] : b;
+    const u = b.t > a.t ? Math.min(1, Math.max(0, (this.clock - a.t) / (b.t - a.t))) : 1;
+    return {
+      ...b,
+      t: a.t + (b.t - a.t) * u,
+      vehicles: b.vehicles.map((vb, k) => interpolateVehicle(a.vehicles[k] || vb, vb, u)),
+    };
+  }
+}
