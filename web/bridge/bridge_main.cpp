@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   LcmLink* link_ptr = nullptr;
   bus.request = [&](const groundsim::request_t& r) { link_ptr->publish(r); };
   bus.drive = [&](const groundsim::drive_t& d) { link_ptr->publish(d); };
+  bus.controls = [&](const groundsim::controls_t& c) { link_ptr->publish(c); };
   // the hub needs the client id before the link exists: the link picks it
   std::unique_ptr<Hub> hub;
   LcmHandlers forward;
