@@ -13,7 +13,7 @@
 #include "bridge/hub.hpp"
 #include "bridge/lcm_link.hpp"
 #include "bridge/web_server.hpp"
-#include "channels.hpp"
+#include "protocol/channels.hpp"
 
 int main(int argc, char** argv) {
   using namespace groundsim::web;
@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
                             [&](const auto& m) { if (forward.event) forward.event(m); },
                             [&](const auto& m) { if (forward.reply) forward.reply(m); },
                             [&](const auto& m) { if (forward.scenario) forward.scenario(m); },
-                            [&](const auto& c, const auto& r) { if (forward.bad) forward.bad(c, r); }});
+                            [&](const auto& c, const auto& r) { if (forward.bad) forward.bad(c, r); },
+                            [&](const auto& m) { if (forward.car_state) forward.car_state(m); }});
   if (!link.good()) {
     std::fprintf(stderr, "groundsim-web: cannot open LCM %s (no multicast route? ip route add 224.0.0.0/4 dev lo)\n",
                  lcm_url.c_str());

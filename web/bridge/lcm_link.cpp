@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 
 namespace groundsim::web {
 

@@ -32,11 +32,11 @@ inline constexpr int8_t kOpScenario = 9;
 struct LcmHandlers {
   std::function<void(const groundsim::server_status_t&)> status;
   std::function<void(const groundsim::state_t&)> state;
-  std::function<void(const groundsim::car_state_t&)> car_state;
   std::function<void(const groundsim::event_t&)> event;
   std::function<void(const groundsim::reply_t&)> reply;
   std::function<void(const groundsim::scenario_t&)> scenario;
   std::function<void(const std::string& channel, const std::string& reason)> bad;
+  std::function<void(const groundsim::car_state_t&)> car_state;  // road cars (last: positional initializers)
 };
 
 class LcmLink {
