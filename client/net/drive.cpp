@@ -303,7 +303,9 @@ void run(const DriveOpts& o) {
     dirty = true;
   }
   if (!o.hold) sendNow(true);
-  client.lcm().handleTimeout(50);  // collect a last refusal, if any
+  // collect a last refusal, if any (states arrive meanwhile: one handle is not enough)
+  for (const auto until = SteadyClock::now() + std::chrono::milliseconds(150); SteadyClock::now() < until;)
+    client.lcm().handleTimeout(20);
   if (car && have_car) {
     if (const auto* c = carOf())
       std::fprintf(stderr, "%sdrive %s: t=%.2f s speed %.1f km/h gear %s %.0f rpm\n", tty ? "\n" : "",

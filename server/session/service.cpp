@@ -268,6 +268,9 @@ void SessionService::handleDrive(Drive d) {
     if (d.vehicle < 0 || d.vehicle >= static_cast<int>(vehicles.size()))
       return refuse(ErrorCode::BadControl, "drive: no vehicle " + std::to_string(d.vehicle) + " (session has " +
                                                std::to_string(vehicles.size()) + ")");
+    if (vehicles[d.vehicle].road_car >= 0)
+      return refuse(ErrorCode::BadControl, "drive: vehicle " + std::to_string(d.vehicle) +
+                                               " is a road car (kind \"road_car\"): drive it with controls_t");
     const size_t n = vehicles[d.vehicle].wheels.size();
     if (d.wheels.size() != n)
       return refuse(ErrorCode::BadControl, "drive: vehicle " + std::to_string(d.vehicle) + " has " +

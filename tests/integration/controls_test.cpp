@@ -157,6 +157,13 @@ TEST_F(Controls, BadValuesAreRefusedNamingTheField) {
   EXPECT_LT(stepSeconds(id, 1.0), 0.05);
 }
 
+TEST_F(Controls, RoadCarRefusesPerWheelTorques) {
+  const std::string id = create(kSedan);
+  const Result r = cli({"drive", id, "--controls", "wheels", "--hold"}, "throttle 1\nquit\n");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("drive: vehicle 0 is a road car"), std::string::npos) << r.err;
+}
+
 TEST_F(Controls, ReportCarRefusesRoadCarControls) {
   const std::string id = create(kPlain);
   const Result r = drive(id, "throttle 1\n");
