@@ -3,6 +3,7 @@
 # library with the server and do not link the session layer. Included by
 # client/CMakeLists.txt.
 target_sources(groundsim PRIVATE
+  ${CMAKE_CURRENT_LIST_DIR}/net/car_drive.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/client.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/common.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/create.cpp

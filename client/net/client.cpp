@@ -79,6 +79,13 @@ void NetClient::send(groundsim::drive_t cmd) {
   if (lcm_.publish(net::kDriveChannel, &cmd) != 0) throw NetError("cannot publish on " + url_);
 }
 
+void NetClient::send(groundsim::controls_t cmd) {
+  cmd.utime = wallMicros();
+  cmd.seq = seq_++;
+  cmd.client_id = client_id_;
+  if (lcm_.publish(net::kControlsChannel, &cmd) != 0) throw NetError("cannot publish on " + url_);
+}
+
 std::vector<groundsim::event_t> NetClient::takeEvents() {
   std::vector<groundsim::event_t> out;
   out.swap(events_);

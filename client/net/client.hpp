@@ -13,6 +13,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
@@ -46,6 +47,7 @@ class NetClient {
   void pump(int ms);
   const net::ServerWatch& server() const { return watch_; }
   void send(groundsim::drive_t cmd);
+  void send(groundsim::controls_t cmd);  // road cars, on GROUNDSIM_CONTROLS
 
   // Error events addressed to this client since the last call.
   std::vector<groundsim::event_t> takeEvents();

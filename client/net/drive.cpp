@@ -6,6 +6,11 @@
 //   throttle T | brake B | turn X | wheels D0 D1 D2 D3 [B0..B3 [S0..S3]] | release | wait S | quit
 // The command in force is re-sent at --hz so that the server's command
 // timeout only fires when this client goes away.
+// A road car (kind "road_car") takes normalized controls instead (controls_t,
+// keys and script lines in car_drive.hpp) and shows speed in km/h, gear and
+// rpm from car_state_t. --controls auto tells the two apart from the
+// session's first states (a road car's come with a car_state_t); a session
+// that publishes nothing (lockstep, paused) needs --controls car.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +24,9 @@
 #include "protocol/codec.hpp"
 #include "protocol/names.hpp"
 #include "protocol/text.hpp"
+#include <groundsim/car_state_t.hpp>
+
+#include "car_drive.hpp"
 #include "common.hpp"
 #include "terminal.hpp"
 
@@ -38,6 +46,7 @@ struct DriveOpts {
   double max_steer = 0.6;     // rad at full turn
   double hz = 20.0;
   bool hold = false;
+  std::string controls = "auto";  // auto | car | wheels
 };
 
 // The driver's intent, turned into per-wheel controls. Wheels are in the
@@ -136,11 +145,7 @@ void run(const DriveOpts& o) {
                  net::printable(o.session).c_str());
   const bool tty = ::isatty(STDIN_FILENO);
   std::optional<RawTerminal> term;
-  if (tty) {
-    term.emplace(STDIN_FILENO);
-    std::fprintf(stderr, "drive %s: w/s or up/down throttle, a/d or left/right turn, space brake, x release, q quit\n",
-                 net::printable(o.session).c_str());
-  }
+  if (tty) term.emplace(STDIN_FILENO);
 
   groundsim::state_t latest;
   bool have_state = false;
@@ -152,8 +157,58 @@ void run(const DriveOpts& o) {
       net::stateChannel(o.session),
       +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_state)* h) { (*h)(rbuf, ch); }, &on_state);
 
-  std::fprintf(stderr, "drive %s: sending on %s\n", net::printable(o.session).c_str(), client.url().c_str());
+  groundsim::car_state_t latest_car;
+  bool have_car = false;
+  auto on_car = [&](const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    if (net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), latest_car, "groundsim.car_state_t").ok())
+      have_car = true;
+  };
+  client.lcm().subscribeFunction(
+      net::carStateChannel(o.session),
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_car)* h) { (*h)(rbuf, ch); }, &on_car);
+  auto carOf = [&]() -> const groundsim::road_car_state_t* {
+    for (const auto& c : latest_car.cars)
+      if (c.vehicle == o.vehicle) return &c;
+    return nullptr;
+  };
+
+  bool car = o.controls == "car";
+  if (o.controls == "auto") {
+    // a road car's state_t comes with a car_state_t of the same seq
+    const auto give_up = SteadyClock::now() + std::chrono::seconds(2);
+    while (!have_state && SteadyClock::now() < give_up && !stopRequested()) client.pump(50);
+    for (const auto settle = SteadyClock::now() + std::chrono::milliseconds(200);
+         have_state && !have_car && SteadyClock::now() < settle;)
+      client.pump(20);
+    car = have_car && carOf() != nullptr;
+    if (!have_state)
+      std::fprintf(stderr, "drive %s: no state within 2 s (lockstep or paused?): per-wheel torques; "
+                           "use --controls car for a road car\n", net::printable(o.session).c_str());
+  }
+  if (!car && tty)
+    std::fprintf(stderr, "drive %s: w/s or up/down throttle, a/d or left/right turn, space brake, x release, q quit\n",
+                 net::printable(o.session).c_str());
+  if (car && tty)
+    std::fprintf(stderr, "drive %s: road car: w/s or up/down throttle/brake, a/d or left/right steer (held while "
+                         "pressed, back to 0 when released), space full brake, h handbrake, 0 auto, 1-9 gear, "
+                         "r reverse, n neutral, x release, q quit\n", net::printable(o.session).c_str());
+
+  std::fprintf(stderr, "drive %s: sending %s on %s\n", net::printable(o.session).c_str(),
+               car ? "controls_t" : "drive_t", client.url().c_str());
   Intent intent;
+  CarIntent car_intent;
+  auto last_tick = SteadyClock::now();
+  auto sendNow = [&](bool release) {
+    if (car) {
+      groundsim::controls_t m = (release ? CarIntent{} : car_intent).toMessage(o.session, o.vehicle);
+      m.token = token;
+      client.send(m);
+    } else {
+      groundsim::drive_t m = (release ? Intent{} : intent).toMessage(o);
+      m.token = token;
+      client.send(m);
+    }
+  };
   int refusals = 0;
   const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / o.hz));
   auto next_send = SteadyClock::now();
@@ -183,7 +238,7 @@ void run(const DriveOpts& o) {
       ++line_no;
       double wait = 0.0;
       try {
-        wait = applyLine(line, intent);
+        wait = car ? applyCarLine(line, car_intent) : applyLine(line, intent);
       } catch (const std::invalid_argument& e) {
         fail(kExitRefused, "stdin line " + std::to_string(line_no) + ": " + e.what());
       }
@@ -192,10 +247,10 @@ void run(const DriveOpts& o) {
       if (wait > 0) wait_until = SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(wait));
     }
     const auto now = SteadyClock::now();
+    car_intent.tick(std::chrono::duration<double>(now - last_tick).count());
+    last_tick = now;
     if (dirty || now >= next_send) {
-      groundsim::drive_t m = intent.toMessage(o);
-      m.token = token;
-      client.send(m);
+      sendNow(false);
       next_send = now + period;
       dirty = false;
     }
@@ -204,7 +259,12 @@ void run(const DriveOpts& o) {
       ++refusals;
       std::fprintf(stderr, "%sgroundsim: refused: %s\n", tty ? "\r\033[K" : "", net::printable(e.reason, 1000).c_str());
     }
-    if (tty && have_state) {
+    if (tty && have_state && car) {
+      const auto* c = carOf();
+      std::fprintf(stderr, "\r\033[K%s | t=%.2f s %5.1f km/h gear %s %5.0f rpm %s", car_intent.describe().c_str(),
+                   latest.t, c ? c->speed * 3.6 : 0.0, c ? gearName(c->gear).c_str() : "-", c ? c->engine_rpm : 0.0,
+                   net::statusName(latest.status));
+    } else if (tty && have_state) {
       const double speed = latest.vehicles.size() > static_cast<size_t>(o.vehicle) ? latest.vehicles[o.vehicle].speed : 0.0;
       std::fprintf(stderr, "\r\033[Kthrottle %5.2f N m  turn %+4.1f  brake %4.1f | t=%.2f s speed %.2f m/s %s",
                    intent.throttle, intent.turn, intent.brake, latest.t, speed, net::statusName(latest.status));
@@ -238,16 +298,20 @@ void run(const DriveOpts& o) {
     for (std::string::size_type i = 0; i < bytes.size();) {
       KeyPress k;
       i = nextKey(bytes, i, &k);
-      if (!applyKey(k, intent, o)) quit = true;
+      if (!(car ? applyCarKey(k, car_intent) : applyKey(k, intent, o))) quit = true;
     }
     dirty = true;
   }
-  if (!o.hold) {
-    groundsim::drive_t m = Intent{}.toMessage(o);
-    m.token = token;
-    client.send(m);
+  if (!o.hold) sendNow(true);
+  // collect a last refusal, if any (states arrive meanwhile: one handle is not enough)
+  for (const auto until = SteadyClock::now() + std::chrono::milliseconds(150); SteadyClock::now() < until;)
+    client.lcm().handleTimeout(20);
+  if (car && have_car) {
+    if (const auto* c = carOf())
+      std::fprintf(stderr, "%sdrive %s: t=%.2f s speed %.1f km/h gear %s %.0f rpm\n", tty ? "\n" : "",
+                   net::printable(o.session).c_str(), latest_car.t, c->speed * 3.6, gearName(c->gear).c_str(),
+                   c->engine_rpm);
   }
-  client.lcm().handleTimeout(50);  // collect a last refusal, if any
   for (const auto& e : client.takeEvents()) {
     ++refusals;
     std::fprintf(stderr, "groundsim: refused: %s\n", net::printable(e.reason, 1000).c_str());
@@ -269,6 +333,9 @@ void registerDriveCommand(CLI::App& app) {
   cmd->add_option("--brake", o->brake, "N m of the brake key")->capture_default_str();
   cmd->add_option("--max-steer", o->max_steer, "rad of steering at full turn")->capture_default_str();
   cmd->add_option("--hz", o->hz, "commands per second")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--controls", o->controls, "auto: normalized controls (controls_t) for a road car, per-wheel "
+                                             "torques (drive_t) otherwise; car; wheels")
+      ->capture_default_str()->check(CLI::IsMember({"auto", "car", "wheels"}));
   cmd->add_flag("--hold", o->hold, "leave the last command in force on exit (default: release)");
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] { guarded([&] { run(*o); }); });

@@ -38,6 +38,60 @@ session::Drive fromMessage(const groundsim::drive_t& m) {
   return d;
 }
 
+session::CarDrive fromMessage(const groundsim::controls_t& m) {
+  session::CarDrive d;
+  d.client_id = m.client_id;
+  d.session_id = m.session_id;
+  d.token = m.token;
+  d.vehicle = m.vehicle;
+  d.controls.throttle = m.throttle;
+  d.controls.brake = m.brake;
+  d.controls.steer = m.steer;
+  d.controls.handbrake = m.handbrake;
+  d.controls.gear = m.gear;  // controls_t.GEAR_* are CarControls::k*
+  d.received = session::Clock::now();
+  return d;
+}
+
+namespace {
+double finiteOr0(double x) { return std::isfinite(x) ? x : 0.0; }
+}  // namespace
+
+groundsim::car_state_t toCarMessage(const session::Frame& f) {
+  groundsim::car_state_t m;
+  m.utime = toUtime(f.t);
+  m.seq = f.seq;
+  m.session_id = f.session_id;
+  m.t = f.t;
+  for (const session::CarFrame& c : f.cars) {
+    if (c.vehicle < 0 || c.vehicle >= static_cast<int>(f.vehicles.size())) continue;
+    const VehicleSample& s = f.vehicles[c.vehicle];
+    groundsim::road_car_state_t o{};
+    o.vehicle = c.vehicle;
+    o.name = f.names && static_cast<size_t>(c.vehicle) < f.names->size() ? (*f.names)[c.vehicle] : std::string();
+    o.speed = s.speed;
+    o.yaw_rate = finiteOr0(s.yaw_rate);
+    o.gear = static_cast<int8_t>(c.applied.gear);
+    o.engine_rpm = finiteOr0(s.engine_rpm);
+    o.drive_power = finiteOr0(s.drive_power);
+    for (int k = 0; k < 4; ++k) {
+      o.slip_ratio[k] = finiteOr0(s.wheels[k].slip_ratio);
+      o.slip_angle[k] = finiteOr0(s.wheels[k].slip_angle);
+      o.suspension_travel[k] = finiteOr0(s.wheels[k].travel);
+      o.normal_force[k] = s.wheels[k].normal_force;
+    }
+    o.throttle = finiteOr0(c.applied.applied.throttle);
+    o.brake = finiteOr0(c.applied.applied.brake);
+    o.steer = finiteOr0(c.commanded.steer);
+    o.steer_angle = finiteOr0(c.applied.steer_angle);
+    o.handbrake = c.applied.applied.handbrake;
+    o.gear_request = static_cast<int8_t>(c.commanded.gear);
+    m.cars.push_back(std::move(o));
+  }
+  m.ncars = static_cast<int32_t>(m.cars.size());
+  return m;
+}
+
 groundsim::state_t toMessage(const session::Frame& f) {
   groundsim::state_t m;
   m.utime = toUtime(f.t);

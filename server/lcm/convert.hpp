@@ -2,6 +2,8 @@
 // (what clients need of the wire types is in groundsim_protocol).
 #pragma once
 
+#include <groundsim/car_state_t.hpp>
+#include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
@@ -28,8 +30,11 @@ inline std::int64_t toUtime(double t) {
 
 session::Request fromMessage(const groundsim::request_t& m);
 session::Drive fromMessage(const groundsim::drive_t& m);
+session::CarDrive fromMessage(const groundsim::controls_t& m);
 
 groundsim::state_t toMessage(const session::Frame& f);
+// The frame's road cars (f.cars), published beside its state_t.
+groundsim::car_state_t toCarMessage(const session::Frame& f);
 groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq);
 groundsim::event_t toMessage(const session::Event& e, std::int64_t seq);
 groundsim::session_info_t toMessage(const session::SessionInfo& s);

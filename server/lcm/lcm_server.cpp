@@ -49,6 +49,7 @@ LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, 
   // thread is busy: a deep queue instead of LCM's silent 30.
   lcm_.subscribe(kRequestChannel, &LcmServer::onRequest, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kDriveChannel, &LcmServer::onDrive, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(kControlsChannel, &LcmServer::onControls, this)->setQueueCapacity(kDeepQueue);
 }
 
 LcmServer::~LcmServer() { service_.reset(); }
@@ -68,6 +69,7 @@ void LcmServer::publishState(const session::Frame& f) {
   try {
     publish(stateChannel(f.session_id), toMessage(f));
     ++frames_;
+    if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f));
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a state of %s: %s\n", f.session_id.c_str(), e.what());
@@ -122,6 +124,10 @@ void LcmServer::onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 
+void LcmServer::onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
 // Handlers run inside lcm_handle(), which is C: an exception must stop here
 // (as Drake's DrakeLcm stores it) and become an event, never unwind.
 void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
@@ -129,6 +135,7 @@ void LcmServer::handleDatagram(const std::string& channel, const void* data, int
     ++inputs_;
     if (channel == kRequestChannel) handleRequest(channel, data, size);
     else if (channel == kDriveChannel) handleDrive(channel, data, size);
+    else if (channel == kControlsChannel) handleControls(channel, data, size);
   } catch (const std::exception& e) {
     try {
       service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
@@ -172,6 +179,17 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
   if (why.empty()) why = badId("token", msg.token);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
   service_->handleDrive(fromMessage(msg));
+}
+
+void LcmServer::handleControls(const std::string& channel, const void* data, int size) {
+  groundsim::controls_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.controls_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (why.empty()) why = badId("session_id", msg.session_id);
+  if (why.empty()) why = badId("token", msg.token);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
+  service_->handleControls(fromMessage(msg));
 }
 
 void LcmServer::heartbeat() {

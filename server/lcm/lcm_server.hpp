@@ -45,8 +45,10 @@ class LcmServer final : public session::Output {
  private:
   void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void handleRequest(const std::string& channel, const void* data, int size);
   void handleDrive(const std::string& channel, const void* data, int size);
+  void handleControls(const std::string& channel, const void* data, int size);
   template <class T>
   void publish(const std::string& channel, const T& msg);
 

@@ -10,6 +10,7 @@ namespace groundsim::net {
 inline constexpr const char* kRequestChannel = "GROUNDSIM_REQUEST";  // request_t, clients -> server
 inline constexpr const char* kReplyChannel = "GROUNDSIM_REPLY";      // reply_t, server -> clients
 inline constexpr const char* kDriveChannel = "GROUNDSIM_DRIVE";      // drive_t, clients -> server
+inline constexpr const char* kControlsChannel = "GROUNDSIM_CONTROLS";  // controls_t (road cars), clients -> server
 inline constexpr const char* kEventChannel = "GROUNDSIM_EVENT";      // event_t, server -> anyone
 inline constexpr const char* kStatusChannel = "GROUNDSIM_STATUS";    // server_status_t, 1 Hz
 inline constexpr const char* kStatePrefix = "GROUNDSIM_STATE_";      // + session id: state_t
@@ -17,8 +18,10 @@ inline constexpr const char* kScenarioChannel = "GROUNDSIM_SCENARIO";  // scenar
 // request_t.op that asks for a session's scenario_t (answered on
 // kScenarioChannel, then with a reply_t); request_t itself is unchanged
 inline constexpr int8_t kOpScenario = 9;
+inline constexpr const char* kCarStatePrefix = "GROUNDSIM_CAR_STATE_";  // + session id: car_state_t (road cars)
 
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }
+inline std::string carStateChannel(const std::string& session_id) { return kCarStatePrefix + session_id; }
 
 // LCM's own default, unless LCM_DEFAULT_URL says otherwise. ttl=0 keeps
 // multicast on this host.

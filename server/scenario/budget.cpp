@@ -15,9 +15,10 @@ namespace {
 
 struct Counts {
   long long bodies = 0, points = 0, build_points = 0, particles = 0, springs = 0, contacts = 0;
+  long long aux = 0;  // states after the bodies and particles (road cars)
   void add(const Counts& o) {
     bodies += o.bodies, points += o.points, build_points += o.build_points, particles += o.particles,
-        springs += o.springs, contacts += o.contacts;
+        springs += o.springs, contacts += o.contacts, aux += o.aux;
   }
 };
 
@@ -28,6 +29,15 @@ Counts vehicleCounts(const VehicleSpec& v) {
   const long long n = p.rim_points;
   const bool rim_contact = p.wheel_contact == WheelContact::RimPoints;
   Counts c;
+  if (v.road_car) {
+    // physics/road_car_builder.cpp: one body of six mass points (none in
+    // contact: the tyres touch the ground analytically), no springs, and
+    // kRoadCarStates states for its wheels
+    c.bodies = 1;
+    c.points = c.build_points = 6;
+    c.aux = kRoadCarStates;
+    return c;
+  }
   if (v.lone_wheel) {
     c.bodies = 1;
     c.points = rim_contact ? n : 0;
@@ -133,12 +143,13 @@ ModelSize estimateModelSize(const Scenario& s) {
   m.particles = total.particles;
   m.springs = total.springs;
   m.contact_points = total.contacts;
-  m.state = 13 * total.bodies + 6 * total.particles;
+  m.state = 13 * total.bodies + 6 * total.particles + total.aux;
   m.steps = stepsOf(s, s.duration);
   // one evaluation touches every point, spring and contact point once; the
   // stick-slip friction sweeps (up to friction_iterations, stopping once
   // converged, usually after a few) are not counted
-  const double per_eval = static_cast<double>(total.points + total.springs + total.contacts);
+  // (a road car's four tyres and struts are counted as its aux states)
+  const double per_eval = static_cast<double>(total.points + total.springs + total.contacts + total.aux);
   m.work_per_step = evaluationsPerStep(s.options.integrator, m.state) * per_eval;
   if (s.options.integrator == IntegratorKind::ImplicitEuler) m.work_per_step += std::pow(static_cast<double>(m.state), 3) / 3.0;
   return m;
@@ -161,7 +172,7 @@ void checkBudget(const Scenario& s, const Budget& b) {
   const ModelSize m = estimateModelSize(s);
   if (m.state > b.max_state)
     issues.add(vehiclesPath(s), "the state would have " + count(static_cast<double>(m.state)) + " numbers (13 per body, " +
-                                    "6 per particle), at most " + count(static_cast<double>(b.max_state)) + " " +
+                                    "6 per particle, 20 per road car), at most " + count(static_cast<double>(b.max_state)) + " " +
                                     b.flag("max-state"));
   if (s.options.integrator == IntegratorKind::ImplicitEuler && m.state > b.max_implicit_state) {
     const double bytes = 3.0 * 8.0 * static_cast<double>(m.state) * static_cast<double>(m.state);

@@ -48,7 +48,7 @@ struct Budget {
 // What a validated scenario will build, counted from its specs.
 struct ModelSize {
   long long vehicles = 0, bodies = 0, points = 0, particles = 0, springs = 0, contact_points = 0;
-  long long state = 0;            // 13 per body + 6 per particle
+  long long state = 0;            // 13 per body + 6 per particle + 20 per road car
   double steps = 0.0;             // integrator steps over the scenario's duration
   // derivative evaluations per step x (points + springs + contact points),
   // + state^3 / 3 for implicit_euler's LU factorisation

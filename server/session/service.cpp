@@ -283,6 +283,9 @@ void SessionService::handleDrive(Drive d) {
     if (d.vehicle < 0 || d.vehicle >= static_cast<int>(vehicles.size()))
       return refuse(ErrorCode::BadControl, "drive: no vehicle " + std::to_string(d.vehicle) + " (session has " +
                                                std::to_string(vehicles.size()) + ")");
+    if (vehicles[d.vehicle].road_car >= 0)
+      return refuse(ErrorCode::BadControl, "drive: vehicle " + std::to_string(d.vehicle) +
+                                               " is a road car (kind \"road_car\"): drive it with controls_t");
     const size_t n = vehicles[d.vehicle].wheels.size();
     if (d.wheels.size() != n)
       return refuse(ErrorCode::BadControl, "drive: vehicle " + std::to_string(d.vehicle) + " has " +
@@ -306,6 +309,51 @@ void SessionService::handleDrive(Drive d) {
   } catch (const std::exception& e) {
     try {
       refuse(ErrorCode::Internal, std::string("drive: internal error: ") + e.what());
+    } catch (...) {
+    }
+  } catch (...) {
+  }
+}
+
+void SessionService::handleControls(CarDrive d) {
+  auto refuse = [&](ErrorCode code, const std::string& why) {
+    Event e = sessionEvent(d.session_id, Severity::Error, code, "controls: " + why);
+    e.client_id = d.client_id;
+    out_.publishEvent(e);
+  };
+  try {
+    auto s = find(d.session_id);
+    if (!s) return refuse(ErrorCode::UnknownSession, "unknown session '" + d.session_id + "'");
+    if (!s->tokenMatches(d.token))
+      return refuse(ErrorCode::Unauthorized, d.token.empty() ? "session " + d.session_id + " needs its token"
+                                                             : "wrong token for session " + d.session_id);
+    const auto& vehicles = s->vehicles();
+    if (d.vehicle < 0 || d.vehicle >= static_cast<int>(vehicles.size()))
+      return refuse(ErrorCode::BadControl, "vehicle: no vehicle " + std::to_string(d.vehicle) + " (session has " +
+                                               std::to_string(vehicles.size()) + ")");
+    const VehicleWheels& vw = vehicles[d.vehicle];
+    if (vw.road_car < 0)
+      return refuse(ErrorCode::BadControl, "vehicle: vehicle " + std::to_string(d.vehicle) +
+                                               " is not a road car (kind \"road_car\"); drive it with drive_t");
+    const CarControls& c = d.controls;
+    const struct { const char* field; double v, lo, hi; } ranges[] = {
+        {"throttle", c.throttle, 0.0, 1.0}, {"brake", c.brake, 0.0, 1.0}, {"steer", c.steer, -1.0, 1.0}};
+    for (const auto& r : ranges) {
+      if (!std::isfinite(r.v))
+        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + num(r.v) + " is not finite");
+      if (r.v < r.lo || r.v > r.hi)
+        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + num(r.v) + " outside [" + num(r.lo) +
+                                                 ", " + num(r.hi) + "]");
+    }
+    if (c.gear < CarControls::kNeutral || c.gear > vw.gears)
+      return refuse(ErrorCode::BadControl, "gear: " + std::to_string(c.gear) + " is not 0 (auto), -1 (reverse), "
+                                           "-2 (neutral) or a gear 1.." + std::to_string(vw.gears));
+    s->touch(d.received);
+    s->post(std::move(d));
+    pool_.wake(s);
+  } catch (const std::exception& e) {
+    try {
+      refuse(ErrorCode::Internal, std::string("internal error: ") + e.what());
     } catch (...) {
     }
   } catch (...) {

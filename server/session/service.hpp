@@ -38,6 +38,10 @@ class SessionService {
   // Receive thread only.
   void handleRequest(const Request& r);
   void handleDrive(Drive d);
+  // Normalized controls of a road car (controls_t): refused with an event
+  // naming the field for a vehicle that is not a road car or a value that
+  // is not finite or out of range.
+  void handleControls(CarDrive d);
   // Input the transport could not decode (names the channel and why).
   void reportBadInput(ErrorCode code, const std::string& channel, const std::string& reason);
   // Reclaims idle sessions; call about once a second.

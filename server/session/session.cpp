@@ -68,6 +68,12 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
     vehicles_[v].wheels.push_back(static_cast<int>(w));
     vehicles_[v].max_steer.push_back(m.wheels[w].steerable ? m.wheels[w].max_steer : 0.0);
   }
+  for (size_t c = 0; c < m.road_cars.size(); ++c) {
+    const int v = m.road_cars[c].vehicle;
+    if (v < 0 || v >= static_cast<int>(vehicles_.size())) continue;
+    vehicles_[v].road_car = static_cast<int>(c);
+    vehicles_[v].gears = static_cast<int>(m.road_cars[c].p.powertrain.gears.size());
+  }
   names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
   anchor_.reset(now, sim_.state().t, setup_.rate);
@@ -82,6 +88,11 @@ void Session::post(const Request& r) {
 }
 
 void Session::post(Drive d) {
+  std::lock_guard<std::mutex> lk(mailbox_mutex_);
+  mailbox_.emplace_back(std::move(d));
+}
+
+void Session::post(CarDrive d) {
   std::lock_guard<std::mutex> lk(mailbox_mutex_);
   mailbox_.emplace_back(std::move(d));
 }
@@ -207,6 +218,7 @@ void Session::apply(const Request& r, TimePoint now) {
       status_ = Status::Running;
       reason_.clear();
       drive_held_ = false;
+      car_held_ = false;
       reanchor(now);
       frame_pending_ = true;
       reply(to, true, ErrorCode::None, "");
@@ -270,6 +282,18 @@ void Session::apply(const Drive& d) {
   drive_held_ = any;
 }
 
+// Checked by the service (a road car, values in range); the physics clamps
+// and rate-limits what it applies.
+void Session::apply(const CarDrive& d) {
+  const int c = vehicles_.at(d.vehicle).road_car;
+  if (c < 0) return;
+  CarControls cc = d.controls;
+  cc.wheel_torque = sim_.carControls(c).wheel_torque;  // per-wheel experiment torques are not a driver's
+  sim_.setCarControls(c, cc);
+  last_car_drive_ = d.received;
+  car_held_ = cc.throttle != 0.0 || cc.brake != 0.0;
+}
+
 void Session::apply(const StopCommand& c) {
   failSteps(ErrorCode::BadRequest, "session stopped");
   status_ = Status::Stopped;
@@ -311,6 +335,19 @@ bool Session::stepOnce() {
 }
 
 void Session::checkCommandTimeout(TimePoint now) {
+  if (car_held_ && seconds(now - last_car_drive_) > cfg_.command_timeout) {
+    // as for drive_t: the pedals are released, steering and gear stay
+    for (const VehicleWheels& vw : vehicles_) {
+      if (vw.road_car < 0) continue;
+      CarControls cc = sim_.carControls(vw.road_car);
+      cc.throttle = 0.0;
+      cc.brake = 0.0;
+      sim_.setCarControls(vw.road_car, cc);
+    }
+    car_held_ = false;
+    event(Severity::Warning, ErrorCode::CommandTimeout,
+          "no controls command for " + shortNumber(cfg_.command_timeout) + " s: throttle and brake set to zero");
+  }
   if (!drive_held_ || seconds(now - last_drive_) <= cfg_.command_timeout) return;
   for (const VehicleWheels& vw : vehicles_)
     for (int w : vw.wheels) {
@@ -417,6 +454,8 @@ Frame Session::makeFrame(bool published) {
   for (size_t v = 0; v < vehicles_.size(); ++v) {
     f.vehicles.push_back(sampleVehicle(sim_, static_cast<int>(v), v == 0));
     sanitize(f.vehicles.back());
+    const int c = vehicles_[v].road_car;
+    if (c >= 0) f.cars.push_back(CarFrame{static_cast<int>(v), s.car_controls.at(c), s.cars.at(c)});
   }
   if (!f.vehicles.empty()) f.energy = f.vehicles.front().energy;
   for (auto& v : f.vehicles) v.energy = f.energy;

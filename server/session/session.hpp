@@ -36,6 +36,8 @@ struct SessionSetup {
 struct VehicleWheels {
   std::vector<int> wheels;
   std::vector<double> max_steer;      // 0 for wheels that do not steer
+  int road_car = -1;                  // its index among the model's road cars, -1: not a road car
+  int gears = 0;                      // a road car's forward gears (manual requests 1..gears)
 };
 
 class Session : public Task {
@@ -55,6 +57,7 @@ class Session : public Task {
   // Pause, Resume, Step, SetMode; stop() for Stop and reclamation.
   void post(const Request& r);
   void post(Drive d);
+  void post(CarDrive d);
   void stop(std::optional<ReplyTo> reply, std::string reason);
   // Marks owner activity (for idle reclamation).
   void touch(TimePoint now);
@@ -73,10 +76,11 @@ class Session : public Task {
  private:
   struct StepJob { ReplyTo reply; std::int64_t remaining; };
   struct StopCommand { std::optional<ReplyTo> reply; std::string reason; };
-  using Command = std::variant<Request, Drive, StopCommand>;
+  using Command = std::variant<Request, Drive, CarDrive, StopCommand>;
 
   void apply(const Request& r, TimePoint now);
   void apply(const Drive& d);
+  void apply(const CarDrive& d);
   void apply(const StopCommand& c);
   void failSteps(ErrorCode code, const std::string& why);
   void diverged(const std::string& why, ErrorCode code);
@@ -115,6 +119,8 @@ class Session : public Task {
   std::deque<StepJob> steps_;
   TimePoint last_drive_{};
   bool drive_held_ = false;           // a non-zero drive command is in force
+  TimePoint last_car_drive_{};
+  bool car_held_ = false;             // a road car's throttle or brake is in force
   TimePoint last_overrun_event_{};
   std::vector<Command> work_;
 

@@ -58,6 +58,24 @@ struct Drive {
   TimePoint received{};
 };
 
+// Normalized controls of one road car (controls_t), checked by the service
+// and applied with Simulator::setCarControls.
+struct CarDrive {
+  std::string client_id;
+  std::string session_id;
+  std::string token;
+  int vehicle = 0;
+  CarControls controls;              // throttle, brake, steer, handbrake, gear (wheel_torque unused)
+  TimePoint received{};
+};
+
+// A road car's part of a frame: what the telemetry sample lacks.
+struct CarFrame {
+  int vehicle = 0;                   // index into Frame::vehicles
+  CarControls commanded;
+  CarRuntime applied;                // clamped controls, steer angle, engaged gear
+};
+
 // One published state of a session: every vehicle at one instant. Values are
 // finite by construction (Session::makeFrame sanitizes).
 struct Frame {
@@ -71,6 +89,7 @@ struct Frame {
   std::string reason;
   double energy = 0.0;
   std::vector<VehicleSample> vehicles;
+  std::vector<CarFrame> cars;        // the road cars among the vehicles (empty without)
   std::shared_ptr<const std::vector<std::string>> names;
 };
 

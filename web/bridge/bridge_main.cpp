@@ -13,7 +13,7 @@
 #include "bridge/hub.hpp"
 #include "bridge/lcm_link.hpp"
 #include "bridge/web_server.hpp"
-#include "channels.hpp"
+#include "protocol/channels.hpp"
 
 int main(int argc, char** argv) {
   using namespace groundsim::web;
@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   LcmLink* link_ptr = nullptr;
   bus.request = [&](const groundsim::request_t& r) { link_ptr->publish(r); };
   bus.drive = [&](const groundsim::drive_t& d) { link_ptr->publish(d); };
+  bus.controls = [&](const groundsim::controls_t& c) { link_ptr->publish(c); };
   // the hub needs the client id before the link exists: the link picks it
   std::unique_ptr<Hub> hub;
   LcmHandlers forward;
@@ -58,7 +59,8 @@ int main(int argc, char** argv) {
                             [&](const auto& m) { if (forward.event) forward.event(m); },
                             [&](const auto& m) { if (forward.reply) forward.reply(m); },
                             [&](const auto& m) { if (forward.scenario) forward.scenario(m); },
-                            [&](const auto& c, const auto& r) { if (forward.bad) forward.bad(c, r); }});
+                            [&](const auto& c, const auto& r) { if (forward.bad) forward.bad(c, r); },
+                            [&](const auto& m) { if (forward.car_state) forward.car_state(m); }});
   if (!link.good()) {
     std::fprintf(stderr, "groundsim-web: cannot open LCM %s (no multicast route? ip route add 224.0.0.0/4 dev lo)\n",
                  lcm_url.c_str());

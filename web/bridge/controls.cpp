@@ -23,4 +23,19 @@ groundsim::drive_t toDrive(const Controls& c, int vehicle, int wheels, const Con
   return d;
 }
 
+groundsim::controls_t toCarControls(const Controls& c, int vehicle) {
+  groundsim::controls_t m{};
+  m.vehicle = vehicle;
+  // NaN fails every comparison: std::clamp would pass it through
+  auto clamp = [](double x, double lo, double hi) { return x >= lo ? (x <= hi ? x : hi) : lo; };
+  m.throttle = clamp(c.throttle, 0.0, 1.0);
+  m.brake = clamp(c.brake, 0.0, 1.0);
+  m.steer = clamp(c.steer, -1.0, 1.0);
+  m.handbrake = c.handbrake;
+  m.gear = c.gear > 0 ? groundsim::controls_t::GEAR_AUTO
+           : c.gear < 0 ? groundsim::controls_t::GEAR_REVERSE
+                        : groundsim::controls_t::GEAR_NEUTRAL;
+  return m;
+}
+
 }  // namespace groundsim::web

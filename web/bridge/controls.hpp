@@ -1,10 +1,11 @@
 // The one place where the page's normalized controls become the server's
-// drive command. Today's protocol takes per-wheel torques and steering angles
-// (drive_t); when the sedan's controls type lands, only this file changes.
+// commands: a road car (kind "road_car") takes them as they are (controls_t);
+// other vehicles take per-wheel torques and steering angles (drive_t).
 #pragma once
 
 #include <string>
 
+#include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 
 namespace groundsim::web {
@@ -32,5 +33,11 @@ struct ControlScale {
 // rear-right), or one wheel for a lone wheel. Session, token and client are
 // filled by the caller.
 groundsim::drive_t toDrive(const Controls& c, int vehicle, int wheels, const ControlScale& scale = {});
+
+// controls_t for a road car: throttle, brake and steer clamped to their
+// ranges (the server refuses anything else); the page's gear 1 (drive) is
+// the automatic gearbox, -1 reverse, 0 neutral. Session, token and client
+// are filled by the caller.
+groundsim::controls_t toCarControls(const Controls& c, int vehicle);
 
 }  // namespace groundsim::web

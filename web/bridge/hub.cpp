@@ -66,6 +66,16 @@ LcmHandlers Hub::lcmHandlers() {
     auto json = shared(stateJson(s, wall));
     asio::post(io_, [this, id, json] { onState(id, json); });
   };
+  h.car_state = [this](const groundsim::car_state_t& s) {
+    const std::string& id = s.session_id;
+    {
+      std::lock_guard<std::mutex> lk(shared_mu_);
+      auto it = watched_.find(id);
+      if (it == watched_.end() || it->second <= 0) return;
+    }
+    auto json = shared(carStateJson(s));
+    asio::post(io_, [this, id, json] { onCarState(id, json); });
+  };
   h.event = [this](const groundsim::event_t& e) {
     auto json = shared(eventJson(e));
     asio::post(io_, [this, e, json] { onEvent(e, json); });
@@ -340,11 +350,7 @@ void Hub::leave(Peer* p) {
       if (d == p) d = nullptr;
     if (ps.role == Role::Drive && !s.token.empty() && s.view && ps.vehicle >= 0) {
       // release the car's controls rather than leaving its last command held
-      groundsim::drive_t d = toDrive(Controls{0, 0, 0, false, 0}, ps.vehicle, s.view->wheels[ps.vehicle], cfg_.scale);
-      d.client_id = bus_.client_id;
-      d.session_id = ps.session;
-      d.token = s.token;
-      bus_.drive(d);
+      sendControls(s, ps.session, ps.vehicle, Controls{0, 0, 0, false, 0}, 0);
     }
     if (s.watchers.empty()) s.unwatched_since = Clock::now();
   }
@@ -372,11 +378,29 @@ void Hub::controls(Peer* p, PeerState& ps, const ControlsMsg& m) {
   const auto now = Clock::now();
   if (now - ps.last_drive < std::chrono::milliseconds(4)) return;
   ps.last_drive = now;
-  groundsim::drive_t d = toDrive(m.controls, ps.vehicle, s.view->wheels[ps.vehicle], cfg_.scale);
-  d.utime = std::chrono::duration_cast<std::chrono::microseconds>(now.time_since_epoch()).count();
-  d.seq = ps.drive_seq++;
+  sendControls(s, ps.session, ps.vehicle, m.controls, ps.drive_seq++);
+}
+
+void Hub::sendControls(const SessionEntry& s, const std::string& session, int vehicle, const Controls& c,
+                       std::int64_t seq) {
+  const auto utime =
+      std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
+  const bool road_car = static_cast<size_t>(vehicle) < s.view->road_car.size() && s.view->road_car[vehicle];
+  if (road_car) {
+    groundsim::controls_t m = toCarControls(c, vehicle);
+    m.utime = utime;
+    m.seq = seq;
+    m.client_id = bus_.client_id;
+    m.session_id = session;
+    m.token = s.token;
+    if (bus_.controls) bus_.controls(m);
+    return;
+  }
+  groundsim::drive_t d = toDrive(c, vehicle, s.view->wheels[vehicle], cfg_.scale);
+  d.utime = utime;
+  d.seq = seq;
   d.client_id = bus_.client_id;
-  d.session_id = ps.session;
+  d.session_id = session;
   d.token = s.token;
   bus_.drive(d);
 }
@@ -435,6 +459,12 @@ void Hub::onState(const std::string& id, std::shared_ptr<const std::string> json
   auto it = sessions_.find(id);
   if (it == sessions_.end()) return;
   for (Peer* p : it->second.watchers) p->sendLatest(Slot::State, json);
+}
+
+void Hub::onCarState(const std::string& id, std::shared_ptr<const std::string> json) {
+  auto it = sessions_.find(id);
+  if (it == sessions_.end()) return;
+  for (Peer* p : it->second.watchers) p->sendLatest(Slot::Car, json);
 }
 
 void Hub::onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string> json) {

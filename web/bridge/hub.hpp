@@ -44,6 +44,7 @@ struct Bus {
   std::string client_id;
   std::function<void(const groundsim::request_t&)> request;
   std::function<void(const groundsim::drive_t&)> drive;
+  std::function<void(const groundsim::controls_t&)> controls;  // road cars
 };
 
 class Hub {
@@ -112,6 +113,10 @@ class Hub {
   void onScenario(const groundsim::scenario_t& s);
   void onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string> json);
   void onState(const std::string& id, std::shared_ptr<const std::string> json);
+  void onCarState(const std::string& id, std::shared_ptr<const std::string> json);
+  // The player's controls to the server: controls_t for a road car, else drive_t.
+  void sendControls(const SessionEntry& s, const std::string& session, int vehicle, const Controls& c,
+                    std::int64_t seq);
   void onStatus(const groundsim::server_status_t& s);
   void tick();  // 1 Hz: lobby, orphaned sessions
   void publishLobby();

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 
 namespace groundsim::web {
 
@@ -19,6 +19,7 @@ LcmLink::LcmLink(const std::string& url, LcmHandlers handlers)
   // queues deep enough for bursts: states of every session on the bus share one subscription
   lcm_.subscribe(kStatusChannel, &LcmLink::onStatus, this)->setQueueCapacity(64);
   lcm_.subscribe(std::string(kStatePrefix) + ".*", &LcmLink::onState, this)->setQueueCapacity(4096);
+  lcm_.subscribe(std::string(kCarStatePrefix) + ".*", &LcmLink::onCarState, this)->setQueueCapacity(4096);
   lcm_.subscribe(kEventChannel, &LcmLink::onEvent, this)->setQueueCapacity(1024);
   lcm_.subscribe(kReplyChannel, &LcmLink::onReply, this)->setQueueCapacity(1024);
   lcm_.subscribe(kScenarioChannel, &LcmLink::onScenario, this)->setQueueCapacity(64);
@@ -40,6 +41,7 @@ void LcmLink::stop() {
 
 void LcmLink::publish(const groundsim::request_t& r) { lcm_.publish(kRequestChannel, &r); }
 void LcmLink::publish(const groundsim::drive_t& d) { lcm_.publish(kDriveChannel, &d); }
+void LcmLink::publish(const groundsim::controls_t& c) { lcm_.publish(kControlsChannel, &c); }
 
 namespace {
 template <class T, class F>
@@ -60,6 +62,9 @@ void LcmLink::onStatus(const lcm::ReceiveBuffer* b, const std::string& c) {
 }
 void LcmLink::onState(const lcm::ReceiveBuffer* b, const std::string& c) {
   dispatch<groundsim::state_t>(b, c, "groundsim.state_t", h_.state, h_);
+}
+void LcmLink::onCarState(const lcm::ReceiveBuffer* b, const std::string& c) {
+  dispatch<groundsim::car_state_t>(b, c, "groundsim.car_state_t", h_.car_state, h_);
 }
 void LcmLink::onEvent(const lcm::ReceiveBuffer* b, const std::string& c) {
   dispatch<groundsim::event_t>(b, c, "groundsim.event_t", h_.event, h_);

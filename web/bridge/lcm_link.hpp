@@ -12,6 +12,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <groundsim/car_state_t.hpp>
+#include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
@@ -34,6 +36,7 @@ struct LcmHandlers {
   std::function<void(const groundsim::reply_t&)> reply;
   std::function<void(const groundsim::scenario_t&)> scenario;
   std::function<void(const std::string& channel, const std::string& reason)> bad;
+  std::function<void(const groundsim::car_state_t&)> car_state;  // road cars (last: positional initializers)
 };
 
 class LcmLink {
@@ -48,10 +51,12 @@ class LcmLink {
   // Any thread. Fill client_id (and request_id for requests) before.
   void publish(const groundsim::request_t& r);
   void publish(const groundsim::drive_t& d);
+  void publish(const groundsim::controls_t& c);
 
  private:
   void onStatus(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onState(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onCarState(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onEvent(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onReply(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onScenario(const lcm::ReceiveBuffer* b, const std::string& channel);

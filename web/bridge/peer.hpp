@@ -8,8 +8,8 @@
 
 namespace groundsim::web {
 
-enum class Slot { State = 0, Lobby = 1 };
-inline constexpr int kSlots = 2;
+enum class Slot { State = 0, Lobby = 1, Car = 2 };  // Car: a session's road cars (car_state_t)
+inline constexpr int kSlots = 3;
 
 class Peer {
  public:

@@ -135,6 +135,9 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json) {
   for (int v = 0; v < static_cast<int>(m.vehicle_body.size()); ++v) {
     json l = vehicleLayout(scene, v);
     view->wheels.push_back(static_cast<int>(l["wheels"].size()));
+    view->road_car.push_back(m.road_cars.end() !=
+                             std::find_if(m.road_cars.begin(), m.road_cars.end(),
+                                          [v](const RoadCar& rc) { return rc.vehicle == v; }));
     vehicles.push_back(std::move(l));
   }
   view->layout = {{"name", sc.name}, {"ground", scenario::groundKindName(sc.ground.kind)}, {"vehicles", vehicles}};

@@ -22,6 +22,7 @@ struct SceneView {
   std::string name;
   nlohmann::json layout;         // {"vehicles": [...]} (see vehicleLayout in scene_view.cpp)
   std::vector<int> wheels;       // wheel count per vehicle (drive_t.nwheels)
+  std::vector<bool> road_car;    // per vehicle: kind "road_car", driven with controls_t
   GroundPtr ground;              // this view's own instance: use from one thread at a time
 };
 

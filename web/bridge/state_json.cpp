@@ -84,6 +84,41 @@ std::string stateJson(const groundsim::state_t& s, double wall_s) {
   return out;
 }
 
+std::string carStateJson(const groundsim::car_state_t& s) {
+  std::string out;
+  out.reserve(128 + 400 * s.cars.size());
+  out += "{\"op\":\"car\",\"session\":" + quoted(s.session_id) + ",\"seq\":" + std::to_string(s.seq) + ",\"t\":";
+  num(out, s.t);
+  out += ",\"cars\":[";
+  for (std::size_t k = 0; k < s.cars.size(); ++k) {
+    const groundsim::road_car_state_t& c = s.cars[k];
+    if (k) out += ',';
+    out += "{\"vehicle\":" + std::to_string(c.vehicle) + ",\"gear\":" + std::to_string(c.gear) + ",\"rpm\":";
+    num(out, c.engine_rpm);
+    out += ",\"power\":";
+    num(out, c.drive_power);
+    out += ",\"yaw_rate\":";
+    num(out, c.yaw_rate);
+    out += ",\"throttle\":";
+    num(out, c.throttle);
+    out += ",\"brake\":";
+    num(out, c.brake);
+    out += ",\"steer\":";
+    num(out, c.steer);
+    out += ",\"steer_angle\":";
+    num(out, c.steer_angle);
+    out += std::string(",\"handbrake\":") + (c.handbrake ? "true" : "false");
+    out += ",\"gear_request\":" + std::to_string(c.gear_request) + ",\"slip_ratio\":";
+    array(out, 4, [&](int i) { return c.slip_ratio[i]; });
+    out += ",\"slip_angle\":";
+    array(out, 4, [&](int i) { return c.slip_angle[i]; });
+    out += ",\"travel\":";
+    array(out, 4, [&](int i) { return c.suspension_travel[i]; });
+    out += '}';
+  }
+  return out + "]}";
+}
+
 std::string eventJson(const groundsim::event_t& e) {
   std::string out = "{\"op\":\"event\",\"session\":" + quoted(e.session_id) +
                     ",\"severity\":" + std::to_string(e.severity) + ",\"code\":" + std::to_string(e.code) +

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include <groundsim/car_state_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
@@ -17,6 +18,10 @@ namespace groundsim::web {
 // wall: s on the bridge's steady clock when the state arrived, so the page
 // measures the real-time factor even when its own thread is busy drawing.
 std::string stateJson(const groundsim::state_t& s, double wall_s);
+// {"op":"car","session","seq","t","cars":[{"vehicle","gear","rpm","power",
+//  "yaw_rate","throttle","brake","steer","steer_angle","handbrake",
+//  "gear_request","slip_ratio","slip_angle","travel"}]}
+std::string carStateJson(const groundsim::car_state_t& s);
 // {"op":"event","session","severity","code","reason","t"}
 std::string eventJson(const groundsim::event_t& e);
 // A JSON string literal (quotes and escapes) for any bytes.

@@ -1,5 +1,6 @@
 #include "bridge/web_server.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
@@ -96,12 +97,10 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     if (!queue_.empty()) {
       current_ = std::move(queue_.front());
       queue_.pop_front();
-    } else if (latest_[0]) {
-      current_ = std::move(latest_[0]);
-    } else if (latest_[1]) {
-      current_ = std::move(latest_[1]);
     } else {
-      return;
+      auto it = std::find_if(std::begin(latest_), std::end(latest_), [](const auto& m) { return m != nullptr; });
+      if (it == std::end(latest_)) return;
+      current_ = std::move(*it);
     }
     writing_ = true;
     ws_.text(true);
@@ -120,8 +119,7 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     open_ = false;
     hub_.detach(this);
     queue_.clear();
-    latest_[0].reset();
-    latest_[1].reset();
+    for (auto& m : latest_) m.reset();
     beast::error_code ec;
     ws_.next_layer().socket().shutdown(tcp::socket::shutdown_both, ec);
     ws_.next_layer().socket().close(ec);

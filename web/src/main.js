@@ -57,6 +57,7 @@ const app = {
   vehicles: [], events: [], lobby: null, configs: [], cameraMode: 'chase',
   frames: 0, fps: 0, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
+  car: null,  // the newest {"op":"car"} of the session: its road cars' gear, rpm, applied controls
 };
 app.send = (m) => net.send(m);
 window.groundsim = app;  // for tests and the latency benchmark
@@ -120,6 +121,7 @@ net.on('state', (m) => {
   if (app.vehicles.length !== m.vehicles.length) buildVehicles(m);
   for (const fn of app.stateListeners) fn(m, performance.now());
 });
+net.on('car', (m) => { if (m.session === app.session) app.car = m; });
 net.on('event', (m) => {
   const cls = m.severity >= 2 ? 'e' : m.severity === 1 ? 'w' : 'i';
   addEvent(`t=${m.t.toFixed(2)} s  ${cls === 'e' ? 'error' : cls === 'w' ? 'warning' : 'info'} ${m.code}: ${m.reason}`, cls);
@@ -292,9 +294,17 @@ function placeCamera(v, dt) {
 function updateHud(s, v) {
   if (!v) return;
   $('hud-speed').textContent = (Math.hypot(...v.v) * 3.6).toFixed(1);
-  $('hud-gear').textContent = app.role === 'drive' ? (input.c.gear > 0 ? 'D' : input.c.gear < 0 ? 'R' : 'N') : '-';
-  const spins = v.spin.length ? v.spin.reduce((a, x) => a + Math.abs(x), 0) / v.spin.length : 0;
-  $('hud-rpm').textContent = (spins * 60 / (2 * Math.PI)).toFixed(0);
+  // a road car reports its engaged gear and engine rpm; other vehicles have
+  // neither: the page's own gear and the wheels' mean spin stand in
+  const rc = app.car && app.car.session === s.session ? app.car.cars.find((c) => c.vehicle === app.followed) : null;
+  if (rc) {
+    $('hud-gear').textContent = rc.gear > 0 ? String(rc.gear) : rc.gear < 0 ? 'R' : 'N';
+    $('hud-rpm').textContent = rc.rpm.toFixed(0);
+  } else {
+    $('hud-gear').textContent = app.role === 'drive' ? (input.c.gear > 0 ? 'D' : input.c.gear < 0 ? 'R' : 'N') : '-';
+    const spins = v.spin.length ? v.spin.reduce((a, x) => a + Math.abs(x), 0) / v.spin.length : 0;
+    $('hud-rpm').textContent = (spins * 60 / (2 * Math.PI)).toFixed(0);
+  }
   $('hud-time').textContent = `${s.t.toFixed(2)} s`;
   $('hud-rtf').textContent = playback.rate.toFixed(2);
   const st = $('status');

@@ -1,0 +1,101 @@
+// A road car's normalized controls in a Session stepped by hand: CarDrive
+// sets the car's controls, frames carry what is commanded and applied, and
+// the command timeout releases throttle and brake as it does drive_t's
+// torques (steering and gear stay).
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "fakes.hpp"
+#include "session/session.hpp"
+
+namespace groundsim::session::test {
+namespace {
+
+const char* kSedan = R"({"name": "sedan", "duration": 5, "physics": {"dt": 0.004}, "contact": {"friction": 1.0},
+  "ground": {"type": "plane"}, "vehicle": {"name": "sedan", "kind": "road_car"}})";
+
+struct CarRig {
+  explicit CarRig(const std::string& json = kSedan) {
+    scenario::Scene scene = scenario::buildScene(scenario::parseScenario(json));
+    SessionSetup setup;
+    setup.id = "0000CAR5";
+    setup.token = "t";
+    setup.vehicle_names = {"sedan"};
+    setup.duration = -1;
+    setup.mode = Mode::Realtime;
+    session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  }
+  void run() { session->run(clock.now()); }
+  CarDrive controls(double throttle, double brake, double steer) {
+    CarDrive d;
+    d.vehicle = 0;
+    d.controls.throttle = throttle;
+    d.controls.brake = brake;
+    d.controls.steer = steer;
+    d.received = clock.now();
+    return d;
+  }
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  std::shared_ptr<Session> session;
+};
+
+TEST(RoadCarSession, VehiclesKnowTheirRoadCar) {
+  CarRig rig;
+  ASSERT_EQ(rig.session->vehicles().size(), 1u);
+  EXPECT_EQ(rig.session->vehicles()[0].road_car, 0);
+  EXPECT_EQ(rig.session->vehicles()[0].gears, 6);  // the default gearbox
+  CarRig report(carScenario());
+  EXPECT_EQ(report.session->vehicles()[0].road_car, -1);
+}
+
+TEST(RoadCarSession, ControlsReachTheCarAndItsFrames) {
+  CarRig rig;
+  rig.run();
+  ASSERT_EQ(rig.out.frames.size(), 1u);
+  ASSERT_EQ(rig.out.frames[0].cars.size(), 1u);
+  EXPECT_EQ(rig.out.frames[0].cars[0].commanded.throttle, 0.0);
+  rig.session->post(rig.controls(1.0, 0.0, 0.25));
+  rig.clock.advance(0.2);
+  rig.run();
+  const Frame& f = rig.out.frames.back();
+  ASSERT_EQ(f.cars.size(), 1u);
+  EXPECT_EQ(f.cars[0].vehicle, 0);
+  EXPECT_EQ(f.cars[0].commanded.throttle, 1.0);
+  EXPECT_EQ(f.cars[0].commanded.steer, 0.25);
+  EXPECT_EQ(f.cars[0].applied.applied.throttle, 1.0);
+  EXPECT_GE(f.cars[0].applied.gear, 1);
+  EXPECT_GT(f.vehicles[0].speed, 0.1);  // 0.2 s of full throttle from rest
+  // a frame of the report's car carries no road car
+  CarRig report(carScenario());
+  report.run();
+  EXPECT_TRUE(report.out.frames.at(0).cars.empty());
+}
+
+TEST(RoadCarSession, CommandTimeoutReleasesThrottleAndBrake) {
+  CarRig rig;
+  rig.run();
+  rig.session->post(rig.controls(0.8, 0.0, -0.5));
+  rig.clock.advance(0.4);  // within the 0.5 s timeout
+  rig.run();
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 0);
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).commanded.throttle, 0.8);
+  rig.clock.advance(0.2);  // 0.6 s after the command
+  rig.run();
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 1);
+  rig.clock.advance(0.1);
+  rig.run();
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 1) << "one warning per expiry";
+  const CarFrame& c = rig.out.frames.back().cars.at(0);
+  EXPECT_EQ(c.commanded.throttle, 0.0);
+  EXPECT_EQ(c.commanded.brake, 0.0);
+  EXPECT_EQ(c.commanded.steer, -0.5);  // steering stays, as drive_t's does
+  bool named = false;
+  for (const Event& e : rig.out.events) named = named || e.reason.find("throttle and brake") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+}  // namespace
+}  // namespace groundsim::session::test

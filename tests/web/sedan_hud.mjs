@@ -1,0 +1,30 @@
+// The sedan (configs/sedan.json, kind road_car) driven from the page: the
+// bridge sends the page's normalized controls as controls_t, and the HUD
+// shows the engaged gear and the engine rpm from car_state_t. Holding W for
+// 2 s from rest puts the car in gear with the engine above idle (900 rpm)
+// and adds metres per second to the server's own speed (groundsim watch);
+// the applied throttle the server reports is the page's.
+import * as h from './harness.mjs';
+
+const { url } = await h.startServices();
+await h.launch();
+const page = await h.newPage(url);
+const session = await h.createAndDrive(page, 'sedan.json');
+await h.until('the road car state to arrive', () => page.evaluate(() => window.groundsim.car !== null), 10000);
+await h.stopCars(page);
+await page.waitForTimeout(300);
+const server0 = h.serverSpeeds(session)[0];
+
+await page.keyboard.down('w');
+await page.waitForTimeout(2000);
+const gear = await page.evaluate(() => document.getElementById('hud-gear').textContent);
+const rpm = await page.evaluate(() => parseFloat(document.getElementById('hud-rpm').textContent));
+const applied = await page.evaluate(() => window.groundsim.car.cars[0].throttle);
+const serverPressed = h.serverSpeeds(session)[0];
+await page.keyboard.up('w');
+console.log(`W held 2 s: server ${server0} -> ${serverPressed} m/s, HUD gear ${gear}, ${rpm} rpm, applied throttle ${applied}`);
+if (!/^[1-6]$/.test(gear)) await h.fail(`the HUD shows gear '${gear}', not a forward gear of the sedan's six`);
+if (!(rpm > 900)) await h.fail(`the HUD shows ${rpm} rpm under throttle (idle is 900)`);
+if (!(applied > 0)) await h.fail(`the server applies throttle ${applied} while W is held`);
+if (!(serverPressed > server0 + 1.0)) await h.fail(`the server's states show no speed-up: ${server0} -> ${serverPressed} m/s`);
+await h.pass(`sedan: gear ${gear}, ${rpm} rpm, +${(serverPressed - server0).toFixed(2)} m/s in 2 s`);
