@@ -223,6 +223,7 @@ void SessionService::build(const Request& r) {
     setup.mode = r.mode == 0 ? Mode::Realtime : *modeFromInt(r.mode);
     setup.rate = r.rate > 0 ? r.rate : 1.0;
     setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
+    setup.control_tables = scene.control_tables;
     {
       std::lock_guard<std::mutex> lk(mutex_);
       do setup.id = newSessionId();

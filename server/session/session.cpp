@@ -219,6 +219,7 @@ void Session::apply(const Request& r, TimePoint now) {
       reason_.clear();
       drive_held_ = false;
       car_held_ = false;
+      car_driven_.assign(car_driven_.size(), false);
       reanchor(now);
       frame_pending_ = true;
       reply(to, true, ErrorCode::None, "");
@@ -290,6 +291,8 @@ void Session::apply(const CarDrive& d) {
   CarControls cc = d.controls;
   cc.wheel_torque = sim_.carControls(c).wheel_torque;  // per-wheel experiment torques are not a driver's
   sim_.setCarControls(c, cc);
+  if (car_driven_.size() <= static_cast<size_t>(c)) car_driven_.resize(static_cast<size_t>(c) + 1, false);
+  car_driven_[static_cast<size_t>(c)] = true;  // the client drives now, not the scenario's table
   last_car_drive_ = d.received;
   car_held_ = cc.throttle != 0.0 || cc.brake != 0.0;
 }
@@ -325,7 +328,22 @@ bool Session::finished() const {
          sim_.state().t >= setup_.duration - 0.5 * sim_.model().opt.dt;
 }
 
+void Session::followControlTables() {
+  // half a step of slack: a row at t = k dt applies to step k despite rounding
+  const double t = sim_.state().t + 0.5 * sim_.model().opt.dt;
+  for (const scenario::ControlTable& ct : setup_.control_tables) {
+    const auto car = static_cast<size_t>(ct.road_car);
+    if (car < car_driven_.size() && car_driven_[car]) continue;
+    const scenario::TimedControls* row = nullptr;
+    for (const scenario::TimedControls& r : ct.rows)
+      if (r.t <= t) row = &r;
+      else break;
+    if (row) sim_.setCarControls(ct.road_car, row->controls);
+  }
+}
+
 bool Session::stepOnce() {
+  if (!setup_.control_tables.empty()) followControlTables();
   if (!sim_.step()) {
     diverged(sim_.state().health_reason, ErrorCode::Diverged);
     return false;

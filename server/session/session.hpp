@@ -15,6 +15,7 @@
 #include "config.hpp"
 #include "pacing.hpp"
 #include "physics/simulator.hpp"
+#include "scenario/scenario.hpp"
 #include "scheduler.hpp"
 #include "types.hpp"
 
@@ -30,6 +31,10 @@ struct SessionSetup {
   Mode mode = Mode::Realtime;
   double rate = 1.0;
   double publish_rate = 50.0;         // Hz
+  // The scenario's `vehicle.controls` time tables (one per scripted road
+  // car): followed as simulated time passes, like `groundsim run`, until a
+  // client sends controls_t for that car; a reset hands it back to the table.
+  std::vector<scenario::ControlTable> control_tables;
 };
 
 // Per vehicle: its wheels' global indices (telemetry order) and steering limits.
@@ -88,6 +93,7 @@ class Session : public Task {
   std::optional<TimePoint> advance(TimePoint now, TimePoint deadline);
   std::optional<TimePoint> advanceLockstep(TimePoint deadline);
   bool stepOnce();
+  void followControlTables();  // applies the rows due to cars no client drives
   bool emitFrame(TimePoint now);   // false: out of publish budget, retry later
   void publishFrame();             // now, whatever the budget (final and lockstep frames)
   Frame makeFrame(bool published = true);
@@ -121,6 +127,7 @@ class Session : public Task {
   bool drive_held_ = false;           // a non-zero drive command is in force
   TimePoint last_car_drive_{};
   bool car_held_ = false;             // a road car's throttle or brake is in force
+  std::vector<bool> car_driven_;      // per road car: a client took over from the control table
   TimePoint last_overrun_event_{};
   std::vector<Command> work_;
 
