@@ -33,7 +33,7 @@ std::string badId(const char* field, const std::string& v) {
   bool printable = true;
   for (unsigned char c : v) printable = printable && c >= 0x20 && c != 0x7f;
   if (v.size() <= kMaxIdBytes && printable) return "";
-  return std::string(field) + ": " + quoted(v) + (printable ? "" : " holds control characters") +
+  return std::string(field) + ": " + net::quoted(v) + (printable ? "" : " holds control characters") +
          (v.size() > kMaxIdBytes ? ", longer than " + std::to_string(kMaxIdBytes) + " bytes" : "");
 }
 

@@ -22,7 +22,7 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
 
-#include "channels.hpp"
+#include "protocol/channels.hpp"
 
 namespace groundsim::web {
 
