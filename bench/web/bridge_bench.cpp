@@ -11,7 +11,7 @@
 #include "bridge/browser_message.hpp"
 #include "bridge/controls.hpp"
 #include "bridge/state_json.hpp"
-#include "codec.hpp"
+#include "protocol/codec.hpp"
 
 namespace {
 

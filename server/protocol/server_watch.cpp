@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "channels.hpp"
-#include "codec.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
 
 namespace groundsim::net {
 
