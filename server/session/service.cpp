@@ -66,6 +66,8 @@ void SessionService::replyOk(const Request& r, Reply reply) {
   base.t = reply.t;
   base.sessions = std::move(reply.sessions);
   base.state = std::move(reply.state);
+  base.scenario_json = std::move(reply.scenario_json);  // published as scenario_t (create, Op::Scenario)
+  base.scenario_name = std::move(reply.scenario_name);
   out_.publishReply(base);
 }
 
@@ -148,7 +150,7 @@ void SessionService::handleRequest(const Request& r) {
         reply.session_id = r.session_id;
         reply.scenario_json = s->scenarioJson();
         reply.scenario_name = s->name();
-        reply.sessions.push_back(s->info(Clock::now()));
+        reply.sessions.push_back(s->info(clock_.now()));
         return replyOk(r, std::move(reply));
       }
       case Op::Step:
