@@ -99,3 +99,40 @@ TEST(RoadCarSession, CommandTimeoutReleasesThrottleAndBrake) {
 
 }  // namespace
 }  // namespace groundsim::session::test
+
+namespace groundsim::session::test {
+namespace {
+
+// A scripted manoeuvre in a server session: the table's rows apply as
+// simulated time passes (as in `groundsim run`) until a client drives the
+// car; after that the table no longer overrides the client.
+TEST(RoadCarSession, ControlTableIsFollowedUntilAClientDrives) {
+  const char* scripted = R"({"name": "scripted", "duration": 5, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicle": {"name": "sedan", "kind": "road_car",
+                "controls": [{"t": 0, "throttle": 1}, {"t": 0.1, "throttle": 0, "brake": 0.5}]}})";
+  scenario::Scene scene = scenario::buildScene(scenario::parseScenario(std::string(scripted)));
+  CarRig rig;  // for its clock, config and output
+  SessionSetup setup;
+  setup.id = "0000CAR6";
+  setup.token = "t";
+  setup.vehicle_names = {"sedan"};
+  setup.duration = -1;
+  setup.control_tables = scene.control_tables;
+  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, rig.cfg, rig.out,
+                                     rig.clock.now(), rig.clock);
+  s->run(rig.clock.now());
+  rig.clock.advance(0.2);  // real time: 0.2 s simulated, past the second row
+  s->run(rig.clock.now());
+  ASSERT_FALSE(rig.out.frames.empty());
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).applied.applied.throttle, 0.0);
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).applied.applied.brake, 0.5);
+  s->post(rig.controls(0.3, 0.0, 0.0));
+  rig.clock.advance(0.2);
+  s->run(rig.clock.now());
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).applied.applied.throttle, 0.3);
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).applied.applied.brake, 0.0);
+}
+
+}  // namespace
+}  // namespace groundsim::session::test
