@@ -91,18 +91,26 @@ nlohmann::json* ObjectReader::get(const std::string& key, bool (nlohmann::json::
   return &*it;
 }
 
-std::optional<double> ObjectReader::checkedNumber(const std::string& key, const nlohmann::json& v, const Range& r) {
+std::optional<double> ObjectReader::checkedAt(const std::string& path, const nlohmann::json& v, const Range& r) {
+  if (!v.is_number()) {
+    issues_->add(path, "expected a number, got " + jsonTypeName(v));
+    return std::nullopt;
+  }
   const double x = v.get<double>();
   // the global magnitude bound first: it names the real reason for 1e308
   if (std::isfinite(x) && std::abs(x) > kMaxMagnitude) {
-    issue(key, "must be at most " + formatNumber(kMaxMagnitude) + " in magnitude, got " + formatNumber(x));
+    issues_->add(path, "must be at most " + formatNumber(kMaxMagnitude) + " in magnitude, got " + formatNumber(x));
     return std::nullopt;
   }
   if (auto why = r.violation(x)) {
-    issue(key, *why);
+    issues_->add(path, *why);
     return std::nullopt;
   }
   return x;
+}
+
+std::optional<double> ObjectReader::checkedNumber(const std::string& key, const nlohmann::json& v, const Range& r) {
+  return checkedAt(pathOf(key), v, r);
 }
 
 double ObjectReader::number(const std::string& key, double def, Range range) {
@@ -229,23 +237,9 @@ Eigen::VectorXd ObjectReader::vector(const std::string& key, const Eigen::Vector
   Eigen::VectorXd out = def;
   bool ok = true;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const nlohmann::json& e = (*v)[static_cast<size_t>(i)];
-    const std::string sub = pathOf(key) + "/" + std::to_string(i);
-    if (!e.is_number()) {
-      issues_->add(sub, "expected a number, got " + jsonTypeName(e));
-      ok = false;
-      continue;
-    }
-    const double x = e.get<double>();
-    if (std::isfinite(x) && std::abs(x) > kMaxMagnitude) {
-      issues_->add(sub, "must be at most " + formatNumber(kMaxMagnitude) + " in magnitude, got " + formatNumber(x));
-      ok = false;
-    } else if (auto why = each.violation(x)) {
-      issues_->add(sub, *why);
-      ok = false;
-    } else {
-      out[i] = x;
-    }
+    const auto x = checkedAt(pathOf(key) + "/" + std::to_string(i), (*v)[static_cast<size_t>(i)], each);
+    if (x) out[i] = *x;
+    else ok = false;
   }
   return ok ? out : def;
 }
@@ -272,20 +266,9 @@ std::vector<double> ObjectReader::numbers(const std::string& key, const std::vec
   std::vector<double> out;
   bool ok = true;
   for (size_t i = 0; i < v->size(); ++i) {
-    const nlohmann::json& e = (*v)[i];
-    const std::string sub = pathOf(key) + "/" + std::to_string(i);
-    if (!e.is_number()) {
-      issues_->add(sub, "expected a number, got " + jsonTypeName(e));
-      ok = false;
-      continue;
-    }
-    const double x = e.get<double>();
-    if (auto why = each.violation(x)) {
-      issues_->add(sub, *why);
-      ok = false;
-      continue;
-    }
-    out.push_back(x);
+    const auto x = checkedAt(pathOf(key) + "/" + std::to_string(i), (*v)[i], each);
+    if (x) out.push_back(*x);
+    else ok = false;
   }
   return ok ? out : def;
 }

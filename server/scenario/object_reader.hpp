@@ -100,6 +100,9 @@ class ObjectReader {
   nlohmann::json* get(const std::string& key, bool (nlohmann::json::*is)() const noexcept,
                       const char* expected);
   std::optional<double> checkedNumber(const std::string& key, const nlohmann::json& v, const Range& r);
+  // The number at `path` (an array element's own path), or nullopt with the
+  // problem reported there: type, the global magnitude bound, then the range.
+  std::optional<double> checkedAt(const std::string& path, const nlohmann::json& v, const Range& r);
 
   nlohmann::json* obj_;
   std::string path_;
