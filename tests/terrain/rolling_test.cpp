@@ -11,26 +11,14 @@
 #include "physics/simulator.hpp"
 #include "physics/telemetry.hpp"
 #include "physics/vehicle.hpp"
+#include "support/fit.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
 
 namespace {
 
-// Least-squares slope of the body's speed over [t0, t1] (as in
-// tests/physics/vehicle_test.cpp).
-double fittedAcceleration(Simulator& sim, double t0, double t1) {
-  double st = 0, sv = 0, stt = 0, stv = 0;
-  int n = 0;
-  const long long every = std::max<long long>(1, std::llround(0.01 / sim.model().opt.dt));
-  while (sim.state().t < t1 - 1e-12) {
-    sim.step(every);
-    if (sim.state().t < t0) continue;
-    const double t = sim.state().t, v = bodyVel(sim.state().y, 0).norm();
-    st += t; sv += v; stt += t * t; stv += t * v; ++n;
-  }
-  return (n * stv - st * sv) / (n * stt - st * st);
-}
+using support::fittedAcceleration;
 
 double hoopAcceleration(GroundPtr ground) {
   Options o;
