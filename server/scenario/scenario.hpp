@@ -136,6 +136,12 @@ struct ControlTable {
   std::vector<TimedControls> rows;
 };
 
+// The row in force at simulated time t (the last with row.t <= t, with half a
+// step of slack so a row at t = k dt applies to step k despite rounding), or
+// nullptr before the first. Rows are sorted by t (validation), so this is a
+// binary search: a table of many rows costs log(rows) per step.
+const TimedControls* rowInForce(const ControlTable& table, double t, double dt);
+
 struct Scene {
   BuiltModel built;               // model and initial state (controls set)
   std::vector<ControlTable> control_tables;  // one per road car

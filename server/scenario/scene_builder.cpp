@@ -171,18 +171,19 @@ Scene buildScene(const Scenario& s) {
 
 namespace groundsim::scenario {
 
+const TimedControls* rowInForce(const ControlTable& table, double t, double dt) {
+  const double due = t + 0.5 * dt;
+  const auto after = std::upper_bound(table.rows.begin(), table.rows.end(), due,
+                                      [](double x, const TimedControls& r) { return x < r.t; });
+  return after == table.rows.begin() ? nullptr : &*(after - 1);
+}
+
 bool stepScene(const Scene& scene, Simulator& sim, long long n) {
   if (scene.control_tables.empty()) return sim.step(n);
   for (long long i = 0; i < n; ++i) {
-    // half a step of slack: a row at t = k dt applies to step k despite rounding
-    const double t = sim.state().t + 0.5 * sim.model().opt.dt;
-    for (const ControlTable& ct : scene.control_tables) {
-      const TimedControls* row = nullptr;
-      for (const TimedControls& r : ct.rows)
-        if (r.t <= t) row = &r;
-        else break;
-      if (row) sim.setCarControls(ct.road_car, row->controls);
-    }
+    for (const ControlTable& ct : scene.control_tables)
+      if (const TimedControls* row = rowInForce(ct, sim.state().t, sim.model().opt.dt))
+        sim.setCarControls(ct.road_car, row->controls);
     if (!sim.step()) return false;
   }
   return true;

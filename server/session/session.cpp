@@ -329,16 +329,11 @@ bool Session::finished() const {
 }
 
 void Session::followControlTables() {
-  // half a step of slack: a row at t = k dt applies to step k despite rounding
-  const double t = sim_.state().t + 0.5 * sim_.model().opt.dt;
   for (const scenario::ControlTable& ct : setup_.control_tables) {
     const auto car = static_cast<size_t>(ct.road_car);
     if (car < car_driven_.size() && car_driven_[car]) continue;
-    const scenario::TimedControls* row = nullptr;
-    for (const scenario::TimedControls& r : ct.rows)
-      if (r.t <= t) row = &r;
-      else break;
-    if (row) sim_.setCarControls(ct.road_car, row->controls);
+    if (const scenario::TimedControls* row = scenario::rowInForce(ct, sim_.state().t, sim_.model().opt.dt))
+      sim_.setCarControls(ct.road_car, row->controls);
   }
 }
 
