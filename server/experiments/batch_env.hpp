@@ -1,0 +1,86 @@
+// The experiments API's one interface: N independent environments of one
+// scenario with a `task` section, stepped together. Implemented in process
+// (experiments/vec_env.hpp, a thread pool over shared immutable models) and
+// over LCM (client/experiments/remote_vec_env.hpp, a vectorised server
+// session). The Python package wraps this interface, so both behave alike:
+// the same seed and actions give bit-identical observations.
+//
+// Buffers are row-major, caller-owned and written in place (numpy arrays
+// without copies): obs [N x obs_size] float32, actions [N x action_size]
+// float32, rewards [N] float64, terminated/truncated [N] uint8.
+//
+// Autoreset is Gymnasium's NEXT_STEP: an environment whose episode ended
+// (terminated or truncated) in step k is reset by step k+1, whose action
+// for it is ignored; that step returns the first observation of the new
+// episode with reward 0 and both flags false.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace groundsim::experiments {
+
+// Everything a client needs to interpret the buffers; also carried by the
+// create reply and the session info of a vectorised server session.
+struct Layout {
+  int num_envs = 0;
+  double dt = 0.0;                  // s      physics step
+  int control_period = 1;           //        physics steps per action
+  double time_limit = 0.0;          // s      truncation; 0 = none
+  std::vector<std::string> observation;  // one name per component, e.g. "velocity_body.x"
+  std::vector<float> observation_low, observation_high;  // -inf/+inf where unbounded
+  std::vector<std::string> action;       // one name per component, e.g. "throttle"
+  std::vector<float> action_low, action_high;
+  std::vector<int> wheel_counts;    // per vehicle, in document order
+  std::string scenario_hash;        // hex digest of the validated document (snapshots must match)
+  int obsSize() const { return static_cast<int>(observation.size()); }
+  int actionSize() const { return static_cast<int>(action.size()); }
+};
+
+// Bad calls from a client: wrong shapes, NaN actions, out-of-range seeds or
+// env indices, a snapshot of another scenario or a corrupted one. `field`
+// names what is wrong ("actions[3][1]", "snapshot", "seed", "env").
+class ExperimentError : public std::runtime_error {
+ public:
+  ExperimentError(std::string field, const std::string& reason)
+      : std::runtime_error(field + ": " + reason), field_(std::move(field)) {}
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string field_;
+};
+
+// Per environment, after a step: what Gymnasium's infos carry.
+struct EnvInfo {
+  std::int64_t episode = 0;         // episodes started by this env (1 after the first reset)
+  std::int64_t episode_steps = 0;   // actions taken in the current episode
+  double episode_return = 0.0;      // sum of rewards in the current episode
+  bool diverged = false;            // the physics diverged: the episode was terminated
+};
+
+class BatchEnv {
+ public:
+  virtual ~BatchEnv() = default;
+  virtual const Layout& layout() const = 0;
+
+  // Resets every environment. With a seed, environment i is seeded with
+  // seed + i (seed in [0, 2^63)); without, each continues its own stream.
+  virtual void reset(std::optional<std::uint64_t> seed, float* obs) = 0;
+  // Resets one environment (options={"env": i} / reset to a chosen seed).
+  virtual void resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_row) = 0;
+  virtual void step(const float* actions, float* obs, double* rewards,
+                    std::uint8_t* terminated, std::uint8_t* truncated) = 0;
+  virtual EnvInfo info(int env) const = 0;
+
+  // A full environment state (physics state, episode counters, random
+  // stream, drawn parameters), restored bit for bit, also into another
+  // process running the same scenario.
+  virtual std::string snapshot(int env) const = 0;
+  virtual void restore(int env, const std::string& snapshot, float* obs_row) = 0;
+  virtual void close() {}
+};
+
+}  // namespace groundsim::experiments
