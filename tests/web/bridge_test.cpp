@@ -146,6 +146,31 @@ TEST(Layout, ReportCarHasFigureOnePointsAndSprings) {
   EXPECT_EQ(rim, 80);
 }
 
+// A road car's wheels are its four struts' hubs (physics/road_car.hpp), not
+// model wheels: the layout places them from the car's own geometry.
+TEST(Layout, RoadCarWheelsSitOnItsAxlesAndTrack) {
+  const double wheelbase = 2.7, a = 1.2, track = 1.55, r = 0.32;
+  const std::string doc = R"({"ground":{"type":"plane"},"vehicle":{"kind":"road_car","name":"sedan",
+    "initial":{"position":[0,0,0]}}})";
+  auto view = makeSceneView(doc);
+  const json& v = view->layout["vehicles"][0];
+  ASSERT_EQ(v["wheels"].size(), 4u);
+  EXPECT_EQ(view->wheels[0], 4);
+  EXPECT_TRUE(view->road_car[0]);
+  const double fx[] = {a, a, a - wheelbase, a - wheelbase}, fy[] = {track / 2, -track / 2, track / 2, -track / 2};
+  for (int i = 0; i < 4; ++i) {
+    const json& w = v["wheels"][i];
+    EXPECT_NEAR(w["offset"][0].get<double>(), fx[i], 1e-9) << i;
+    EXPECT_NEAR(w["offset"][1].get<double>(), fy[i], 1e-9) << i;
+    EXPECT_LT(w["offset"][2].get<double>(), 0.0) << "hubs below the centre of mass";
+    EXPECT_DOUBLE_EQ(w["radius"].get<double>(), r);
+    EXPECT_EQ(w["steerable"].get<bool>(), i < 2);
+    EXPECT_TRUE(w["strut"].get<bool>());
+  }
+  EXPECT_LT(v["body_min"][0].get<double>(), a - wheelbase);
+  EXPECT_GT(v["body_max"][0].get<double>(), a);
+}
+
 TEST(Layout, CopiesOfACarMakeAValidScenario) {
   const std::string doc = withVehicles(scenarioWithGround(R"({"type":"plane"})"), 3, 1.0);
   auto view = makeSceneView(doc);

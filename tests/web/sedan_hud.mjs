@@ -27,4 +27,17 @@ if (!/^[1-6]$/.test(gear)) await h.fail(`the HUD shows gear '${gear}', not a for
 if (!(rpm > 900)) await h.fail(`the HUD shows ${rpm} rpm under throttle (idle is 900)`);
 if (!(applied > 0)) await h.fail(`the server applies throttle ${applied} while W is held`);
 if (!(serverPressed > server0 + 1.0)) await h.fail(`the server's states show no speed-up: ${server0} -> ${serverPressed} m/s`);
+
+// its four wheels are drawn from the car's struts (not model wheels), and
+// holding A turns the front ones left (+z) while the rear ones stay straight
+const drawn = await page.evaluate(() => window.groundsim.vehicles[window.groundsim.followed].wheels.length);
+if (drawn !== 4) await h.fail(`the page draws ${drawn} wheels for the sedan, not 4`);
+await page.keyboard.down('a');
+await page.waitForTimeout(1000);
+const steerDrawn = await page.evaluate(() => window.groundsim.vehicles[window.groundsim.followed].wheels.map((w) => w.pivot.rotation.z));
+const steerServer = await page.evaluate(() => window.groundsim.car.cars[0].steer_angle);
+await page.keyboard.up('a');
+console.log(`A held 1 s: drawn wheel angles ${steerDrawn.map((a) => a.toFixed(3)).join(' ')} rad, server ${steerServer} rad`);
+if (!(steerDrawn[0] > 0.05 && steerDrawn[1] > 0.05)) await h.fail(`front wheels drawn at ${steerDrawn[0]}, ${steerDrawn[1]} rad while A is held`);
+if (steerDrawn[2] !== 0 || steerDrawn[3] !== 0) await h.fail(`rear wheels drawn steered: ${steerDrawn[2]}, ${steerDrawn[3]}`);
 await h.pass(`sedan: gear ${gear}, ${rpm} rpm, +${(serverPressed - server0).toFixed(2)} m/s in 2 s`);

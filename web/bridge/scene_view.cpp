@@ -39,6 +39,40 @@ double radialStiffness(const Model& m, const State& s, int wheel_body, int carri
   return k;
 }
 
+// A road car's wheels are not model wheels: they sit on struts along the
+// body's z (physics/road_car.hpp), at RoadCar::hub at zero travel; the page
+// raises each by the suspension travel the car state reports ("strut").
+json roadCarLayout(const Model& m, const RoadCar& rc) {
+  const RoadCarParams& p = rc.p;
+  json jw = json::array();
+  for (int i = 0; i < 4; ++i) {
+    const Vec3& hub = rc.hub[static_cast<size_t>(i)];
+    jw.push_back({{"offset", vec(hub)},
+                  {"rotation", quat(Quat::Identity())},
+                  {"axis", vec(Vec3::UnitY())},
+                  {"radius", p.wheel_radius},
+                  {"steerable", i < 2},
+                  {"max_steer", i < 2 ? p.steering.max_angle : 0.0},
+                  {"pivot", vec(hub)},
+                  {"radial_stiffness", 0.0},
+                  {"strut", true}});
+  }
+  // the body box: axle to axle plus overhangs, track wide, from the hubs to
+  // roughly a saloon's roof (a drawing, not a collision shape)
+  const double front = rc.hub[0].x(), rear = rc.hub[2].x(), half = 0.5 * p.track, zh = rc.hub[0].z();
+  const Vec3 lo(rear - 0.8, -half - 0.1, zh + 0.05), hi(front + 0.9, half + 0.1, zh + 1.1);
+  const int v = rc.vehicle;
+  return {{"name", v < static_cast<int>(m.vehicle_names.size()) ? m.vehicle_names[v] : "vehicle"},
+          {"lone_wheel", false},
+          {"road_car", true},
+          {"mass", p.mass},
+          {"wheels", jw},
+          {"points", json::array()},
+          {"springs", json::array()},
+          {"body_min", vec(lo)},
+          {"body_max", vec(hi)}};
+}
+
 json vehicleLayout(const scenario::Scene& scene, int v) {
   const Model& m = *scene.built.model;
   const State& s = scene.built.initial;
@@ -133,11 +167,11 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json) {
   const Model& m = *scene.built.model;
   json vehicles = json::array();
   for (int v = 0; v < static_cast<int>(m.vehicle_body.size()); ++v) {
-    json l = vehicleLayout(scene, v);
+    const auto rc = std::find_if(m.road_cars.begin(), m.road_cars.end(),
+                                 [v](const RoadCar& c) { return c.vehicle == v; });
+    json l = rc != m.road_cars.end() ? roadCarLayout(m, *rc) : vehicleLayout(scene, v);
     view->wheels.push_back(static_cast<int>(l["wheels"].size()));
-    view->road_car.push_back(m.road_cars.end() !=
-                             std::find_if(m.road_cars.begin(), m.road_cars.end(),
-                                          [v](const RoadCar& rc) { return rc.vehicle == v; }));
+    view->road_car.push_back(rc != m.road_cars.end());
     vehicles.push_back(std::move(l));
   }
   view->layout = {{"name", sc.name}, {"ground", scenario::groundKindName(sc.ground.kind)}, {"vehicles", vehicles}};

@@ -251,7 +251,8 @@ renderer.setAnimationLoop(() => {
     lastSimT = s.t;
     s.vehicles.forEach((v, i) => {
       const own = app.role === 'drive' && i === app.vehicle;
-      app.vehicles[i] && app.vehicles[i].update(v, simDt, own ? input.c.steer * 0.6 : null);
+      const rc = app.car && app.car.session === s.session ? app.car.cars.find((c) => c.vehicle === i) : null;
+      app.vehicles[i] && app.vehicles[i].update(v, simDt, own ? input.c.steer * 0.6 : null, rc || null);
     });
     if (mine) {
       if (app.layout && ground.needsRefresh(mine.p[0], mine.p[1]) && !app.groundPending) {

@@ -3,7 +3,8 @@
 // figure 1 drawn over it: every mass point and spring of the model, placed
 // from the layout the bridge built through the scenario layer. Suspension:
 // each wheel is drawn raised by its deflection N / k (k: the radial
-// stiffness of its coupling to the body), to scale.
+// stiffness of its coupling to the body), to scale; a road car's wheels
+// ("strut" in the layout) by the suspension travel its car state reports.
 import * as THREE from 'three';
 
 const UP = new THREE.Vector3(0, 0, 1), Y = new THREE.Vector3(0, 1, 0);
@@ -77,11 +78,13 @@ export class Vehicle {
   }
 
   // v: one interpolated vehicle of a state; dt: s of sim time since the last
-  // frame; steer: rad commanded (own car), or null to estimate from the motion
-  update(v, dt, steer) {
+  // frame; steer: rad commanded (own car), or null to estimate from the motion;
+  // car: the newest road-car state of this vehicle (travel, steer_angle) or null
+  update(v, dt, steer, car = null) {
     this.root.position.set(...v.p);
     this.root.quaternion.set(v.q[1], v.q[2], v.q[3], v.q[0]);
-    if (steer === null) {
+    if (car && Number.isFinite(car.steer_angle)) steer = car.steer_angle;
+    else if (steer === null) {
       // a spectator does not know the command: the angle of a bicycle model
       // turning at the body's yaw rate, while moving
       const up = UP.clone().applyQuaternion(this.root.quaternion);
@@ -97,7 +100,8 @@ export class Vehicle {
       wh.angle += (v.spin[i] || 0) * dt;
       wh.spin.quaternion.setFromAxisAngle(wh.axis, wh.angle);
       const k = wh.w.radial_stiffness;
-      wh.lift = k > 0 ? Math.min(0.5 * wh.w.radius, Math.max(0, (v.N[i] || 0) / k)) : 0;
+      if (wh.w.strut) wh.lift = car && car.travel ? Math.max(-wh.w.radius, Math.min(wh.w.radius, car.travel[i] || 0)) : 0;
+      else wh.lift = k > 0 ? Math.min(0.5 * wh.w.radius, Math.max(0, (v.N[i] || 0) / k)) : 0;
       wh.pivot.position.set(wh.w.pivot[0], wh.w.pivot[1], wh.w.pivot[2] + wh.lift);
       wh.pivot.updateMatrix(); wh.frame.updateMatrix(); wh.spin.updateMatrix();
       wh.matrix = m.clone().multiply(wh.pivot.matrix).multiply(wh.frame.matrix).multiply(wh.spin.matrix);
