@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "physics/model_builder.hpp"
+#include "support/scenes.hpp"
 
 namespace groundsim::accuracy {
 namespace {
@@ -61,18 +62,11 @@ Result springMass(const Setting& s) {
   // two masses 1 and 3 kg on a 1000 N/m spring, stretched 1 cm: the
   // stretch is 0.01 cos(omega t) with omega = sqrt(k (m1 + m2) / (m1 m2))
   Result r = begin("spring_mass", s, false);
-  Options o = s.apply(Options{});
-  o.gravity = Vec3::Zero();
-  ModelBuilder b(o, space());
-  const int a = b.addParticle(1.0, Vec3::Zero(), Vec3::Zero(), false);
-  const int c = b.addParticle(3.0, Vec3(1.01, 0, 0), Vec3::Zero(), false);
-  Spring sp;
-  sp.a = a;
-  sp.b = c;
-  sp.stiffness = 1000.0;
-  sp.rest_length = 1.0;
-  b.addSpring(sp);
-  auto built = b.build();
+  test::SpringPairSpec pair;
+  pair.m2 = 3.0;
+  pair.stiffness = 1000.0;
+  pair.stretch = 0.01;
+  auto built = test::springPair(s.apply(Options{}), pair);
   Simulator sim(built.model, built.initial);
   if (!runTo(sim, 2.0, r)) return r;
   const double omega = std::sqrt(1000.0 * 4.0 / 3.0), t = sim.state().t;
@@ -103,13 +97,7 @@ double analyticRestitution(double S, double m, double zeta) {
 Result dropBounce(const Setting& s) {
   const double S = 1e4, m = 0.5, zeta = 0.1;
   Result r = begin("drop_bounce", s, false);
-  Options o = s.apply(Options{});
-  o.gravity = Vec3::Zero();
-  o.contact.stiffness = S;
-  o.contact.damping = 2 * zeta * std::sqrt(S * m);
-  ModelBuilder b(o, makePlane(Vec3::UnitZ(), 0));
-  b.addParticle(m, Vec3(0, 0, 0.01), Vec3(0, 0, -1.0));
-  auto built = b.build();
+  auto built = test::droppedPoint(s.apply(Options{}), m, 0.01, 1.0, S, zeta);
   Simulator sim(built.model, built.initial);
   if (!runTo(sim, 0.1, r)) return r;  // in and out (contact lasts ~0.03 s)
   finish(r, sim.state().y[5], analyticRestitution(S, m, zeta), true);

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <string>
 
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 extern "C" {
 void* __libc_malloc(std::size_t);

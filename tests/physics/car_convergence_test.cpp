@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 #include "support/convergence.hpp"
 
 using namespace groundsim;

@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "physics/diagnostics.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
@@ -54,17 +54,12 @@ TEST(Contact, BounceRestitutionMatchesTheDampedOscillator) {
   for (double zeta : {0.05, 0.3}) {
     Options o;
     o.dt = 1e-6;
-    o.gravity = Vec3::Zero();
-    o.contact.stiffness = S;
-    o.contact.damping = 2 * zeta * std::sqrt(S * m);
-    ModelBuilder b(o, makePlane(Vec3::UnitZ(), 0));
-    b.addParticle(m, Vec3(0, 0, 0.001), Vec3(0, 0, -v0));
-    auto built = b.build();
+    auto built = droppedPoint(o, m, 0.001, v0, S, zeta);
     Simulator sim(built.model, built.initial);
     while (sim.state().t < 1.0 && !(sim.state().y[2] > 0.0015)) sim.step();
     const double v_out = sim.state().y[5];
 
-    const double w = std::sqrt(S / m), wd = w * std::sqrt(1 - zeta * zeta), c = o.contact.damping;
+    const double w = std::sqrt(S / m), wd = w * std::sqrt(1 - zeta * zeta), c = 2 * zeta * std::sqrt(S * m);
     auto depth = [&](double t) { return v0 / wd * std::exp(-zeta * w * t) * std::sin(wd * t); };
     auto rate = [&](double t) {
       return v0 / wd * std::exp(-zeta * w * t) * (wd * std::cos(wd * t) - zeta * w * std::sin(wd * t));

@@ -10,7 +10,7 @@
 #include <cstring>
 
 #include "physics/simd_path.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

@@ -3,7 +3,7 @@
 // i.e. the exact parabola plus an error of exactly -g h t / 2.
 #include <gtest/gtest.h>
 
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "physics/diagnostics.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
@@ -29,16 +29,10 @@ double springError(IntegratorKind kind, double h, double T, double tol = 1e-6) {
   Options o = spaceOptions(h);
   o.integrator = kind;
   o.tolerance = tol;
-  ModelBuilder b(o, farGround());
-  const int a = b.addParticle(1.0, Vec3::Zero(), Vec3::Zero(), false);
-  const int c = b.addParticle(1.0, Vec3(1.0 + s0, 0, 0), Vec3::Zero(), false);
-  Spring sp;
-  sp.a = a;
-  sp.b = c;
-  sp.stiffness = k;
-  sp.rest_length = 1.0;
-  b.addSpring(sp);
-  auto built = b.build();
+  SpringPairSpec pair;
+  pair.stiffness = k;
+  pair.stretch = s0;
+  auto built = springPair(o, pair);
   Simulator sim(built.model, built.initial);
   EXPECT_TRUE(sim.step(std::llround(T / h)));
   const auto& y = sim.state().y;
@@ -93,16 +87,7 @@ TEST(Adaptive, SubstepsCoverTheStepAndCarryTheTrialStep) {
   Options o = spaceOptions(0.05);
   o.integrator = IntegratorKind::Adaptive;
   o.tolerance = 1e-8;
-  ModelBuilder b(o, farGround());
-  const int a = b.addParticle(1.0, Vec3::Zero(), Vec3::Zero(), false);
-  const int c = b.addParticle(1.0, Vec3(1.1, 0, 0), Vec3::Zero(), false);
-  Spring sp;
-  sp.a = a;
-  sp.b = c;
-  sp.stiffness = 100.0;
-  sp.rest_length = 1.0;
-  b.addSpring(sp);
-  auto built = b.build();
+  auto built = springPair(o, SpringPairSpec{});  // 1 + 1 kg, 100 N/m, stretched 0.1 m
   Simulator sim(built.model, built.initial);
   ASSERT_TRUE(sim.step(20));
   EXPECT_DOUBLE_EQ(sim.state().t, 1.0);
@@ -201,16 +186,12 @@ TEST_P(EveryIntegrator, SaveAndRestoreContinuesBitForBit) {
   auto car = reportCar(o, makeCosineWave(0.5, 2 * kPi), p, at);
   Options free = spaceOptions(1e-3);
   free.integrator = GetParam();
-  ModelBuilder b(free, farGround());
-  const int a = b.addParticle(1.0, Vec3::Zero(), Vec3(0, 0.3, 0), false);
-  const int c = b.addParticle(2.0, Vec3(1.2, 0, 0), Vec3::Zero(), false);
-  Spring sp;
-  sp.a = a;
-  sp.b = c;
-  sp.stiffness = 300.0;
-  sp.rest_length = 1.0;
-  b.addSpring(sp);
-  auto pair = b.build();
+  SpringPairSpec spun;  // 1 and 2 kg on 300 N/m, stretched 0.2 m, the first moving sideways
+  spun.m2 = 2.0;
+  spun.stiffness = 300.0;
+  spun.stretch = 0.2;
+  spun.v1 = Vec3(0, 0.3, 0);
+  auto pair = springPair(free, spun);
   for (const BuiltModel* built : {&car, &pair}) {
     Simulator x(built->model, built->initial);
     if (!x.controls().empty()) {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "physics/diagnostics.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

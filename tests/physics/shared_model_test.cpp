@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "scenario/expression_ground.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "physics/diagnostics.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
@@ -18,17 +18,13 @@ struct Pair {
 };
 
 Pair springPair(double h, double k, double c, double m1, double m2, double stretch) {
-  ModelBuilder b(spaceOptions(h), farGround());
-  const int a = b.addParticle(m1, Vec3(0, 0, 0), Vec3::Zero(), false);
-  const int q = b.addParticle(m2, Vec3(1.0 + stretch, 0, 0), Vec3::Zero(), false);
-  Spring s;
-  s.a = a;
-  s.b = q;
-  s.stiffness = k;
-  s.damping = c;
-  s.rest_length = 1.0;
-  b.addSpring(s);
-  return {b.build(), std::sqrt(k * (m1 + m2) / (m1 * m2))};
+  SpringPairSpec p;
+  p.m1 = m1;
+  p.m2 = m2;
+  p.stiffness = k;
+  p.damping = c;
+  p.stretch = stretch;
+  return {springPair(spaceOptions(h), p), p.omega()};
 }
 
 double separation(const Simulator& s) { return s.state().y[6] - s.state().y[0]; }

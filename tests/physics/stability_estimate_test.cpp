@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/stability.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

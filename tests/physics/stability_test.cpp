@@ -10,7 +10,7 @@
 #include <limits>
 
 #include "physics/diagnostics.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

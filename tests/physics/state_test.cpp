@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;

@@ -7,7 +7,7 @@
 
 #include "physics/diagnostics.hpp"
 #include "physics/telemetry.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 #include "support/fit.hpp"
 
 using namespace groundsim;

@@ -4,7 +4,7 @@
 
 #include "physics/forces.hpp"
 #include "physics/telemetry.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
