@@ -98,14 +98,9 @@ TEST(Allocation, VerletWithItsForceCacheAllocatesNothing) {
   // an undamped frictionless scene: Verlet reuses its end-of-step forces
   Options o = spaceOptions(1e-3);
   o.integrator = IntegratorKind::VelocityVerlet;
-  ModelBuilder b(o, farGround());
-  Spring sp;
-  sp.a = b.addParticle(1.0, Vec3::Zero(), Vec3::Zero(), false);  // no bodies: particle j is point j
-  sp.b = b.addParticle(1.0, Vec3(1.2, 0, 0), Vec3::Zero(), false);
-  sp.stiffness = 100.0;
-  sp.rest_length = 1.0;
-  b.addSpring(sp);
-  auto built = b.build();
+  SpringPairSpec pair;
+  pair.stretch = 0.2;
+  auto built = springPair(o, pair);
   Simulator sim(built.model, built.initial);
   const long before = g_allocations.load();
   ASSERT_TRUE(sim.step(600));
