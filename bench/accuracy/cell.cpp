@@ -55,7 +55,7 @@ std::string Setting::label() const {
   else
     std::snprintf(buf, sizeof buf, "%s dt=%.0e", integratorName(integrator), dt);
   // one digit unless it hides the step (2.5e-4 is not "2e-04")
-  if (std::abs(std::strtod(std::strchr(buf, '=') + 1, nullptr) - dt) > 1e-9 * dt)
+  if (integrator != IntegratorKind::Adaptive && std::abs(std::strtod(std::strchr(buf, '=') + 1, nullptr) - dt) > 1e-9 * dt)
     std::snprintf(buf, sizeof buf, "%s dt=%.1e", integratorName(integrator), dt);
   return buf;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "physics/simulator.hpp"
+#include "physics/integrator.hpp"
 #include "physics/telemetry.hpp"
 #include "scenario/scenario.hpp"
 
