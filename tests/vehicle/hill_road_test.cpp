@@ -6,6 +6,7 @@
 // with m g v sin(theta) = m g dz/dt and m_eff = m + 4 I / r^2, integrated
 // over the +5% section as an energy balance.
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -63,6 +64,8 @@ TEST(HillRoad, CompletesHealthyAndClimbsWithThePowerTheGradeNeeds) {
   EXPECT_NEAR(v_out, v_in, 0.1 * v_in);
   const double climb = m * g * (z_out - z_in), kinetic = 0.5 * m_eff * (v_out * v_out - v_in * v_in);
   const double need = climb + resist + kinetic;
+  std::printf("+5%% section: drive work %.4g J, closed form %.4g J (climb %.4g, resistances %.4g, kinetic %.4g); "
+              "dz %.3f m over %.0f m\n", work, need, climb, resist, kinetic, z_out - z_in, x_out - x_in);
   // 2%: the driven tyres' longitudinal slip (~0.7% of the tractive power at
   // this load), the rectangle rule for the resistances, and the body's pitch
   // and heave motion
