@@ -258,8 +258,8 @@ void writeMarkdown(const Report& rep, const std::string& path) {
   }
   md << "\n## Regenerate\n\n```\n" << rep.command << "\n```\n\n"
      << "The whole run took " << fmt("%.0f", rep.total_wall_seconds) << " s of wall time on " << rep.jobs
-     << " worker threads (of which the sedan's manoeuvres " << fmt("%.0f", rep.road_wall_seconds) << " s), "
-     << "started at nice 10 on a 2-core machine shared with other builds.\n\n";
+     << " worker threads (of which the sedan's manoeuvres " << fmt("%.0f", rep.road_wall_seconds) << " s); "
+     << "the machine's load at the time sets it.\n\n";
   md << (kept.empty() ? std::string(kHandWritten) + "\n" : kept);
 }
 

@@ -64,7 +64,7 @@ const std::vector<RoadManoeuvre>& roadManoeuvres() {
       {"step_steer", "25 m/s, throttle 0.3, steer 0 -> 0.05 at 0.8 s (rate-limited), 4 s", "yaw rate at 4 s (rad/s)", 4.0},
       {"lane_change", "25 m/s, steer +0.04 for 0.96 s from 0.8 s, -0.04 for 0.96 s, then 0; 5 s", "peak yaw rate (rad/s)", 5.0},
       {"braking", "100 km/h, brake 1 (ABS) from 0 s, 4 s (stands from ~2.9 s)", "stopping distance (m)", 4.0},
-      {"hill_road", "configs/sedan_hills.json, first 40 s (flat, then the +5% climb)", "speed at 40 s (m/s)", 40.0},
+      {"hill_road", "configs/sedan_hills.json, first 40 s (flat, the +5% climb, over the crest)", "speed at 40 s (m/s)", 40.0},
       {"bumps", "20 m/s, throttle 0.3, over 5 cm bumps (8 m x 14 m), 4 s", "peak suspension travel (m)", 4.0},
   };
   return all;
