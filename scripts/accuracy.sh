@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates docs/accuracy.md, docs/img/work_precision.png and
+# Regenerates docs/accuracy.md, docs/img/work_precision.png,
+# docs/img/road_work_precision.png (the sedan's manoeuvres) and
 # docs/img/stability_map.png: builds bench/accuracy/tradeoff in its own build
 # directory and runs the whole sweep (about 10 minutes on 2 cores).
 #   scripts/accuracy.sh            full sweep

@@ -3,6 +3,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "physics/integrator.hpp"
 
 namespace groundsim::accuracy {
 
@@ -36,6 +40,11 @@ Options Setting::apply(Options o) const {
   o.integrator = integrator;
   o.dt = dt;
   o.tolerance = tolerance;
+  // what a scenario can ask for: the ODE integrators are refused with
+  // stick-slip or sign friction (integratorFrictionConflict), so their cells
+  // run with the smooth friction they need
+  if (integratorFrictionConflict(integrator, o.contact.friction_model))
+    o.contact.friction_model = FrictionModel::Regularized;
   return o;
 }
 
@@ -45,6 +54,9 @@ std::string Setting::label() const {
     std::snprintf(buf, sizeof buf, "%s tol=%.0e", integratorName(integrator), tolerance);
   else
     std::snprintf(buf, sizeof buf, "%s dt=%.0e", integratorName(integrator), dt);
+  // one digit unless it hides the step (2.5e-4 is not "2e-04")
+  if (integrator != IntegratorKind::Adaptive && std::abs(std::strtod(std::strchr(buf, '=') + 1, nullptr) - dt) > 1e-9 * dt)
+    std::snprintf(buf, sizeof buf, "%s dt=%.1e", integratorName(integrator), dt);
   return buf;
 }
 

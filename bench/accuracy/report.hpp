@@ -2,10 +2,12 @@
 // markdown document docs/accuracy.md.
 #pragma once
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 
 #include "cell.hpp"
+#include "road_scenes.hpp"
 #include "scenes.hpp"
 #include "stability_map.hpp"
 
@@ -19,14 +21,24 @@ struct HourRun {
   std::string outcome;  // what stayed right over the hour
 };
 
+// A manoeuvre's reference (RK4 at kRoadRefDt) and how converged it is: the
+// same errors of RK4 at 2 kRoadRefDt against it.
+struct RoadReference {
+  RoadRun run;
+  RoadRun half;  // at 2 kRoadRefDt, compared with run
+};
+
 struct Report {
   std::vector<Scene> scenes;  // analytic + experiments, for their descriptions
   std::vector<Result> cells;
   std::vector<StabilityRow> stability;
   std::vector<HourRun> hours;
+  std::vector<RoadReference> road_refs;  // one per roadManoeuvres() entry
+  std::vector<RoadRun> road;             // every manoeuvre x roadSettings()
   std::string command;
   std::string out_dir;  // where the CSV files went
   double total_wall_seconds = 0;
+  double road_wall_seconds = 0;  // the manoeuvres' part of it
   int jobs = 1;
 };
 
@@ -36,5 +48,25 @@ void writeStabilityCsv(const Report& r, const std::string& path);
 // img_dir/work_precision.png and img_dir/stability_map.png.
 void writePlots(const Report& r, const std::string& dir, const std::string& img_dir);
 void writeMarkdown(const Report& r, const std::string& path);
+
+// The sedan's manoeuvres (road_report.cpp): CSV, the work-precision plot
+// (img_dir/road_work_precision.png, gnuplot script under dir), the markdown
+// section, and the settings the road-car presets take from them.
+void writeRoadCsv(const Report& r, const std::string& path);
+std::string roadPlotScript(const Report& r, const std::string& dir, const std::string& img_dir);
+void writeRoadMarkdown(const Report& r, std::ostream& md);
+// The cheapest setting (fewest force evaluations per simulated second:
+// machine independent, where wall time on a shared machine is not) whose
+// path (max error) stays within `bound` of the reference on `manoeuvre`, or
+// on every manoeuvre when it is empty.
+struct RoadChoice {
+  bool found = false;
+  Setting setting;
+  double worst = 0;         // largest path_max over the manoeuvres counted
+  double evals_per_sim = 0; // the largest over them
+  double sim_per_wall = 0;  // the smallest over them
+  std::string worst_in;     // the manoeuvre with the largest error
+};
+RoadChoice roadChoice(const Report& r, double bound, const std::string& manoeuvre = "");
 
 }  // namespace groundsim::accuracy

@@ -3,7 +3,9 @@
 // reference run, the stability map at the extremes, and an hour of
 // simulated time. Writes CSV, PNG plots and docs/accuracy.md.
 //
-//   tradeoff [--quick] [--jobs N] [--out DIR] [--docs FILE] [--img DIR]
+// The sedan's manoeuvres (road_scenes.hpp) against a converged reference.
+//
+//   tradeoff [--quick] [--road-only] [--jobs N] [--out DIR] [--docs FILE] [--img DIR]
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -107,7 +109,11 @@ int main(int argc, char** argv) {
   bool quick = false;
   int jobs = 2;
   std::string out = "bench-accuracy-out", docs = "docs/accuracy.md", img = "docs/img";
+  bool road_only = false;
+  std::string configs = GROUNDSIM_CONFIGS;
   app.add_flag("--quick", quick, "small grids (smoke test, about a minute)");
+  app.add_flag("--road-only", road_only, "only the sedan's manoeuvres (prints their cells; writes no docs)");
+  app.add_option("--configs", configs, "directory of sedan.json and sedan_hills.json");
   app.add_option("--jobs", jobs, "worker threads");
   app.add_option("--out", out, "directory for CSV and gnuplot files");
   app.add_option("--docs", docs, "markdown document to write");
@@ -121,6 +127,56 @@ int main(int argc, char** argv) {
   rep.jobs = jobs;
   rep.out_dir = out;
   rep.command = "scripts/accuracy.sh" + std::string(quick ? " --quick" : "");
+  // 0. the sedan's manoeuvres: references first (RK4 at kRoadRefDt and at
+  //    twice that, for the convergence), then every setting against them
+  {
+    const auto road_start = std::chrono::steady_clock::now();
+    const auto& ms = roadManoeuvres();
+    struct RoadTask { size_t m; Setting s; };
+    std::vector<RoadTask> rt;
+    for (size_t m = 0; m < ms.size(); ++m) {
+      rt.push_back({m, Setting{IntegratorKind::Rk4, kRoadRefDt, 1e-6, Fidelity::Circle}});
+      rt.push_back({m, Setting{IntegratorKind::Rk4, 2 * kRoadRefDt, 1e-6, Fidelity::Circle}});
+    }
+    for (size_t m = 0; m < ms.size(); ++m)
+      for (const Setting& s : roadSettings(quick)) rt.push_back({m, s});
+    std::vector<RoadRun> runs(rt.size());
+    std::fprintf(stderr, "sedan manoeuvres: %zu runs on %d threads\n", rt.size(), jobs);
+    // longest first (hill road, small steps), so the threads end together
+    std::vector<size_t> order(rt.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      return ms[rt[a].m].duration / rt[a].s.dt > ms[rt[b].m].duration / rt[b].s.dt;
+    });
+    parallelFor(rt.size(), jobs, [&](size_t k) {
+      const size_t i = order[k];
+      runs[i] = runRoad(ms[rt[i].m], rt[i].s, configs);
+    });
+    for (size_t m = 0; m < ms.size(); ++m) {
+      RoadReference ref{runs[2 * m], runs[2 * m + 1]};
+      compareRoad(ref.half, ref.run);
+      rep.road_refs.push_back(ref);
+    }
+    for (size_t i = 2 * ms.size(); i < rt.size(); ++i) {
+      compareRoad(runs[i], rep.road_refs[rt[i].m].run);
+      rep.road.push_back(runs[i]);
+    }
+    rep.road_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - road_start).count();
+    std::fprintf(stderr, "sedan manoeuvres done in %.0f s\n", rep.road_wall_seconds);
+    if (road_only) {
+      for (const RoadReference& r : rep.road_refs)
+        std::printf("%-12s ref key %.6g length %.1f  2dt-vs-dt path max %.2e rms %.2e key %.2e %s\n",
+                    r.run.manoeuvre.c_str(), r.run.key, r.run.length, r.half.path_max, r.half.path_rms,
+                    r.half.key_error, r.run.status.c_str());
+      for (const RoadRun& r : rep.road)
+        std::printf("%-12s %-28s %-10s max %.2e rms %.2e key %.6g (%.2e) evals/s %.0f sim/wall %.0f\n",
+                    r.manoeuvre.c_str(), r.setting.label().c_str(), r.status.c_str(), r.path_max, r.path_rms, r.key,
+                    r.key_error, r.evalsPerSim(), r.simPerWall());
+      writeRoadCsv(rep, out + "/road.csv");
+      return 0;
+    }
+  }
+
   rep.scenes = analyticScenes();
   for (auto& s : reportExperiments()) rep.scenes.push_back(s);
 
@@ -202,6 +258,7 @@ int main(int argc, char** argv) {
 
   writeCsv(rep, out + "/tradeoff.csv");
   writeStabilityCsv(rep, out + "/stability.csv");
+  writeRoadCsv(rep, out + "/road.csv");
   writePlots(rep, out, img);
   writeMarkdown(rep, docs);
   std::fprintf(stderr, "done in %.0f s: %s, %s/work_precision.png, %s/stability_map.png, %s/tradeoff.csv\n",

@@ -23,7 +23,10 @@ namespace groundsim {
 // Pacejka Magic Formula, combined slip by normalised slip (Pacejka 2006,
 // 4.3.2), with its shape fitted from physical figures at load.
 struct TyreParams {
-  bool slip_model = true;           // -      false: the rigid stick-slip contact figures only (see road_car.cpp)
+  // always true: `tyres.model` accepts "magic_formula" only. A rigid
+  // stick-slip contact has no slip angle, so it could not give the declared
+  // cornering stiffness (docs/accuracy.md, "The sedan's manoeuvres")
+  bool slip_model = true;
   double vertical_stiffness = 2e5;  // N/m
   double vertical_damping = 500.0;  // N s/m
   double nominal_load = 0.0;        // N      F_z0; 0: the static load of the tyre's corner

@@ -18,6 +18,11 @@ const std::vector<std::string>& presetNames();
 // ({"physics": {...}, "vehicle": {...}}), or null for an unknown name.
 nlohmann::json presetSettings(const std::string& name);
 
+// The settings a preset stands for on a scenario whose vehicles are all road
+// cars ({"physics": {...}} and, for an ODE integrator, {"contact":
+// {"friction_model": "regularized"}}), or null for an unknown name.
+nlohmann::json roadCarPresetSettings(const std::string& name);
+
 // Fills doc's missing keys from doc["preset"] (no-op without a valid
 // preset; validation reports a bad one). With force, the preset's keys are
 // overwritten too.
