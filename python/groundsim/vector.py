@@ -108,10 +108,15 @@ class VecEnv(VectorEnv):
         "actions[i][j]"), finite values are clipped to the action space. An
         env whose episode ended in the previous step is reset instead, and
         its action ignored (NEXT_STEP)."""
-        try:
-            a = np.asarray(actions, dtype=np.float32)
-        except (TypeError, ValueError) as e:
-            raise ExperimentError("actions", f"actions: not castable to float32 ({e})") from None
+        if isinstance(actions, np.ndarray) and actions.dtype == np.float32:
+            a = actions
+        else:
+            try:
+                # a value beyond float32's range becomes inf and is refused below
+                with np.errstate(over="ignore"):
+                    a = np.asarray(actions, dtype=np.float32)
+            except (TypeError, ValueError) as e:
+                raise ExperimentError("actions", f"actions: not castable to float32 ({e})") from None
         if a.shape != self._action_shape:
             raise ExperimentError("actions", f"actions: expected shape {self._action_shape}, got {a.shape}")
         if not a.flags.c_contiguous:

@@ -1,5 +1,6 @@
 #include "gate_env.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
@@ -15,6 +16,7 @@ struct Gate::Impl {
   std::mutex mutex;
   std::condition_variable cv;
   bool open = false;
+  std::atomic<bool> waiting{false};
 };
 
 std::shared_ptr<Gate::Impl> Gate::makeImpl() { return std::make_shared<Impl>(); }
@@ -29,10 +31,14 @@ void Gate::open() {
 
 bool Gate::waitOpen(double seconds) {
   std::unique_lock lock(impl_->mutex);
+  impl_->waiting = true;
   const bool opened = impl_->cv.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return impl_->open; });
   impl_->open = false;
+  impl_->waiting = false;
   return opened;
 }
+
+bool Gate::waiting() const { return impl_->waiting; }
 
 namespace {
 

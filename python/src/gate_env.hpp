@@ -15,6 +15,8 @@ class Gate {
   void open();
   // true once open() was called; false after `seconds` without it
   bool waitOpen(double seconds);
+  // true while a step waits in waitOpen
+  bool waiting() const;
 
  private:
   struct Impl;

@@ -62,7 +62,7 @@ PYBIND11_MODULE(_core, m) {
 
   // For tests of the binding (tests/python/test_gil.py): an env whose step
   // waits until the returned gate is opened from another thread.
-  py::class_<python::Gate, std::shared_ptr<python::Gate>>(m, "_Gate").def("open", &python::Gate::open);
+  py::class_<python::Gate, std::shared_ptr<python::Gate>>(m, "_Gate").def("open", &python::Gate::open).def("waiting", &python::Gate::waiting);
   m.def("_make_gate_env", [](int num_envs) {
     auto gate = std::make_shared<python::Gate>();
     auto handle = std::make_unique<python::EnvHandle>(python::makeGateEnv(num_envs, gate));
