@@ -94,5 +94,19 @@ TEST(BadInput, AScenarioWithoutATaskOrWithABadOneIsAScenarioError) {
   }
 }
 
+TEST(BadInput, OneBatchedStepIsBoundedByTheWorkBudget) {
+  nlohmann::json t = task();
+  t["control_period"] = 100000;
+  scenario::Budget small;
+  small.max_work = 1e9;
+  try {
+    makeVecEnv(roadCarDoc(plane(), t).dump(), 4096, {.budget = small});
+    ADD_FAILURE() << "accepted";
+  } catch (const scenario::ScenarioError& e) {
+    EXPECT_EQ(e.issues().at(0).path, "/task/control_period");
+    EXPECT_NE(e.issues().at(0).message.find("--max-work"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace groundsim::experiments::test

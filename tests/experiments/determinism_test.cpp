@@ -112,6 +112,30 @@ TEST(Determinism, OneSharedModelSteppedFromSeveralThreadsEqualsSequential) {
   for (int i = 0; i < n; ++i) EXPECT_EQ(seq[static_cast<size_t>(i)], par[static_cast<size_t>(i)]) << i;
 }
 
+TEST(Determinism, DrawnParametersRebuiltOnWorkerThreadsGiveTheSameBits) {
+  // models rebuilt inside the pool's workers at each autoreset
+  nlohmann::json t = {{"observation", {"velocity_body", "suspension_travel", "height_samples"}},
+                      {"control_period", 5},
+                      {"time_limit", 0.1},
+                      {"reward", {{"speed_tracking", 1.0}}},
+                      {"randomize", {{"speed", {0.0, 5.0}},
+                                     {"parameters", {{{"path", "ground.amplitude"}, {"range", {0.01, 0.1}}}}}}}};
+  const auto doc = roadCarDoc({{"type", "bumps"}, {"amplitude", 0.05}, {"wavelength_x", 6}, {"wavelength_y", 6}}, t);
+  auto trace = [&](int threads) {
+    Batch b(doc, 5, threads);
+    b.reset(17);
+    std::vector<float> out = b.obs;
+    b.setAll({0.5f, 0.0f, 0.2f});
+    for (int s = 0; s < 16; ++s) {  // three episodes of 5 actions and their resets
+      b.step();
+      out.insert(out.end(), b.obs.begin(), b.obs.end());
+    }
+    return out;
+  };
+  const std::vector<float> one = trace(1);
+  EXPECT_EQ(std::memcmp(one.data(), trace(3).data(), one.size() * sizeof(float)), 0);
+}
+
 TEST(Determinism, DrawnParametersRebuildTheModelFromTheSeed) {
   nlohmann::json t = randomTask();
   t["observation"] = {"position"};
