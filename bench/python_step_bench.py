@@ -3,17 +3,19 @@
 
     PYTHONPATH=build/python python3 bench/python_step_bench.py [--envs 256] [--threads 1 2]
 
-For each thread count, three ways to take the same steps, alternated in
-rounds so a change of machine load hits all three alike:
-  wrapper  VecEnv.step(actions): Gymnasium's API (shape check, the C++
-           step, the infos, the returned views and dict)
-  core     the C++ step alone through the binding (groundsim._core), with
-           the wrapper's buffers: the buffer checks and the GIL release are
-           all that Python adds
-  Python's share = (wrapper - core) / wrapper, per step.
-The C++ figure without Python is bench/experiments_bench (docs/experiments.md)."""
+For each thread count, steps of the fast-preset car task (8 physics steps
+per action) taken through VecEnv.step (Gymnasium's API), with the time
+inside the C++ step measured within the same calls: Python's share is
+(time of VecEnv.step - time inside the C++ step) / time of VecEnv.step,
+so a change of machine load during the run does not bias it; Python's CPU
+time (time.thread_time outside the C++ step) does not grow with the load. What counts
+as Python: the wrapper (action check, the infos, the returned views and
+dict), the binding's buffer checks, and the timing probe itself (so the
+share is overstated a little). The C++ figure without Python is
+bench/experiments_bench (docs/experiments.md)."""
 
 import argparse
+import os
 import pathlib
 import statistics
 import time
@@ -25,14 +27,31 @@ import groundsim
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
+class TimedCore:
+    """The env's groundsim._core.BatchEnv with its step() timed."""
+
+    def __init__(self, core):
+        self.core, self.inside, self.inside_cpu = core, 0.0, 0.0
+
+    def step(self, *args):
+        t0, c0 = time.perf_counter(), time.thread_time()
+        self.core.step(*args)
+        self.inside += time.perf_counter() - t0
+        self.inside_cpu += time.thread_time() - c0
+
+    def __getattr__(self, name):
+        return getattr(self.core, name)
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--task", default=str(ROOT / "configs" / "tasks" / "fast_car.json"))
     p.add_argument("--envs", type=int, default=256)
     p.add_argument("--threads", type=int, nargs="+", default=[1, 2])
-    p.add_argument("--steps", type=int, default=100, help="steps per round and way")
+    p.add_argument("--steps", type=int, default=100, help="steps per round")
     p.add_argument("--rounds", type=int, default=7)
     args = p.parse_args()
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
     for threads in args.threads:
         env = groundsim.make_vec(args.task, args.envs, threads)
@@ -40,32 +59,27 @@ def main():
         rng = np.random.default_rng(0)
         acts = [rng.uniform(env.single_action_space.low, env.single_action_space.high,
                             (args.envs, layout.action_size)).astype(np.float32) for _ in range(16)]
-        core = env._core
-        bufs = (env._obs, env._rewards, env._terminations, env._truncations)
         env.reset(seed=0)
         for a in acts:  # warm-up: threads started, caches filled
             env.step(a)
-
-        def wrapper():
+        timed = env._core = TimedCore(env._core)
+        totals, shares, python_cpu = [], [], []
+        for _ in range(args.rounds):
+            timed.inside = timed.inside_cpu = 0.0
+            t0, c0 = time.perf_counter(), time.thread_time()
             for k in range(args.steps):
                 env.step(acts[k % 16])
-
-        def core_only():
-            for k in range(args.steps):
-                core.step(acts[k % 16], *bufs)
-
-        times = {"wrapper": [], "core": []}
-        for _ in range(args.rounds):
-            for name, fn in (("wrapper", wrapper), ("core", core_only)):
-                t0 = time.perf_counter()
-                fn()
-                times[name].append((time.perf_counter() - t0) / args.steps)
-        w, c = statistics.median(times["wrapper"]), statistics.median(times["core"])
-        physics = layout.control_period
-        print(f"{args.envs} envs, {threads} thread(s), control period {physics}: "
-              f"wrapper {args.envs / w:,.0f} env-steps/s ({args.envs * physics / w:,.0f} physics steps/s), "
-              f"core {args.envs / c:,.0f} env-steps/s; per step {w * 1e6:.0f} us, of which Python "
-              f"{(w - c) * 1e6:.1f} us = {100 * (w - c) / w:.1f}%")
+            total, cpu = time.perf_counter() - t0, time.thread_time() - c0
+            totals.append(total / args.steps)
+            shares.append((total - timed.inside) / total)
+            python_cpu.append((cpu - timed.inside_cpu) / args.steps)
+        step, share = statistics.median(totals), statistics.median(shares)
+        print(f"{args.envs} envs, {threads} thread(s), control period {layout.control_period}: "
+              f"{args.envs / step:,.0f} env-steps/s ({args.envs * layout.control_period / step:,.0f} physics "
+              f"steps/s) through VecEnv.step; {step * 1e6:.0f} us per step, Python {share * step * 1e6:.1f} us "
+              f"= {100 * share:.2f}%, Python's CPU time {statistics.median(python_cpu) * 1e6:.1f} us "
+              f"(median of {args.rounds} rounds of {args.steps}; shares "
+              f"{100 * min(shares):.2f}-{100 * max(shares):.2f}%)")
         env.close()
 
 

@@ -34,7 +34,8 @@ def parse_args():
     p.add_argument("--population", type=int, default=32)
     p.add_argument("--elite", type=int, default=6)
     p.add_argument("--episodes", type=int, default=3, help="starts per candidate")
-    p.add_argument("--eval-episodes", type=int, default=16, help="held-out starts for the mean policy")
+    p.add_argument("--eval-episodes", type=int, default=32, help="held-out starts for the mean policy")
+    p.add_argument("--hidden", type=int, default=0, help="tanh units of a hidden layer; 0: a linear policy")
     p.add_argument("--sigma", type=float, default=0.3, help="initial spread of the parameters")
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
@@ -43,6 +44,32 @@ def parse_args():
     p.add_argument("--out", default="out/train_goal.png")
     p.add_argument("--results", default=None, help="JSON of the learning curve (default: next to --out)")
     return p.parse_args()
+
+
+class Policy:
+    """Linear (hidden = 0), or one tanh layer of `hidden` units; its
+    parameters are one flat vector per env."""
+
+    def __init__(self, obs_size, act_size, hidden):
+        sizes = [obs_size, hidden, act_size] if hidden else [obs_size, act_size]
+        self.shapes = list(zip(sizes[:-1], sizes[1:]))
+        self.size = sum(i * o + o for i, o in self.shapes)
+
+    def layers(self, params):
+        out, at = [], 0
+        for i, o in self.shapes:
+            W = params[:, at: at + i * o].reshape(-1, i, o)
+            b = params[:, at + i * o: at + i * o + o]
+            out.append((W, b))
+            at += i * o + o
+        return out
+
+    def act(self, layers, x):
+        for k, (W, b) in enumerate(layers):
+            x = np.einsum("ni,nij->nj", x, W) + b
+            if k + 1 < len(layers):
+                x = np.tanh(x)
+        return x
 
 
 class Rollouts:
@@ -79,8 +106,8 @@ class Rollouts:
     def run(self, params, generation):
         """params: (n, obs_size * act_size + act_size), one row per env.
         Returns each env's episode return and whether it reached the goal."""
-        W = params[:, : self.obs_size * self.act_size].reshape(self.n, self.obs_size, self.act_size)
-        b = params[:, self.obs_size * self.act_size:]
+        policy = Policy(self.obs_size, self.act_size, self.args.hidden)
+        layers = policy.layers(params)
         starts = 1000 * generation
         # every candidate sees the same starts; the held-out starts never change
         seeds = [starts + j for _ in range(self.args.population) for j in range(self.args.episodes)]
@@ -94,7 +121,7 @@ class Rollouts:
             if k % 5 == 0:
                 seen.append(obs[running].copy())
             x = (obs - self.obs_mean) / self.obs_std
-            actions = np.einsum("ni,nij->nj", x, W) + b
+            actions = policy.act(layers, x)
             obs, rewards, terminated, truncated, _ = self.env.step(actions)
             returns += np.where(running, rewards, 0.0)
             ended = running & (terminated | truncated)
@@ -134,7 +161,7 @@ def main():
     args = parse_args()
     rng = np.random.default_rng(args.seed)
     ro = Rollouts(args)
-    dim = ro.obs_size * ro.act_size + ro.act_size
+    dim = Policy(ro.obs_size, ro.act_size, args.hidden).size
     mu, sigma = np.zeros(dim), np.full(dim, args.sigma)
     curve, hits, t0 = [], 0, time.perf_counter()
     print(f"{ro.n} envs on {args.threads} threads, {dim} parameters, episodes of at most {ro.max_steps} actions")
