@@ -35,18 +35,43 @@ struct Group {
   std::vector<WheelControl> before[kLanes];  // applied controls before the current step
 };
 
-// The kernel over n steps of one group, without the per-car bookkeeping
-// (controls and health), which step() does between calls.
-GROUNDSIM_INLINE_BODY void advanceBody(const FastCarPlan& P, Group& g, int substeps, double h,
-                                       fastcar::Scratch<v4d>& S) {
+// What the health check needs, per lane: NaN where any state component is
+// not finite, the deepest contact, the largest squared body speed.
+struct Vitals {
+  v4d bad, depth, v2;
+};
+
+// One step of one group (its substeps), then its vitals; the per-car
+// bookkeeping (controls, the scalar health check) is step()'s.
+GROUNDSIM_INLINE_BODY Vitals advanceBody(const FastCarPlan& P, Group& g, int ny, int substeps, double h,
+                                         fastcar::Scratch<v4d>& S) {
   for (int k = 0; k < substeps; ++k)
     fastcar::advance(P, g.y(), g.drive(), g.brake(), g.steer(), h, S, &g.drive_work);
+  const v4d* y = g.y();
+  v4d b[4] = {L4::all(0.0), L4::all(0.0), L4::all(0.0), L4::all(0.0)};  // four chains, not one
+  int i = 0;
+  for (; i + 4 <= ny; i += 4)
+    for (int j = 0; j < 4; ++j) b[j] += y[i + j] - y[i + j];
+  for (; i < ny; ++i) b[0] += y[i] - y[i];
+  Vitals v{(b[0] + b[1]) + (b[2] + b[3]), L4::all(0.0), L4::all(0.0)};
+  for (const fastcar::ContactL<v4d>& c : S.con) {
+    const v4d d = c.in ? c.depth : L4::all(0.0);
+    v.depth = d > v.depth ? d : v.depth;
+  }
+  for (size_t k = 0; k < P.bodies.size(); ++k) {
+    const v4d* yb = y + 13 * k;
+    const v4d s2 = yb[7] * yb[7] + yb[8] * yb[8] + yb[9] * yb[9];
+    v.v2 = s2 > v.v2 ? s2 : v.v2;
+  }
+  return v;
 }
-GROUNDSIM_WIDE void advanceWide(const FastCarPlan& P, Group& g, int substeps, double h, fastcar::Scratch<v4d>& S) {
-  advanceBody(P, g, substeps, h, S);
+GROUNDSIM_WIDE void advanceWide(const FastCarPlan& P, Group& g, int ny, int substeps, double h,
+                                fastcar::Scratch<v4d>& S, Vitals* v) {
+  *v = advanceBody(P, g, ny, substeps, h, S);
 }
-void advanceGeneric(const FastCarPlan& P, Group& g, int substeps, double h, fastcar::Scratch<v4d>& S) {
-  advanceBody(P, g, substeps, h, S);
+void advanceGeneric(const FastCarPlan& P, Group& g, int ny, int substeps, double h, fastcar::Scratch<v4d>& S,
+                    Vitals* v) {
+  *v = advanceBody(P, g, ny, substeps, h, S);
 }
 
 }  // namespace
@@ -129,24 +154,10 @@ void BatchStep::step(std::span<State> cars, long long n) {
         }
       std::copy(g.y_.begin(), g.y_.end(), g.prev_.begin());
       g.prev_work = g.drive_work;
-      if (wide) advanceWide(I.plan, g, sub, h, I.scratch);
-      else advanceGeneric(I.plan, g, sub, h, I.scratch);
-
-      // health, four lanes at once; the scalar check (with its message, and
-      // the energy every Simulator::kEnergyCheckInterval ticks) only where needed
-      v4d bad = L4::all(0.0);
-      for (int i = 0; i < ny; ++i) bad += g.y()[i] - g.y()[i];  // NaN where anything is not finite
-      v4d depth = L4::all(0.0);
-      for (const fastcar::ContactL<v4d>& c : I.scratch.con) {
-        const v4d d = c.in ? c.depth : L4::all(0.0);
-        depth = d > depth ? d : depth;
-      }
-      v4d v2 = L4::all(0.0);
-      for (size_t i = 0; i < nb; ++i) {
-        const v4d* yb = g.y() + 13 * i;
-        const v4d s2 = yb[7] * yb[7] + yb[8] * yb[8] + yb[9] * yb[9];
-        v2 = s2 > v2 ? s2 : v2;
-      }
+      Vitals vit;
+      if (wide) advanceWide(I.plan, g, ny, sub, h, I.scratch, &vit);
+      else advanceGeneric(I.plan, g, ny, sub, h, I.scratch, &vit);
+      const v4d bad = vit.bad, depth = vit.depth, v2 = vit.v2;
       for (int l = 0; l < kLanes; ++l) {
         if (!g.alive[l]) {
           for (int i = 0; i < ny; ++i) L4::at(g.y()[i], l) = L4::get(g.prev()[i], l);  // stays where it stopped
