@@ -90,8 +90,24 @@ template <class V> GROUNDSIM_INLINE_BODY void quatToMat(V x, V y, V z, V w, V* R
   R[3] = txy + twz; R[4] = 1.0 - (txx + tzz); R[5] = tyz - twx;
   R[6] = txz - twy; R[7] = tyz + twx; R[8] = 1.0 - (txx + tyy);
 }
-// R B R^T for row-major 3x3 R and a constant B.
+GROUNDSIM_INLINE_BODY bool isDiagonal(const double* B) {
+  return B[1] == 0.0 && B[2] == 0.0 && B[3] == 0.0 && B[5] == 0.0 && B[6] == 0.0 && B[7] == 0.0;
+}
+// R B R^T for row-major 3x3 R and a constant B. A diagonal B (the
+// principal axes of every body the car builders make) skips the zero
+// terms, which add nothing, and takes the symmetric half.
 template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const double* B, V* out) {
+  if (isDiagonal(B)) {
+    V M[9];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) M[3 * i + k] = R[3 * i + k] * B[4 * k];
+    for (int i = 0; i < 3; ++i)
+      for (int j = i; j < 3; ++j) {
+        out[3 * i + j] = M[3 * i] * R[3 * j] + M[3 * i + 1] * R[3 * j + 1] + M[3 * i + 2] * R[3 * j + 2];
+        out[3 * j + i] = out[3 * i + j];
+      }
+    return;
+  }
   V M[9];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) M[3 * i + j] = R[3 * i] * B[j] + R[3 * i + 1] * B[3 + j] + R[3 * i + 2] * B[6 + j];
@@ -102,7 +118,10 @@ template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const do
 template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B, const V* L, V* w) {
   V b[3], c[3];
   for (int j = 0; j < 3; ++j) b[j] = R[j] * L[0] + R[3 + j] * L[1] + R[6 + j] * L[2];
-  for (int i = 0; i < 3; ++i) c[i] = B[3 * i] * b[0] + B[3 * i + 1] * b[1] + B[3 * i + 2] * b[2];
+  if (isDiagonal(B))
+    for (int i = 0; i < 3; ++i) c[i] = B[4 * i] * b[i];
+  else
+    for (int i = 0; i < 3; ++i) c[i] = B[3 * i] * b[0] + B[3 * i + 1] * b[1] + B[3 * i + 2] * b[2];
   mat3vec(R, c, w);
 }
 
