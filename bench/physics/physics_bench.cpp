@@ -6,8 +6,10 @@
 
 #include <string>
 
+#include "physics/batch_step.hpp"
 #include "physics/simulator.hpp"
 #include "physics/vehicle.hpp"
+#include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 
 using namespace groundsim;
@@ -93,8 +95,68 @@ void Config(benchmark::State& st, const std::string& name) {
   report(st, sim.model().opt.dt);
 }
 
+// A shipped scenario with a preset applied, as `groundsim run FILE --preset P`.
+scenario::Scene presetScene(const std::string& name, const std::string& preset) {
+  nlohmann::json doc =
+      scenario::loadScenarioDocument(std::string(GROUNDSIM_SOURCE_DIR) + "/configs/" + name + ".json");
+  doc["preset"] = preset;
+  scenario::applyPreset(doc, /*force=*/true);
+  return scenario::buildScene(scenario::parseScenario(doc, scenario::FileAccess::none()));
+}
+
+// The fast preset's car (five bodies, four circle contacts) on S1 and S2,
+// one car in its Simulator (the specialised step, fast_car.hpp).
+void FastPreset(benchmark::State& st, const std::string& name) {
+  const auto scene = presetScene(name, "fast");
+  Simulator sim(scene.built.model, scene.built.initial);
+  const long long steps = static_cast<long long>(scene.duration / sim.model().opt.dt);
+  for (auto _ : st) {
+    if (sim.state().tick >= steps) {
+      st.PauseTiming();
+      sim.restore(scene.built.initial);
+      st.ResumeTiming();
+    }
+    if (!sim.step()) st.SkipWithError("diverged");
+  }
+  report(st, sim.model().opt.dt);
+  st.counters["specialised"] = sim.specialised() ? 1 : 0;
+}
+
+// range(0) fast-preset cars of S1 in one BatchStep, 16 steps per call;
+// car-steps/s is the figure (the goal: 4M for 256 cars on one core).
+void BatchFastPreset(benchmark::State& st) {
+  const auto scene = presetScene("plain", "fast");
+  const auto model = scene.built.model;
+  BatchStep batch(model);
+  std::vector<State> cars(static_cast<size_t>(st.range(0)), scene.built.initial);
+  for (size_t i = 0; i < cars.size(); ++i) {  // a spread of drive torques: the lanes differ
+    cars[i].controls.resize(model->wheels.size());
+    for (auto& c : cars[i].controls) c.drive_torque = 0.002 * static_cast<double>(i % 7);
+  }
+  constexpr int kSteps = 16;
+  for (auto _ : st) {
+    if (cars.front().t > 20.0) {
+      st.PauseTiming();
+      for (auto& c : cars) {
+        const auto controls = c.controls;
+        c = scene.built.initial;
+        c.controls = controls;
+      }
+      st.ResumeTiming();
+    }
+    batch.step(cars, kSteps);
+  }
+  const double car_steps = static_cast<double>(st.iterations()) * kSteps * static_cast<double>(cars.size());
+  st.counters["car_steps/s"] = benchmark::Counter(car_steps, benchmark::Counter::kIsRate);
+  st.counters["sim_s_per_s"] = benchmark::Counter(car_steps * model->opt.dt, benchmark::Counter::kIsRate);
+}
+
 }  // namespace
 
+BENCHMARK_CAPTURE(FastPreset, S1, std::string("plain"));
+BENCHMARK_CAPTURE(FastPreset, S2, std::string("downhill"));
+BENCHMARK(BatchFastPreset)->Arg(4)->Arg(64)->Arg(256)->Arg(1024);
+BENCHMARK_CAPTURE(Config, sedan, std::string("sedan"));
 BENCHMARK_CAPTURE(Config, plain, std::string("plain"));
 BENCHMARK_CAPTURE(Config, downhill, std::string("downhill"));
 BENCHMARK_CAPTURE(Config, uphill, std::string("uphill"));

@@ -54,6 +54,11 @@ class Plane final : public Ground {
     for (int k = begin; k < end; ++k) H[k] = a * x[k] + b * y[k] + c * z[k] - d;
   }
   double gradientBound() const override { return 1.0; }
+  bool asPlane(Vec3* n, double* offset) const override {
+    *n = n_;
+    *offset = offset_;
+    return true;
+  }
   std::string describe() const override {
     std::ostringstream s;
     s << "plane n=(" << n_.x() << "," << n_.y() << "," << n_.z() << ") offset=" << offset_;

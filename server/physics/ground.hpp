@@ -47,6 +47,15 @@ class Ground {
     (void)p;
     return scene_mu;
   }
+  // True for a plane n . p - offset (|n| = 1), with n and offset written:
+  // the specialised car step (fast_car.hpp) finds circle contacts on it in
+  // closed form. Any other ground, including a plane wrapped with friction
+  // patches, says false.
+  virtual bool asPlane(Vec3* n, double* offset) const {
+    (void)n;
+    (void)offset;
+    return false;
+  }
   virtual std::string describe() const = 0;
   // The evaluator a simulation uses in its hot loop; nullptr (the default)
   // means the ground is stateless and eval/heights are called directly.

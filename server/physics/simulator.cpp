@@ -12,8 +12,36 @@ namespace groundsim {
 Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
     : model_(std::move(model)), state_(std::move(initial)), ws_(*model_),
       integrator_(makeIntegrator(model_->opt.integrator)) {
+  if (fastCarUnsupported(*model_) == nullptr) fast_ = std::make_unique<FastCar>(*model_);
   restore(state_);
 }
+
+namespace {
+
+// What a step changes (y, time, the adaptive step, drive work, applied
+// controls, the road cars' gears), copied into buffers of the same sizes:
+// no allocation, and none of what a step leaves alone (commands, the
+// initial energy, the health reason) is copied twice per step.
+void saveForRollback(const State& s, State& to) {
+  to.y = s.y;
+  to.t = s.t;
+  to.tick = s.tick;
+  to.h_next = s.h_next;
+  to.drive_work = s.drive_work;
+  to.applied = s.applied;
+  to.cars = s.cars;
+}
+void restoreFromRollback(const State& from, State& s) {
+  s.y = from.y;
+  s.t = from.t;
+  s.tick = from.tick;
+  s.h_next = from.h_next;
+  s.drive_work = from.drive_work;
+  s.applied = from.applied;
+  s.cars = from.cars;
+}
+
+}  // namespace
 
 void applyControls(const Model& m, double dt, State& s) {
   for (size_t w = 0; w < m.wheels.size(); ++w) {
@@ -34,12 +62,18 @@ void applyControls(const Model& m, double dt, State& s) {
 bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
-  ws_.last_good = state_;  // same sizes every time: no allocation
+  saveForRollback(state_, ws_.last_good);
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
   ws_.car_inputs = state_.cars;  // same size every step: no allocation
-  for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+  if (fast_) {
+    fast_->step(m, state_, ws_);
+    ws_stale_ = true;
+    integrator_->evaluations += n;
+  } else {
+    for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+  }
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
   if (checkHealth(m, state_, ws_, state_.tick % kEnergyCheckInterval == 0)) return true;
@@ -47,7 +81,7 @@ bool Simulator::step() {
   // ever sees NaN, and report the reason through state().health
   const Health why = state_.health;
   std::string reason = std::move(state_.health_reason);
-  state_ = ws_.last_good;
+  restoreFromRollback(ws_.last_good, state_);
   state_.health = why;
   state_.health_reason = std::move(reason);
   return false;

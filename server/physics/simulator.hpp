@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "diagnostics.hpp"
+#include "fast_car.hpp"
 #include "integrator.hpp"
 #include "model.hpp"
 #include "state.hpp"
@@ -41,9 +42,17 @@ class Simulator {
   const CarControls& carControls(int car) const { return state_.car_controls.at(static_cast<size_t>(car)); }
   // The road car of a vehicle, or -1 when the vehicle is not one.
   int roadCarIndex(int vehicle) const;
-  const Workspace& workspace() const { return ws_; }
+  const Workspace& workspace() const {
+    if (fast_ && ws_stale_) {  // the specialised step fills it on demand
+      fast_->exportTo(*model_, ws_);
+      ws_stale_ = false;
+    }
+    return ws_;
+  }
   bool healthy() const { return state_.health == Health::Ok; }
   long long forceEvaluations() const { return integrator_->evaluations; }
+  // Whether steps take the specialised rigid-car path (fast_car.hpp).
+  bool specialised() const { return fast_ != nullptr; }
   // Energy of the current state, computed in the diagnostics' own scratch
   // (workspace().diagnostics): the last force evaluation stays as it was.
   Energy energy() const;
@@ -53,8 +62,11 @@ class Simulator {
  private:
   std::shared_ptr<const Model> model_;
   State state_;
-  Workspace ws_;
+  mutable Workspace ws_;  // mutable: filled on demand after a specialised step
+  mutable bool ws_stale_ = false;
   std::unique_ptr<Integrator> integrator_;
+  // the specialised step where the model allows it (fast_car.hpp)
+  std::unique_ptr<FastCar> fast_;
 };
 
 }  // namespace groundsim
