@@ -149,21 +149,31 @@ void Env::applyAction() {
 }
 
 void Env::step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
+  if (!beginStep(obs, reward, terminated, truncated)) return;
+  bool ok = true;
+  for (int k = 0; k < ctx_->task().control_period && ok; ++k) ok = sim_->step();
+  finishStep(obs, reward, terminated, truncated);
+}
+
+bool Env::beginStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
   if (needs_reset_) {
     reset(std::nullopt, obs);
     *reward = 0.0;
     *terminated = *truncated = 0;
-    return;
+    return false;
   }
+  before_ = bodyPos(sim_->state().y, ctx_->body);
+  applyAction();
+  return true;
+}
+
+void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
   const TaskSpec& t = ctx_->task();
   const int b = ctx_->body;
-  const Vec3 before = bodyPos(sim_->state().y, b);
+  const Vec3 before = before_;
   const double gx = t.goal[0], gy = t.goal[1];
   const double dist_before = std::hypot(gx - before.x(), gy - before.y());
-  applyAction();
-  bool ok = true;
-  for (int k = 0; k < t.control_period && ok; ++k) ok = sim_->step();
-  diverged_ = !ok;
+  diverged_ = !sim_->healthy();
 
   const Eigen::VectorXd& y = sim_->state().y;
   const Vec3 c = bodyPos(y, b);

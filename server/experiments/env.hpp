@@ -43,6 +43,13 @@ struct TaskContext {
 std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const scenario::Budget& budget,
                                                     const scenario::FileAccess& files);
 
+// Whether VecEnv steps this task's cars together (physics/batch_step.hpp):
+// when every environment keeps the shared model (no drawn parameters),
+// BatchStep takes that model (the fast presets' rigid car on a plane), and
+// no observed feature reads the workspace (wheel_contact, wheel_slip:
+// batched steps do not fill it). Decided by the task alone.
+bool stepsBatched(const TaskContext& c);
+
 class Env {
  public:
   // Seeded with `seed` and reset; the first step() then starts episode 1
@@ -56,6 +63,13 @@ class Env {
   void setAction(const float* action);
   // Takes the action set (or resets, when the last episode ended).
   void step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
+  // step() in two halves around the physics, for VecEnv's batched path
+  // (physics/batch_step.hpp): beginStep resets an ended episode (and returns
+  // false: nothing to step) or applies the action; the caller then advances
+  // physicsState() by control_period steps; finishStep evaluates the task.
+  bool beginStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
+  void finishStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
+  State& physicsState() { return sim_->batchState(); }
   EnvInfo info() const;
 
   EnvSnapshot save() const;
@@ -85,6 +99,7 @@ class Env {
   std::int64_t episode_ = 0, steps_ = 0;
   double return_ = 0.0;
   bool diverged_ = false, needs_reset_ = false;
+  Vec3 before_ = Vec3::Zero();      // chassis position when the current action was applied
 };
 
 }  // namespace groundsim::experiments

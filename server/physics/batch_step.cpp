@@ -97,11 +97,18 @@ BatchStep::BatchStep(std::shared_ptr<const Model> model) : model_(std::move(mode
 BatchStep::~BatchStep() = default;
 
 void BatchStep::step(std::span<State> cars, long long n) {
+  ptrs_.resize(cars.size());  // grows once: no allocation in steady state
+  for (size_t i = 0; i < cars.size(); ++i) ptrs_[i] = &cars[i];
+  step(std::span<State* const>(ptrs_), n);
+}
+
+void BatchStep::step(std::span<State* const> cars, long long n) {
   const Model& m = *model_;
   Impl& I = *impl_;
   const int ny = m.stateSize();
-  const size_t nw = m.wheels.size(), nb = m.bodies.size();
-  for (State& s : cars) {
+  const size_t nw = m.wheels.size();
+  for (State* sp : cars) {
+    State& s = *sp;
     if (s.y.size() != ny) throw std::invalid_argument("batch step: a state's size does not match the model");
     s.controls.resize(nw);
     s.applied.resize(nw);
@@ -121,8 +128,8 @@ void BatchStep::step(std::span<State> cars, long long n) {
     g.steer_.resize(nw);
     for (int l = 0; l < kLanes; ++l) {
       const size_t c = gi * kLanes + l;
-      g.car[l] = c < cars.size() ? &cars[c] : nullptr;
-      const State& src = g.car[l] ? *g.car[l] : cars[gi * kLanes];
+      g.car[l] = c < cars.size() ? cars[c] : nullptr;
+      const State& src = g.car[l] ? *g.car[l] : *cars[gi * kLanes];
       g.alive[l] = g.car[l] && src.health == Health::Ok;
       for (int i = 0; i < ny; ++i) L4::at(g.y()[i], l) = src.y[i];
       L4::at(g.drive_work, l) = src.drive_work;

@@ -12,6 +12,7 @@
 
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "model.hpp"
 #include "state.hpp"
@@ -39,6 +40,9 @@ class BatchStep {
   // their initial energy (as Simulator::restore does). Every State must
   // have the model's size (std::invalid_argument otherwise).
   void step(std::span<State> cars, long long n);
+  // The same over states held elsewhere (each environment's Simulator, see
+  // Simulator::batchState): car i is *cars[i].
+  void step(std::span<State* const> cars, long long n);
 
   const Model& model() const { return *model_; }
   static constexpr int kLanes = 4;
@@ -47,6 +51,7 @@ class BatchStep {
   struct Impl;
   std::shared_ptr<const Model> model_;
   std::unique_ptr<Impl> impl_;
+  std::vector<State*> ptrs_;  // the contiguous overload's view, reused
 };
 
 }  // namespace groundsim

@@ -50,6 +50,12 @@ class Simulator {
     return ws_;
   }
   bool healthy() const { return state_.health == Health::Ok; }
+  // The state, for advancing it outside this Simulator (BatchStep: many
+  // environments' cars stepped together). The workspace then describes the
+  // last step this Simulator took, not the state: a caller reads no
+  // contact figures after batched steps (experiments' VecEnv batches only
+  // tasks that observe none).
+  State& batchState() { return state_; }
   long long forceEvaluations() const { return integrator_->evaluations; }
   // Whether steps take the specialised rigid-car path (fast_car.hpp).
   bool specialised() const { return fast_ != nullptr; }

@@ -61,6 +61,81 @@ TEST(Determinism, BitIdenticalOnOneTwoAndThreeThreads) {
   EXPECT_NE(std::find(one.flags.begin(), one.flags.end(), 1), one.flags.end());
 }
 
+// The same task without wheel_slip: its cars are stepped four to a SIMD
+// group (VecEnv's batched path), which must keep the bits independent of
+// the thread count as well.
+nlohmann::json batchedTask() {
+  nlohmann::json t = randomTask();
+  t["observation"] = {"position", "heading", "velocity_body", "angular_velocity_body", "wheel_spin", "previous_action"};
+  return t;
+}
+
+TEST(Determinism, BatchedTasksAreBitIdenticalOnOneTwoAndThreeThreads) {
+  const auto doc = reportCarDoc(plane(), batchedTask());
+  ASSERT_TRUE(stepsBatched(*makeTaskContext(scenario::parseScenario(doc), {}, {})));
+  ASSERT_FALSE(stepsBatched(*makeTaskContext(scenario::parseScenario(reportCarDoc(plane(), randomTask())), {}, {})))
+      << "wheel_slip reads the workspace: not batched";
+  auto trace = [&](int threads) {
+    Batch b(doc, 7, threads);
+    Trace tr;
+    b.reset(5);
+    for (int s = 0; s < 70; ++s) {
+      for (int e = 0; e < b.n; ++e)
+        for (int k = 0; k < 4; ++k) b.a(e)[k] = static_cast<float>(((s * 5 + e * 3 + k * 7) % 11) / 5.0 - 1.0);
+      b.step();
+      tr.obs.insert(tr.obs.end(), b.obs.begin(), b.obs.end());
+      tr.rew.insert(tr.rew.end(), b.rew.begin(), b.rew.end());
+      tr.flags.insert(tr.flags.end(), b.trunc.begin(), b.trunc.end());
+    }
+    return tr;
+  };
+  const Trace one = trace(1), two = trace(2), three = trace(3);
+  EXPECT_TRUE(sameBits(one, two));
+  EXPECT_TRUE(sameBits(one, three));
+  EXPECT_NE(std::find(one.flags.begin(), one.flags.end(), 1), one.flags.end());
+}
+
+// With physics.deterministic a car stepped in a SIMD group has exactly the
+// arithmetic of the car stepped alone (physics/batch_step.hpp), so VecEnv's
+// batched path must give the bits of each Env stepped by itself through its
+// Simulator: the split of a step around the batch (beginStep, finishStep)
+// and the autoresets change nothing.
+TEST(Determinism, BatchedStepsGiveTheBitsOfEnvsSteppedAloneWhenDeterministic) {
+  auto doc = reportCarDoc(plane(), batchedTask());
+  doc["physics"] = {{"deterministic", true}};
+  auto ctx = makeTaskContext(scenario::parseScenario(doc), {}, {});
+  ASSERT_TRUE(stepsBatched(*ctx));
+  const int n = 6, steps = 70;
+  const size_t m = static_cast<size_t>(ctx->layout.obsSize());
+  Batch b(doc, n, 2);
+  b.reset(11);
+  std::vector<std::unique_ptr<Env>> alone;
+  std::vector<float> obs(m * n);
+  for (int i = 0; i < n; ++i) {
+    alone.push_back(std::make_unique<Env>(ctx, 0));
+    alone.back()->reset(11 + static_cast<std::uint64_t>(i), obs.data() + m * i);
+  }
+  ASSERT_EQ(std::memcmp(obs.data(), b.obs.data(), obs.size() * sizeof(float)), 0);
+  int ended = 0;
+  for (int s = 0; s < steps; ++s) {
+    for (int e = 0; e < n; ++e) {
+      for (int k = 0; k < 4; ++k) b.a(e)[k] = static_cast<float>(((s * 3 + e * 5 + k) % 9) / 4.0 - 1.0);
+      alone[static_cast<size_t>(e)]->setAction(b.a(e));
+    }
+    b.step();
+    for (int e = 0; e < n; ++e) {
+      double r;
+      std::uint8_t te, tr;
+      alone[static_cast<size_t>(e)]->step(obs.data() + m * e, &r, &te, &tr);
+      EXPECT_EQ(r, b.rew[static_cast<size_t>(e)]) << "step " << s << " env " << e;
+      EXPECT_EQ(tr, b.trunc[static_cast<size_t>(e)]);
+      ended += tr;
+    }
+    ASSERT_EQ(std::memcmp(obs.data(), b.obs.data(), obs.size() * sizeof(float)), 0) << "step " << s;
+  }
+  EXPECT_GT(ended, 0) << "the run covers autoresets";
+}
+
 TEST(Determinism, SameSeedSameEpisodeDifferentSeedsDifferentStarts) {
   EXPECT_TRUE(sameBits(run(1, 11), run(2, 11)));
   Batch b(reportCarDoc(plane(), randomTask()), 3);

@@ -10,7 +10,7 @@
 #include "physics/batch_step.hpp"
 #include "physics/forces.hpp"
 #include "physics/integrator_methods.hpp"
-#include "scenes.hpp"
+#include "support/scenes.hpp"
 
 using namespace groundsim;
 using namespace groundsim::test;
