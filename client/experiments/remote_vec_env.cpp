@@ -55,10 +55,11 @@ Layout fromWire(const groundsim::env_layout_t& m) {
   throw RemoteError("groundsim-server refused: " + r.error);
 }
 
-std::string seedText(std::optional<std::uint64_t> seed, int envs) {
-  // the server checks it too; here so that 2^64 - 1 is not sent as -1
-  if (seed && *seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) - (envs - 1))
-    return std::to_string(*seed) + " is outside [0, 2^63)" + (envs > 1 ? " (env i gets seed + i)" : "");
+// The wire's int64 holds [0, 2^63), what makeVecEnv takes; said here so
+// that 2^64 - 1 is not sent as -1.
+std::string seedText(std::optional<std::uint64_t> seed) {
+  if (seed && *seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+    return "must be in [0, 2^63), got " + std::to_string(*seed);
   return "";
 }
 
@@ -190,7 +191,7 @@ void RemoteVecEnv::takeEnvs(const groundsim::vec_reply_t& r, float* obs, double*
 
 void RemoteVecEnv::reset(std::optional<std::uint64_t> seed, float* obs) {
   checkOpen("reset");
-  if (const std::string why = seedText(seed, layout_.num_envs); !why.empty()) throw ExperimentError("seed", why);
+  if (const std::string why = seedText(seed); !why.empty()) throw ExperimentError("seed", why);
   groundsim::vec_request_t req{};
   req.op = groundsim::vec_request_t::OP_RESET;
   req.has_seed = seed.has_value();
@@ -201,7 +202,7 @@ void RemoteVecEnv::reset(std::optional<std::uint64_t> seed, float* obs) {
 void RemoteVecEnv::resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_row) {
   checkOpen("reset_env");
   checkEnv(env);
-  if (const std::string why = seedText(seed, 1); !why.empty()) throw ExperimentError("seed", why);
+  if (const std::string why = seedText(seed); !why.empty()) throw ExperimentError("seed", why);
   groundsim::vec_request_t req{};
   req.op = groundsim::vec_request_t::OP_RESET_ENV;
   req.env = env;

@@ -157,7 +157,7 @@ struct VecRequest {
   std::vector<float> actions;     // Step: [num_envs x action_size], row-major
   int env = 0;                    // ResetEnv, Snapshot, Restore
   bool has_seed = false;          // Reset, ResetEnv
-  std::int64_t seed = 0;          // checked: [0, 2^63), and seed + num_envs - 1 too for Reset
+  std::int64_t seed = 0;          // checked: [0, 2^63); env i of a Reset gets seed + i
   std::string snapshot;           // Restore
   TimePoint received{};
 };

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 
 #include "answers.hpp"
 #include "token.hpp"
@@ -43,7 +42,9 @@ std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layo
       for (std::size_t k = 0; k < want; ++k)
         if (!std::isfinite(r.actions[k])) {
           field = "actions[" + std::to_string(k / a) + "][" + std::to_string(k % a) + "]";
-          return std::string(std::isnan(r.actions[k]) ? "nan" : "infinity") + " is not finite (" +
+          // as makeVecEnv words it
+          return std::string("must be finite, got ") +
+                 (std::isnan(r.actions[k]) ? "nan" : r.actions[k] > 0 ? "inf" : "-inf") + " (" +
                  layout.action[k % a] + ")";
         }
       return "";
@@ -54,14 +55,9 @@ std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layo
         const std::string why = envInRange();
         if (!why.empty()) return why;
       }
-      if (r.has_seed) {
-        // env i of a full reset gets seed + i: that must stay below 2^63 too
-        const std::int64_t top = std::numeric_limits<std::int64_t>::max() - (r.op == VecOp::Reset ? n - 1 : 0);
-        if (r.seed < 0 || r.seed > top) {
-          field = "seed";
-          return std::to_string(r.seed) + " is outside [0, " + std::to_string(top) + "]" +
-                 (r.op == VecOp::Reset ? " (env i gets seed + i, below 2^63)" : "");
-        }
+      if (r.has_seed && r.seed < 0) {  // the wire's int64 holds [0, 2^63), as makeVecEnv takes
+        field = "seed";
+        return "must be in [0, 2^63), got " + std::to_string(r.seed);
       }
       return "";
     case VecOp::Snapshot:

@@ -17,6 +17,7 @@
 
 #include "clock.hpp"
 #include "config.hpp"
+#include "pacing.hpp"
 #include "experiments/batch_env.hpp"
 #include "scheduler.hpp"
 #include "types.hpp"
