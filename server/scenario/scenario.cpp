@@ -147,6 +147,9 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
     s.ground = readGround(top.object("ground"), budget, files);
   }
   readVehicles(top, doc, issues, s, budget);
+  // the task reads the vehicles' names and kinds: only once they are valid
+  if (top.has("task") && issues.empty()) s.task = readTask(top.object("task"), s.vehicles);
+  else top.allow("task");
   top.finish();
   issues.throwIfAny();
   checkBudget(s, budget);

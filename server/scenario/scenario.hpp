@@ -9,6 +9,7 @@
 // physics core never sees JSON.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "scenario/budget.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
+#include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
 namespace groundsim::scenario {
@@ -77,6 +79,7 @@ struct Scenario {
   Options options;                // physics + contact
   GroundSpec ground;
   std::vector<VehicleSpec> vehicles;  // document order (`vehicle` is one)
+  std::optional<TaskSpec> task;   // the `task` section (experiments), when present
 };
 
 // Parses and validates against the budget; throws ScenarioError listing

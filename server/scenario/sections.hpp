@@ -7,6 +7,7 @@
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
+#include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
 namespace groundsim::scenario {
@@ -25,5 +26,7 @@ VehicleSpec readVehicle(ObjectReader vehicle);
 // (gears: how many forward gears a "gear" entry may name).
 void readRoadCar(ObjectReader& vehicle, RoadCarParams& p);
 std::vector<TimedControls> readControlTable(ObjectReader& vehicle, int gears);
+// task_section.cpp: the `task` section, checked against the vehicles read.
+TaskSpec readTask(ObjectReader task, const std::vector<VehicleSpec>& vehicles);
 
 }  // namespace groundsim::scenario

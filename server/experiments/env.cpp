@@ -1,0 +1,410 @@
+// One environment: reset (draws, initial state), step (action, physics,
+// reward, flags), observation, save and load. Definitions of every feature
+// and reward term: docs/scenario.md, "Tasks".
+#include "experiments/env.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "experiments/task_context.hpp"
+
+namespace groundsim::experiments {
+namespace {
+
+using scenario::ActionKind;
+using scenario::Feature;
+using scenario::TaskSpec;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// Body-to-world rotation, world angular velocity of body b.
+Mat3 rotation(const Eigen::VectorXd& y, int b) { return bodyRot(y, b).normalized().toRotationMatrix(); }
+
+Vec3 omegaWorld(const Model& m, const Eigen::VectorXd& y, int b) {
+  const Mat3 R = rotation(y, b);
+  return R * (m.bodies[static_cast<size_t>(b)].inv_inertia * (R.transpose() * Vec3(bodyMom(y, b))));
+}
+
+float toFloat(double v) {
+  if (!std::isfinite(v)) return 0.0f;  // never published (only a diverged step's workspace could hold one)
+  constexpr double most = std::numeric_limits<float>::max();
+  return static_cast<float>(std::clamp(v, -most, most));
+}
+
+}  // namespace
+
+Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std::move(ctx)) {
+  const Layout& l = ctx_->layout;
+  action_.assign(static_cast<size_t>(l.actionSize()), 0.0f);
+  previous_ = action_;
+  last_obs_.assign(static_cast<size_t>(l.obsSize()), 0.0f);
+  feature_.reserve(static_cast<size_t>(l.obsSize()));
+  sim_ = std::make_unique<Simulator>(ctx_->scene.built.model, ctx_->scene.built.initial);
+  probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+  reset(seed, last_obs_.data());
+  // the first step() begins episode 1 (its action ignored), as after any end
+  episode_ = 0;
+  needs_reset_ = true;
+}
+
+State Env::initialState(std::shared_ptr<const Model>* model) const {
+  const TaskSpec& t = ctx_->task();
+  const bool moved = drawn_[0] != 0.0 || drawn_[1] != 0.0 || drawn_[2] != 0.0 || drawn_[3] != 0.0;
+  if (t.parameters.empty() && !moved) {
+    *model = ctx_->scene.built.model;
+    return ctx_->scene.built.initial;
+  }
+  scenario::Scenario s;
+  if (!t.parameters.empty()) {
+    nlohmann::json doc = ctx_->base_document;
+    for (size_t i = 0; i < t.parameters.size(); ++i)
+      scenario::applyOverride(doc, overrideText(t.parameters[i].path, drawn_[4 + i]), ctx_->budget);
+    s = scenario::parseScenario(std::move(doc), ctx_->budget, ctx_->files);
+  } else {
+    s.options = ctx_->scenario.options;
+    s.ground = ctx_->scenario.ground;
+    s.vehicles = ctx_->scenario.vehicles;
+    s.document = nlohmann::json::object();
+  }
+  CarPlacement& at = s.vehicles.at(static_cast<size_t>(ctx_->vehicle)).placement;
+  at.position.x() += drawn_[0];
+  at.position.y() += drawn_[1];
+  at.yaw += drawn_[2];
+  at.speed += drawn_[3];
+  scenario::Scene scene = scenario::buildScene(s);
+  // only a drawn parameter changes the model: placements share the base one
+  *model = t.parameters.empty() ? ctx_->scene.built.model : scene.built.model;
+  return std::move(scene.built.initial);
+}
+
+void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
+  if (seed) rng_.seed(*seed);
+  const TaskSpec& t = ctx_->task();
+  drawn_.resize(4 + t.parameters.size());
+  // always four draws for the placement, then one per parameter: a task's
+  // stream does not depend on which ranges are empty
+  drawn_[0] = rng_.uniform(t.random_x[0], t.random_x[1]);
+  drawn_[1] = rng_.uniform(t.random_y[0], t.random_y[1]);
+  drawn_[2] = rng_.uniform(t.random_yaw_deg[0], t.random_yaw_deg[1]) * kDeg;
+  drawn_[3] = rng_.uniform(t.random_speed[0], t.random_speed[1]);
+  for (size_t i = 0; i < t.parameters.size(); ++i)
+    drawn_[4 + i] = rng_.uniform(t.parameters[i].lo, t.parameters[i].hi);
+  std::shared_ptr<const Model> model;
+  State s = initialState(&model);
+  // the agent drives its vehicle from rest: no scripted drive of the scene
+  const int rc = ctx_->road_car;
+  if (rc >= 0) {
+    s.car_controls.at(static_cast<size_t>(rc)) = CarControls{};
+  } else {
+    for (int w : ctx_->wheels)
+      if (w >= 0) s.controls.at(static_cast<size_t>(w)).drive_torque = 0.0;
+  }
+  if (model != sim_->modelPtr()) {
+    sim_ = std::make_unique<Simulator>(model, std::move(s));
+    probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+  } else {
+    sim_->restore(s);
+  }
+  begin(obs);
+}
+
+void Env::begin(float* obs) {
+  ++episode_;
+  steps_ = 0;
+  return_ = 0.0;
+  diverged_ = false;
+  needs_reset_ = false;
+  std::fill(previous_.begin(), previous_.end(), 0.0f);
+  std::fill(action_.begin(), action_.end(), 0.0f);
+  observe(obs);
+}
+
+void Env::setAction(const float* a) {
+  const Layout& l = ctx_->layout;
+  for (size_t k = 0; k < action_.size(); ++k) action_[k] = std::clamp(a[k], l.action_low[k], l.action_high[k]);
+}
+
+void Env::applyAction() {
+  const TaskSpec& t = ctx_->task();
+  const int rc = ctx_->road_car;
+  if (t.action == ActionKind::CarControls) {
+    CarControls c = sim_->carControls(rc);
+    c.throttle = action_[0];
+    c.brake = action_[1];
+    c.steer = action_[2];
+    c.handbrake = t.handbrake && action_[3] > 0.5f;
+    sim_->setCarControls(rc, c);
+  } else if (rc >= 0) {
+    CarControls c = sim_->carControls(rc);
+    for (int w = 0; w < 4; ++w) c.wheel_torque[static_cast<size_t>(w)] = action_[static_cast<size_t>(w)];
+    sim_->setCarControls(rc, c);
+  } else {
+    for (int w = 0; w < 4; ++w)
+      if (ctx_->wheels[static_cast<size_t>(w)] >= 0)
+        sim_->controls()[static_cast<size_t>(ctx_->wheels[static_cast<size_t>(w)])].drive_torque =
+            action_[static_cast<size_t>(w)];
+  }
+}
+
+void Env::step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
+  if (needs_reset_) {
+    reset(std::nullopt, obs);
+    *reward = 0.0;
+    *terminated = *truncated = 0;
+    return;
+  }
+  const TaskSpec& t = ctx_->task();
+  const int b = ctx_->body;
+  const Vec3 before = bodyPos(sim_->state().y, b);
+  const double gx = t.goal[0], gy = t.goal[1];
+  const double dist_before = std::hypot(gx - before.x(), gy - before.y());
+  applyAction();
+  bool ok = true;
+  for (int k = 0; k < t.control_period && ok; ++k) ok = sim_->step();
+  diverged_ = !ok;
+
+  const Eigen::VectorXd& y = sim_->state().y;
+  const Vec3 c = bodyPos(y, b);
+  const Mat3 R = rotation(y, b);
+  const double dist = std::hypot(gx - c.x(), gy - c.y());
+  const double up_z = std::clamp(R(2, 2), -1.0, 1.0);
+  const bool at_goal = t.goal_radius > 0.0 && dist <= t.goal_radius;
+
+  // reward terms (docs/scenario.md): each finite by construction, the
+  // actions normalised to [-1, 1] by their bounds' largest magnitude
+  const Layout& l = ctx_->layout;
+  double effort = 0.0, jerk = 0.0;
+  for (size_t k = 0; k < action_.size(); ++k) {
+    const double scale = std::max(std::abs(l.action_low[k]), std::abs(l.action_high[k]));
+    const double a = action_[k] / scale, p = previous_[k] / scale;
+    effort += a * a;
+    jerk += (a - p) * (a - p);
+  }
+  const double n = static_cast<double>(std::max<size_t>(action_.size(), 1));
+  const double v_forward = (R.transpose() * Vec3(bodyVel(y, b))).x();
+  const double dv = (v_forward - t.target_speed) / t.speed_tolerance;
+  const scenario::RewardWeights& w = t.reward;
+  double r = 0.0;
+  if (w.progress_to_goal != 0.0) r += w.progress_to_goal * (dist_before - dist);
+  if (w.progress_along != 0.0)
+    r += w.progress_along * ((c.x() - before.x()) * t.direction[0] + (c.y() - before.y()) * t.direction[1]);
+  if (w.speed_tracking != 0.0) r += w.speed_tracking * std::exp(-dv * dv);
+  if (w.effort != 0.0) r -= w.effort * effort / n;
+  if (w.jerk != 0.0) r -= w.jerk * jerk / n;
+  if (w.tilt != 0.0) r -= w.tilt * (1.0 - up_z);
+  r += w.alive;
+  if (at_goal) r += w.goal;
+  if (!std::isfinite(r)) r = 0.0;
+
+  bool term = diverged_ || at_goal;
+  if (t.max_tilt_deg > 0.0 && std::acos(up_z) > t.max_tilt_deg * kDeg) term = true;
+  if (t.has_region && (c.x() < t.region_min[0] || c.x() > t.region_max[0] || c.y() < t.region_min[1] ||
+                       c.y() > t.region_max[1]))
+    term = true;
+  ++steps_;
+  const bool trunc = !term && ctx_->max_steps > 0 && steps_ >= ctx_->max_steps;
+  return_ += r;
+  previous_ = action_;  // same size: no allocation
+  observe(obs);
+  *reward = r;
+  *terminated = term ? 1 : 0;
+  *truncated = trunc ? 1 : 0;
+  needs_reset_ = term || trunc;
+}
+
+void Env::observe(float* obs) {
+  const TaskSpec& t = ctx_->task();
+  const Model& m = sim_->model();
+  const State& st = sim_->state();
+  const Eigen::VectorXd& y = st.y;
+  const Workspace& ws = sim_->workspace();
+  const int b = ctx_->body, rc = ctx_->road_car;
+  const Vec3 c = bodyPos(y, b);
+  const Mat3 R = rotation(y, b);
+  const Vec3 v = bodyVel(y, b);
+  const Vec3 fwd = R.col(0);
+  const double fh = std::hypot(fwd.x(), fwd.y());
+  // the heading: the forward axis on the ground plane (+x when it points straight up)
+  const double hc = fh > 0.0 ? fwd.x() / fh : 1.0, hs = fh > 0.0 ? fwd.y() / fh : 0.0;
+  const int base = m.auxBase();
+  const bool fresh = steps_ == 0;  // nothing has touched the ground yet this episode
+  feature_.clear();
+  auto put = [&](double x) { feature_.push_back(x); };
+  for (Feature f : t.observation) {
+    switch (f) {
+      case Feature::Position:
+        for (int i = 0; i < 3; ++i) put(c[i]);
+        break;
+      case Feature::Heading:
+        put(hc);
+        put(hs);
+        break;
+      case Feature::UpBody: {
+        const Vec3 u = R.row(2).transpose();  // R^T e_z
+        for (int i = 0; i < 3; ++i) put(u[i]);
+        break;
+      }
+      case Feature::VelocityBody: {
+        const Vec3 vb = R.transpose() * v;
+        for (int i = 0; i < 3; ++i) put(vb[i]);
+        break;
+      }
+      case Feature::AngularVelocityBody: {
+        const Vec3 wb = R.transpose() * omegaWorld(m, y, b);
+        for (int i = 0; i < 3; ++i) put(wb[i]);
+        break;
+      }
+      case Feature::Speed:
+        put(v.norm());
+        break;
+      case Feature::WheelSpin:
+        for (int k = 0; k < 4; ++k) {
+          if (rc >= 0) {
+            put(y[base + m.road_cars[static_cast<size_t>(rc)].aux + roadAux(k, 2)]);
+            continue;
+          }
+          const int wi = ctx_->wheels[static_cast<size_t>(k)];
+          if (wi < 0) {
+            put(0.0);
+            continue;
+          }
+          const Wheel& wh = m.wheels[static_cast<size_t>(wi)];
+          Vec3 rel = omegaWorld(m, y, wh.body);
+          if (wh.carrier >= 0) rel -= omegaWorld(m, y, wh.carrier);
+          put(rel.dot(rotation(y, wh.body) * wh.axis));
+        }
+        break;
+      case Feature::WheelContact:
+        for (int k = 0; k < 4; ++k) {
+          if (fresh) put(0.0);
+          else if (rc >= 0) put(ws.road[static_cast<size_t>(rc)].wheel[static_cast<size_t>(k)].contact ? 1.0 : 0.0);
+          else {
+            const int wi = ctx_->wheels[static_cast<size_t>(k)];
+            put(wi >= 0 && ws.wheel_normal[static_cast<size_t>(wi)] > 0.0 ? 1.0 : 0.0);
+          }
+        }
+        break;
+      case Feature::WheelSlip:
+        for (int k = 0; k < 4; ++k) {
+          if (fresh) put(0.0);
+          else if (rc >= 0) put(ws.road[static_cast<size_t>(rc)].wheel[static_cast<size_t>(k)].slip_ratio);
+          else {
+            const int wi = ctx_->wheels[static_cast<size_t>(k)];
+            put(wi >= 0 ? ws.wheel_slip[static_cast<size_t>(wi)] : 0.0);
+          }
+        }
+        break;
+      case Feature::SuspensionTravel:
+        for (int k = 0; k < 4; ++k) put(y[base + m.road_cars[static_cast<size_t>(rc)].aux + roadAux(k, 0)]);
+        break;
+      case Feature::HeightSamples:
+        for (double a : t.height_ahead)
+          for (double lat : t.height_lateral) {
+            const double px = c.x() + a * hc - lat * hs, py = c.y() + a * hs + lat * hc;
+            Vec3 p, normal;
+            put(groundPointBelow(*probe_, px, py, &p, &normal) ? p.z() - c.z() : 0.0);
+          }
+        break;
+      case Feature::GoalBody: {
+        const Vec3 d = R.transpose() * Vec3(t.goal[0] - c.x(), t.goal[1] - c.y(), 0.0);
+        put(d.x());
+        put(d.y());
+        break;
+      }
+      case Feature::GoalDistance:
+        put(std::hypot(t.goal[0] - c.x(), t.goal[1] - c.y()));
+        break;
+      case Feature::PreviousAction:
+        for (float a : previous_) put(a);
+        break;
+      case Feature::Time:
+        put(static_cast<double>(steps_) * ctx_->control_dt);
+        break;
+    }
+  }
+  for (size_t i = 0; i < feature_.size(); ++i) last_obs_[i] = toFloat(feature_[i]);
+  if (obs != last_obs_.data()) std::copy(last_obs_.begin(), last_obs_.end(), obs);
+}
+
+EnvInfo Env::info() const {
+  EnvInfo i;
+  i.episode = episode_;
+  i.episode_steps = steps_;
+  i.episode_return = return_;
+  i.diverged = diverged_;
+  return i;
+}
+
+EnvSnapshot Env::save() const {
+  EnvSnapshot s;
+  s.state = sim_->state();
+  s.rng = rng_.state();
+  s.episode = episode_;
+  s.episode_steps = steps_;
+  s.episode_return = return_;
+  s.diverged = diverged_;
+  s.needs_reset = needs_reset_;
+  s.previous_action = previous_;
+  s.drawn = drawn_;
+  s.observation = last_obs_;
+  return s;
+}
+
+void Env::load(const EnvSnapshot& s, float* obs) {
+  auto bad = [](const std::string& why) { throw ExperimentError("snapshot", why); };
+  const TaskSpec& t = ctx_->task();
+  if (s.drawn.size() != 4 + t.parameters.size())
+    bad(std::to_string(s.drawn.size()) + " drawn values, this task draws " + std::to_string(4 + t.parameters.size()));
+  for (size_t i = 0; i < t.parameters.size(); ++i) {
+    const double v = s.drawn[4 + i];
+    if (!(v >= t.parameters[i].lo && v <= t.parameters[i].hi))
+      bad("drawn value of " + t.parameters[i].path + " outside its range");
+  }
+  if (s.previous_action.size() != action_.size()) bad("previous action of the wrong size");
+  if (s.observation.size() != last_obs_.size()) bad("observation of the wrong size");
+  for (Eigen::Index i = 0; i < s.state.y.size(); ++i)
+    if (!std::isfinite(s.state.y[i])) bad("non-finite state value y[" + std::to_string(i) + "]");
+  // the model of the drawn parameters (the shared one without any)
+  const std::vector<double> keep = drawn_;
+  std::shared_ptr<const Model> model = ctx_->scene.built.model;
+  if (!t.parameters.empty()) {
+    drawn_ = s.drawn;
+    try {
+      State unused = initialState(&model);
+    } catch (...) {
+      drawn_ = keep;
+      throw;
+    }
+    drawn_ = keep;
+  }
+  const Model& m = *model;
+  if (s.state.y.size() != m.stateSize())
+    bad("state of " + std::to_string(s.state.y.size()) + " values, this scenario's has " + std::to_string(m.stateSize()));
+  if (s.state.controls.size() != m.wheels.size() || s.state.applied.size() != m.wheels.size())
+    bad("wheel controls for " + std::to_string(s.state.controls.size()) + " wheels, this scenario has " +
+        std::to_string(m.wheels.size()));
+  if (s.state.car_controls.size() != m.road_cars.size() || s.state.cars.size() != m.road_cars.size())
+    bad("controls for " + std::to_string(s.state.car_controls.size()) + " road cars, this scenario has " +
+        std::to_string(m.road_cars.size()));
+  if (s.episode < 0 || s.episode_steps < 0) bad("negative episode counters");
+  if (model != sim_->modelPtr()) {
+    sim_ = std::make_unique<Simulator>(model, s.state);
+    probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+  } else {
+    sim_->restore(s.state);
+  }
+  rng_.setState(s.rng);
+  episode_ = s.episode;
+  steps_ = s.episode_steps;
+  return_ = s.episode_return;
+  diverged_ = s.diverged;
+  needs_reset_ = s.needs_reset;
+  previous_ = s.previous_action;
+  drawn_ = s.drawn;
+  last_obs_ = s.observation;
+  std::copy(last_obs_.begin(), last_obs_.end(), obs);
+}
+
+}  // namespace groundsim::experiments

@@ -1,0 +1,90 @@
+// One environment of a task: a Simulator, the task's evaluation
+// (observation, reward, termination), its own random stream, episode
+// counters and the previous action. Environments of one VecEnv share a
+// TaskContext (immutable) and, unless the task randomises scenario
+// parameters, its Model.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "experiments/batch_env.hpp"
+#include "experiments/rng.hpp"
+#include "experiments/snapshot.hpp"
+#include "physics/simulator.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::experiments {
+
+// Everything the environments of one scenario share, read-only once built.
+struct TaskContext {
+  scenario::Scenario scenario;      // validated, with its task
+  scenario::Scene scene;            // the base scene: its model is shared
+  nlohmann::json base_document;     // the validated document without `task`: drawn parameters apply to it
+  scenario::Budget budget;
+  scenario::FileAccess files;
+  Layout layout;
+  int vehicle = 0;                  // the task's vehicle
+  int body = -1;                    // its chassis body
+  int road_car = -1;                // its index among the road cars, -1 for the report's car
+  std::array<int, 4> wheels{};      // report car: its wheels (model indices)
+  double control_dt = 0.0;          // s   control_period * dt
+  std::int64_t max_steps = 0;       // actions per episode before truncation; 0 = none
+
+  const scenario::TaskSpec& task() const { return *scenario.task; }
+};
+
+// Builds the context of a validated scenario with a task (throws
+// ScenarioError for building problems, ExperimentError for a parameter range
+// whose ends do not validate).
+std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const scenario::Budget& budget,
+                                                    const scenario::FileAccess& files);
+
+class Env {
+ public:
+  // Seeded with `seed` and reset; the first step() then starts episode 1
+  // (as an autoreset: its action is ignored).
+  Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed);
+
+  // A new episode (seeded first when a seed is given); writes the first
+  // observation.
+  void reset(std::optional<std::uint64_t> seed, float* obs);
+  // The action to take, already checked finite; clipped to the bounds here.
+  void setAction(const float* action);
+  // Takes the action set (or resets, when the last episode ended).
+  void step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
+  EnvInfo info() const;
+
+  EnvSnapshot save() const;
+  // Throws ExperimentError("snapshot", ...) when the payload does not fit
+  // this task; the environment is unchanged then.
+  void load(const EnvSnapshot& s, float* obs);
+
+  const Simulator& simulator() const { return *sim_; }
+  const std::vector<double>& drawn() const { return drawn_; }
+
+ private:
+  void begin(float* obs);
+  // Rebuilds the model for drawn parameters (or takes the shared one) and
+  // returns the initial state for the drawn placement.
+  State initialState(std::shared_ptr<const Model>* model) const;
+  void applyAction();
+  void observe(float* obs);
+
+  std::shared_ptr<const TaskContext> ctx_;
+  std::unique_ptr<Simulator> sim_;
+  std::unique_ptr<GroundProbe> probe_;  // height samples, on the simulator's ground
+  Rng rng_;
+  std::vector<double> drawn_;       // dx, dy, dyaw (rad), dspeed, then each parameter
+  std::vector<float> action_, previous_;
+  std::vector<float> last_obs_;
+  std::vector<double> feature_;     // scratch of one observation, in double
+  std::int64_t episode_ = 0, steps_ = 0;
+  double return_ = 0.0;
+  bool diverged_ = false, needs_reset_ = false;
+};
+
+}  // namespace groundsim::experiments

@@ -1,0 +1,49 @@
+// The snapshot of one environment as bytes, for the embedded API and the
+// server (a restore into another process of the same scenario continues
+// bit for bit). Layout, all little-endian:
+//
+//   magic   8 bytes  "GSENVSNP"
+//   version u32      kSnapshotVersion
+//   hash    u32 length + bytes: Layout::scenario_hash of the scenario
+//   payload EnvSnapshot: the physics State (y, time, tick, step, energy
+//           bookkeeping, wheel and road-car controls, road-car runtime,
+//           health), the random stream, episode counters, the previous
+//           action, the drawn initial offsets and parameters, and the last
+//           observation; doubles as their IEEE-754 bits, vectors as a u32
+//           count then the elements
+//   check   u64      FNV-1a 64 of every byte before it
+//
+// decodeSnapshot checks the magic, version, hash, checksum and that every
+// count fits the bytes left, before allocating anything; the sizes against
+// the model are checked by the environment that loads it (env.cpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "physics/state.hpp"
+
+namespace groundsim::experiments {
+
+inline constexpr std::uint32_t kSnapshotVersion = 1;
+
+struct EnvSnapshot {
+  State state;
+  std::uint64_t rng = 0;
+  std::int64_t episode = 0, episode_steps = 0;
+  double episode_return = 0.0;
+  bool diverged = false, needs_reset = false;
+  std::vector<float> previous_action;
+  std::vector<double> drawn;
+  std::vector<float> observation;
+};
+
+std::string encodeSnapshot(const std::string& scenario_hash, const EnvSnapshot& s);
+// Throws ExperimentError("snapshot", reason).
+EnvSnapshot decodeSnapshot(const std::string& bytes, const std::string& scenario_hash);
+
+// FNV-1a 64 (the checksum, and the scenario hash of task_context.cpp).
+std::uint64_t fnv1a64(const void* data, std::size_t n, std::uint64_t h = 0xcbf29ce484222325ull);
+
+}  // namespace groundsim::experiments

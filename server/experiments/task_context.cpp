@@ -1,0 +1,162 @@
+// A validated scenario with a task -> the context its environments share:
+// the base scene, the buffers' layout (names, bounds), the scenario hash.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "experiments/env.hpp"
+#include "experiments/task_context.hpp"
+#include "scenario/object_reader.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::experiments {
+namespace {
+
+using scenario::Feature;
+using scenario::TaskSpec;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+const char* const kWheelNames[4] = {"fl", "fr", "rl", "rr"};
+
+void add(Layout& l, const std::string& name, float lo = -kInf, float hi = kInf) {
+  l.observation.push_back(name);
+  l.observation_low.push_back(lo);
+  l.observation_high.push_back(hi);
+}
+
+void addAction(Layout& l, const std::string& name, float lo, float hi) {
+  l.action.push_back(name);
+  l.action_low.push_back(lo);
+  l.action_high.push_back(hi);
+}
+
+std::string hex(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+}  // namespace
+
+std::string scenarioHash(const nlohmann::json& document) {
+  const std::string text = document.dump();
+  // two FNV-1a lanes (different offsets) for 128 bits: a match by accident is not a concern
+  return hex(fnv1a64(text.data(), text.size())) + hex(fnv1a64(text.data(), text.size(), 0x84222325cbf29ce4ull));
+}
+
+std::string overrideText(const std::string& path, double value) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", value);
+  return path + "=" + buf;
+}
+
+Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
+  const TaskSpec& t = *s.task;
+  Layout l;
+  l.dt = s.options.dt;
+  l.control_period = t.control_period;
+  l.time_limit = t.time_limit;
+  for (size_t v = 0; v < s.vehicles.size(); ++v) {
+    int n = 0;
+    if (s.vehicles[v].road_car) n = 4;
+    else
+      for (int w : scene.cars[v].wheels) n += w >= 0 ? 1 : 0;
+    l.wheel_counts.push_back(n);
+  }
+  if (t.action == scenario::ActionKind::CarControls) {
+    addAction(l, "throttle", 0.0f, 1.0f);
+    addAction(l, "brake", 0.0f, 1.0f);
+    addAction(l, "steer", -1.0f, 1.0f);
+    if (t.handbrake) addAction(l, "handbrake", 0.0f, 1.0f);
+  } else {
+    const float m = static_cast<float>(t.max_torque);
+    for (const char* w : kWheelNames) addAction(l, std::string("drive_torque.") + w, -m, m);
+  }
+  const char* xyz[3] = {"x", "y", "z"};
+  for (Feature f : t.observation) {
+    const std::string name = scenario::featureNames()[static_cast<size_t>(f)];
+    switch (f) {
+      case Feature::Position:
+      case Feature::VelocityBody:
+      case Feature::AngularVelocityBody:
+        for (const char* c : xyz) add(l, name + "." + c);
+        break;
+      case Feature::UpBody:
+        for (const char* c : xyz) add(l, name + "." + c, -1.0f, 1.0f);
+        break;
+      case Feature::Heading:
+        add(l, name + ".cos", -1.0f, 1.0f);
+        add(l, name + ".sin", -1.0f, 1.0f);
+        break;
+      case Feature::Speed:
+      case Feature::GoalDistance:
+      case Feature::Time:
+        add(l, name, 0.0f, kInf);
+        break;
+      case Feature::WheelSpin:
+      case Feature::WheelSlip:
+      case Feature::SuspensionTravel:
+        for (const char* w : kWheelNames) add(l, name + "." + w);
+        break;
+      case Feature::WheelContact:
+        for (const char* w : kWheelNames) add(l, name + "." + w, 0.0f, 1.0f);
+        break;
+      case Feature::HeightSamples:
+        for (size_t a = 0; a < t.height_ahead.size(); ++a)
+          for (size_t b = 0; b < t.height_lateral.size(); ++b)
+            add(l, name + "." + std::to_string(a * t.height_lateral.size() + b));
+        break;
+      case Feature::GoalBody:
+        add(l, name + ".x");
+        add(l, name + ".y");
+        break;
+      case Feature::PreviousAction:
+        for (size_t k = 0; k < l.action.size(); ++k) add(l, name + "." + l.action[k], l.action_low[k], l.action_high[k]);
+        break;
+    }
+  }
+  l.scenario_hash = scenarioHash(s.document);
+  return l;
+}
+
+std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const scenario::Budget& budget,
+                                                    const scenario::FileAccess& files) {
+  if (!s.task)
+    throw scenario::ScenarioError({scenario::Issue{"/task", "missing: an experiment needs a task section"}});
+  auto ctx = std::make_shared<TaskContext>();
+  ctx->scene = scenario::buildScene(s);
+  ctx->budget = budget;
+  ctx->files = files;
+  ctx->base_document = s.document;
+  ctx->base_document.erase("task");
+  const TaskSpec& t = *s.task;
+  // each drawn parameter's ends must validate, so a reset never meets a
+  // document the scenario layer refuses for a value inside the range
+  for (size_t i = 0; i < t.parameters.size(); ++i)
+    for (double v : {t.parameters[i].lo, t.parameters[i].hi}) {
+      nlohmann::json doc = ctx->base_document;
+      try {
+        scenario::applyOverride(doc, overrideText(t.parameters[i].path, v), budget);
+        scenario::parseScenario(std::move(doc), budget, files);
+      } catch (const scenario::ScenarioError& e) {
+        throw scenario::ScenarioError({scenario::Issue{"/task/randomize/parameters/" + std::to_string(i) + "/range",
+                                                        "the value " + scenario::formatNumber(v) + " for " +
+                                                            scenario::quote(t.parameters[i].path) +
+                                                            " does not validate: " + e.lines("; ")}});
+      }
+    }
+  ctx->vehicle = t.vehicle;
+  ctx->body = ctx->scene.cars.at(static_cast<size_t>(t.vehicle)).body;
+  ctx->wheels = ctx->scene.cars[static_cast<size_t>(t.vehicle)].wheels;
+  ctx->road_car = -1;
+  for (size_t c = 0; c < ctx->scene.built.model->road_cars.size(); ++c)
+    if (ctx->scene.built.model->road_cars[c].vehicle == ctx->scene.cars[static_cast<size_t>(t.vehicle)].vehicle)
+      ctx->road_car = static_cast<int>(c);
+  ctx->control_dt = s.options.dt * t.control_period;
+  ctx->max_steps = t.time_limit > 0.0 ? static_cast<std::int64_t>(std::ceil(t.time_limit / ctx->control_dt - 1e-9)) : 0;
+  ctx->layout = makeLayout(s, ctx->scene);
+  ctx->scenario = std::move(s);
+  return ctx;
+}
+
+}  // namespace groundsim::experiments

@@ -1,0 +1,154 @@
+// VecEnv: N environments of one task on a thread pool. Environment i runs
+// on thread i * T / N (a static partition); each environment owns all it
+// writes, so the results are the same bits for any number of threads.
+// Every argument is checked before any environment changes.
+#include "experiments/vec_env.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "experiments/env.hpp"
+#include "experiments/snapshot.hpp"
+#include "experiments/thread_pool.hpp"
+
+namespace groundsim::experiments {
+namespace {
+
+constexpr std::uint64_t kSeedLimit = 1ull << 63;
+
+void checkSeed(std::optional<std::uint64_t> seed) {
+  if (seed && *seed >= kSeedLimit)
+    throw ExperimentError("seed", "must be in [0, 2^63), got " + std::to_string(*seed));
+}
+
+void checkBuffer(const void* p, const char* name) {
+  if (!p) throw ExperimentError(name, "null buffer");
+}
+
+class VecEnv final : public BatchEnv {
+ public:
+  VecEnv(std::shared_ptr<const TaskContext> ctx, int num_envs, int threads)
+      : ctx_(std::move(ctx)), layout_(ctx_->layout), pool_(threads) {
+    layout_.num_envs = num_envs;
+    envs_.reserve(static_cast<size_t>(num_envs));
+    for (int i = 0; i < num_envs; ++i) envs_.push_back(std::make_unique<Env>(ctx_, static_cast<std::uint64_t>(i)));
+  }
+
+  const Layout& layout() const override { return layout_; }
+
+  void reset(std::optional<std::uint64_t> seed, float* obs) override {
+    checkSeed(seed);
+    checkBuffer(obs, "obs");
+    Job job{this, obs, nullptr, nullptr, nullptr, seed, true};
+    pool_.run(&VecEnv::runJob, &job);
+  }
+
+  void resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_row) override {
+    checkEnv(env);
+    checkSeed(seed);
+    checkBuffer(obs_row, "obs");
+    envs_[static_cast<size_t>(env)]->reset(seed, obs_row);
+  }
+
+  void step(const float* actions, float* obs, double* rewards, std::uint8_t* terminated,
+            std::uint8_t* truncated) override {
+    checkBuffer(actions, "actions");
+    checkBuffer(obs, "obs");
+    checkBuffer(rewards, "rewards");
+    checkBuffer(terminated, "terminated");
+    checkBuffer(truncated, "truncated");
+    const int n = layout_.num_envs, k = layout_.actionSize();
+    // refuse before anything moves: a NaN in the last row leaves every
+    // environment as it was
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < k; ++j) {
+        const float a = actions[static_cast<size_t>(i) * k + j];
+        if (!std::isfinite(a))
+          throw ExperimentError("actions[" + std::to_string(i) + "][" + std::to_string(j) + "]",
+                                std::string("must be finite, got ") + (std::isnan(a) ? "nan" : a > 0 ? "inf" : "-inf") +
+                                    " (" + layout_.action[static_cast<size_t>(j)] + ")");
+      }
+    for (int i = 0; i < n; ++i) envs_[static_cast<size_t>(i)]->setAction(actions + static_cast<size_t>(i) * k);
+    Job job{this, obs, rewards, terminated, truncated, std::nullopt, false};
+    pool_.run(&VecEnv::runJob, &job);
+  }
+
+  EnvInfo info(int env) const override {
+    checkEnv(env);
+    return envs_[static_cast<size_t>(env)]->info();
+  }
+
+  std::string snapshot(int env) const override {
+    checkEnv(env);
+    return encodeSnapshot(layout_.scenario_hash, envs_[static_cast<size_t>(env)]->save());
+  }
+
+  void restore(int env, const std::string& bytes, float* obs_row) override {
+    checkEnv(env);
+    checkBuffer(obs_row, "obs");
+    envs_[static_cast<size_t>(env)]->load(decodeSnapshot(bytes, layout_.scenario_hash), obs_row);
+  }
+
+ private:
+  struct Job {
+    VecEnv* self;
+    float* obs;
+    double* rewards;
+    std::uint8_t* terminated;
+    std::uint8_t* truncated;
+    std::optional<std::uint64_t> seed;
+    bool reset;
+  };
+
+  static void runJob(void* p, int t) {
+    const Job& j = *static_cast<const Job*>(p);
+    VecEnv& v = *j.self;
+    const long long n = v.layout_.num_envs, threads = v.pool_.threads();
+    const long long begin = n * t / threads, end = n * (t + 1) / threads;
+    const size_t m = static_cast<size_t>(v.layout_.obsSize());
+    for (long long i = begin; i < end; ++i) {
+      Env& e = *v.envs_[static_cast<size_t>(i)];
+      float* row = j.obs + static_cast<size_t>(i) * m;
+      if (j.reset) e.reset(j.seed ? std::optional<std::uint64_t>(*j.seed + static_cast<std::uint64_t>(i)) : std::nullopt, row);
+      else e.step(row, j.rewards + i, j.terminated + i, j.truncated + i);
+    }
+  }
+
+  void checkEnv(int env) const {
+    if (env < 0 || env >= layout_.num_envs)
+      throw ExperimentError("env", "must be in [0, " + std::to_string(layout_.num_envs) + "), got " + std::to_string(env));
+  }
+
+  std::shared_ptr<const TaskContext> ctx_;
+  Layout layout_;
+  std::vector<std::unique_ptr<Env>> envs_;
+  ThreadPool pool_;
+};
+
+}  // namespace
+
+std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_envs, const VecEnvOptions& options) {
+  if (num_envs < 1 || num_envs > options.max_envs)
+    throw ExperimentError("num_envs", "must be in [1, " + std::to_string(options.max_envs) + "], got " +
+                                          std::to_string(num_envs));
+  if (options.num_threads < 0)
+    throw ExperimentError("num_threads", "must be >= 0 (0: one per core), got " + std::to_string(options.num_threads));
+  scenario::Scenario s = scenario::parseScenario(scenario_text, options.budget, options.files);
+  auto ctx = makeTaskContext(std::move(s), options.budget, options.files);
+  int threads = options.num_threads;
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::min(threads, num_envs);
+  return std::make_unique<VecEnv>(std::move(ctx), num_envs, threads);
+}
+
+std::unique_ptr<BatchEnv> makeVecEnvFromFile(const std::string& path, int num_envs, VecEnvOptions options) {
+  nlohmann::json doc = scenario::loadScenarioDocument(path, options.budget);
+  if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(path).stem().string();
+  options.files = scenario::FileAccess::local(std::filesystem::path(path).parent_path().string());
+  return makeVecEnv(doc.dump(), num_envs, options);
+}
+
+}  // namespace groundsim::experiments

@@ -1,0 +1,224 @@
+// The `task` section (task_spec.hpp; docs/scenario.md, "Tasks"). Checked
+// against the vehicles already read: the task's vehicle must exist, road-car
+// features and actions need a road car, goal terms need a goal.
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "scenario/sections.hpp"
+
+namespace groundsim::scenario {
+
+const std::vector<std::string>& featureNames() {
+  static const std::vector<std::string> names = {
+      "position",     "heading",       "up_body",    "velocity_body", "angular_velocity_body",
+      "speed",        "wheel_spin",    "wheel_contact", "wheel_slip", "suspension_travel",
+      "height_samples", "goal_body",   "goal_distance", "previous_action", "time"};
+  return names;
+}
+
+namespace {
+
+std::string knownList(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// [lo, hi] with lo <= hi, each in `each`.
+std::array<double, 2> interval(ObjectReader& r, const std::string& key, Range each) {
+  const std::vector<double> v = r.numbers(key, {0.0, 0.0}, each, 2, 2);
+  if (v.size() == 2 && v[0] > v[1])
+    r.issue(key, "expected [low, high] with low <= high, got [" + formatNumber(v[0]) + ", " + formatNumber(v[1]) + "]");
+  if (v.size() != 2 || v[0] > v[1]) return {0.0, 0.0};
+  return {v[0], v[1]};
+}
+
+std::array<double, 2> pair(ObjectReader& r, const std::string& key, std::array<double, 2> def, Range each) {
+  const std::vector<double> v = r.numbers(key, {def[0], def[1]}, each, 2, 2);
+  return v.size() == 2 ? std::array<double, 2>{v[0], v[1]} : def;
+}
+
+int vehicleIndex(ObjectReader& r, const std::vector<VehicleSpec>& vehicles) {
+  const std::string def = vehicles.empty() ? std::string("car") : vehicles.front().name;
+  const std::string name = r.string("vehicle", def);
+  for (size_t i = 0; i < vehicles.size(); ++i)
+    if (vehicles[i].name == name) return static_cast<int>(i);
+  std::vector<std::string> names;
+  for (const VehicleSpec& v : vehicles) names.push_back(v.name);
+  r.issue("vehicle", "no vehicle named " + quote(name) + "; vehicles: " + knownList(names));
+  return -1;
+}
+
+void readObservation(ObjectReader& r, TaskSpec& t, const VehicleSpec* v) {
+  if (!r.has("observation")) {
+    r.issue("observation", "missing required key (an array of feature names; known: " + knownList(featureNames()) + ")");
+    r.allow("observation");
+    return;
+  }
+  nlohmann::json* arr = r.array("observation");
+  if (!arr) return;
+  if (arr->empty()) r.issue("observation", "must list at least one feature");
+  const std::vector<std::string>& names = featureNames();
+  std::set<std::string> seen;
+  for (size_t i = 0; i < arr->size(); ++i) {
+    const std::string path = r.pathOf("observation") + "/" + std::to_string(i);
+    const nlohmann::json& item = (*arr)[i];
+    if (!item.is_string()) {
+      r.issues().add(path, "expected a feature name (a string), got " + jsonTypeName(item));
+      continue;
+    }
+    const std::string name = item.get<std::string>();
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      r.issues().add(path, "unknown feature " + quote(name) + "; known: " + knownList(names));
+      continue;
+    }
+    if (!seen.insert(name).second) {
+      r.issues().add(path, "feature " + quote(name) + " is listed twice");
+      continue;
+    }
+    if (name == "suspension_travel" && v && !v->road_car) {
+      r.issues().add(path, "feature \"suspension_travel\" needs a vehicle of kind \"road_car\"");
+      continue;
+    }
+    t.observation.push_back(static_cast<Feature>(it - names.begin()));
+  }
+}
+
+void readHeightSamples(ObjectReader r, TaskSpec& t) {
+  t.height_ahead = r.numbers("ahead", t.height_ahead, Range::closed(-1e4, 1e4), 1, kMaxHeightSamples);
+  t.height_lateral = r.numbers("lateral", t.height_lateral, Range::closed(-1e4, 1e4), 1, kMaxHeightSamples);
+  if (t.height_ahead.size() * t.height_lateral.size() > static_cast<size_t>(kMaxHeightSamples))
+    r.issue("lateral", std::to_string(t.height_ahead.size() * t.height_lateral.size()) +
+                           " samples (ahead x lateral), at most " + std::to_string(kMaxHeightSamples));
+  r.finish();
+}
+
+void readAction(ObjectReader r, TaskSpec& t, const VehicleSpec* v) {
+  const bool road = v && v->road_car;
+  const std::string kind = r.choice("type", road ? "car_controls" : "wheel_torques", {"car_controls", "wheel_torques"});
+  t.action = kind == "car_controls" ? ActionKind::CarControls : ActionKind::WheelTorques;
+  t.handbrake = r.boolean("handbrake", false);
+  t.max_torque = r.number("max_torque", 1.0, Range::positive(1e6));
+  if (v && t.action == ActionKind::CarControls && !road)
+    r.issue("type", "\"car_controls\" needs a vehicle of kind \"road_car\"; vehicle " + quote(v->name) +
+                        " takes \"wheel_torques\"");
+  if (t.handbrake && t.action != ActionKind::CarControls) r.issue("handbrake", "only with type \"car_controls\"");
+  r.finish();
+}
+
+void readReward(ObjectReader r, RewardWeights& w) {
+  const Range any = Range::closed(-1e6, 1e6);
+  w.progress_to_goal = r.number("progress_to_goal", 0.0, any);
+  w.progress_along = r.number("progress_along", 0.0, any);
+  w.speed_tracking = r.number("speed_tracking", 0.0, any);
+  w.effort = r.number("effort", 0.0, any);
+  w.jerk = r.number("jerk", 0.0, any);
+  w.tilt = r.number("tilt", 0.0, any);
+  w.alive = r.number("alive", 0.0, any);
+  w.goal = r.number("goal", 0.0, any);
+  r.finish();
+}
+
+void readTermination(ObjectReader r, TaskSpec& t) {
+  t.max_tilt_deg = r.number("max_tilt_deg", 0.0, Range::closed(0.0, 180.0));
+  t.goal_radius = r.number("goal_radius", 0.0, Range::nonNegative(1e6));
+  if (r.has("region")) {
+    ObjectReader region = r.object("region");
+    const auto lo = region.numbers("min", {}, Range::any(), 2, 2);
+    const auto hi = region.numbers("max", {}, Range::any(), 2, 2);
+    if (!region.has("min") || !region.has("max")) region.issue(region.has("min") ? "max" : "min", "missing required key ([x, y])");
+    else if (lo.size() == 2 && hi.size() == 2) {
+      if (!(lo[0] < hi[0] && lo[1] < hi[1])) region.issue("max", "must exceed min in x and y");
+      else {
+        t.has_region = true;
+        t.region_min = {lo[0], lo[1]};
+        t.region_max = {hi[0], hi[1]};
+      }
+    }
+    region.finish();
+  } else {
+    r.allow("region");
+  }
+  r.finish();
+}
+
+void readRandomize(ObjectReader r, TaskSpec& t) {
+  t.random_x = interval(r, "x", Range::closed(-1e4, 1e4));
+  t.random_y = interval(r, "y", Range::closed(-1e4, 1e4));
+  t.random_yaw_deg = interval(r, "yaw_deg", Range::closed(-360.0, 360.0));
+  t.random_speed = interval(r, "speed", Range::closed(-1e3, 1e3));
+  if (!r.has("parameters")) r.allow("parameters");
+  std::vector<ObjectReader> params = r.objects("parameters");
+  if (params.size() > static_cast<size_t>(kMaxTaskParameters)) {
+    r.issue("parameters", std::to_string(params.size()) + " parameters, at most " + std::to_string(kMaxTaskParameters));
+    params.clear();
+  }
+  for (ObjectReader& p : params) {
+    ParameterRange pr;
+    if (auto path = p.requiredString("path")) {
+      pr.path = *path;
+      const bool bad_chars = std::any_of(pr.path.begin(), pr.path.end(), [](unsigned char c) {
+        return c < 0x20 || c == 0x7f || c == '=';
+      });
+      if (pr.path.empty() || pr.path.size() > 256 || bad_chars || pr.path.front() == '.' || pr.path.back() == '.' ||
+          pr.path.find("..") != std::string::npos)
+        p.issue("path", "expected a dotted scenario path such as \"ground.amplitude\", got " + quote(pr.path));
+      else if (pr.path == "task" || pr.path.rfind("task.", 0) == 0)
+        p.issue("path", "the task itself cannot be randomised, got " + quote(pr.path));
+    }
+    const auto range = interval(p, "range", Range::any());
+    pr.lo = range[0];
+    pr.hi = range[1];
+    p.finish();
+    t.parameters.push_back(std::move(pr));
+  }
+  r.finish();
+}
+
+}  // namespace
+
+TaskSpec readTask(ObjectReader r, const std::vector<VehicleSpec>& vehicles) {
+  TaskSpec t;
+  t.vehicle = vehicleIndex(r, vehicles);
+  const VehicleSpec* v = t.vehicle >= 0 ? &vehicles[static_cast<size_t>(t.vehicle)] : nullptr;
+  readObservation(r, t, v);
+  readHeightSamples(r.object("height_samples"), t);
+  readAction(r.object("action"), t, v);
+  t.control_period = r.integer("control_period", 1, 1, 100000);
+  t.time_limit = r.number("time_limit", 0.0, Range::nonNegative(1e6));
+  if (r.has("goal")) {
+    const auto g = r.numbers("goal", {}, Range::any(), 2, 2);
+    if (g.size() == 2) {
+      t.has_goal = true;
+      t.goal = {g[0], g[1]};
+    }
+  } else {
+    r.allow("goal");
+  }
+  t.direction = pair(r, "direction", {1.0, 0.0}, Range::closed(-1e3, 1e3));
+  const double dn = std::hypot(t.direction[0], t.direction[1]);
+  if (dn <= 0.0) r.issue("direction", "must not be [0, 0]");
+  else t.direction = {t.direction[0] / dn, t.direction[1] / dn};
+  t.target_speed = r.number("target_speed", 0.0, Range::closed(-1e3, 1e3));
+  t.speed_tolerance = r.number("speed_tolerance", 1.0, Range::positive(1e3));
+  readReward(r.object("reward"), t.reward);
+  readTermination(r.object("termination"), t);
+  readRandomize(r.object("randomize"), t);
+  r.finish();
+
+  // what needs a goal, a road car, or another kind of vehicle
+  const bool goal_used = t.reward.progress_to_goal != 0.0 || t.reward.goal != 0.0 || t.goal_radius > 0.0 ||
+                         std::count(t.observation.begin(), t.observation.end(), Feature::GoalBody) ||
+                         std::count(t.observation.begin(), t.observation.end(), Feature::GoalDistance);
+  if (goal_used && !t.has_goal)
+    r.issue("goal", "missing: goal features, progress_to_goal, the goal reward or goal_radius need a goal [x, y]");
+  if (t.reward.goal != 0.0 && !(t.goal_radius > 0.0))
+    r.issue("termination", "the goal reward needs termination.goal_radius > 0");
+  if (v && v->lone_wheel)
+    r.issue("vehicle", "vehicle " + quote(v->name) + " is a lone wheel; a task drives a car (kind \"car\" or \"road_car\")");
+  return t;
+}
+
+}  // namespace groundsim::scenario
