@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   std::vector<int> sizes{16, 256, 1024};
   double seconds = 3.0;
   CLI::App app{"remote_vec_bench: vectorised session over LCM vs in process"};
-  app.add_option("scenario", scenario, "task scenario (e.g. configs/tasks/speed.json)")->required();
+  app.add_option("scenario", scenario, "task scenario (e.g. configs/tasks/fast_car.json)")->required();
   app.add_option("--lcm-url", url, "the server's LCM URL");
   app.add_option("--sizes", sizes, "batch sizes")->delimiter(',');
   app.add_option("--seconds", seconds, "wall seconds per measurement");

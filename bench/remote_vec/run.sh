@@ -6,7 +6,7 @@
 set -eu
 build=${1:?usage: run.sh BUILD_DIR [SCENARIO]}
 here=$(cd "$(dirname "$0")" && pwd)
-scenario=${2:-$here/../../configs/tasks/speed.json}
+scenario=${2:-$here/../../configs/tasks/fast_car.json}
 exec unshare -n sh -eu -c '
 ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo
 b=$1; scenario=$2

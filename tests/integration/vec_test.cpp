@@ -42,7 +42,7 @@ using experiments::RemoteVecOptions;
 const std::string kUrl2 = "udpm://239.255.76.67:7668?ttl=0";
 
 std::string taskScenario() {
-  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/tasks/speed.json");
+  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/tasks/fast_car.json");
   std::stringstream s;
   s << in.rdbuf();
   return s.str();

@@ -26,7 +26,7 @@ std::string readFile(const std::string& path) {
 }
 
 const std::string& taskScenario() {
-  static const std::string text = readFile(std::string(GROUNDSIM_CONFIG_DIR) + "/tasks/speed.json");
+  static const std::string text = readFile(std::string(GROUNDSIM_CONFIG_DIR) + "/tasks/fast_car.json");
   return text;
 }
 
@@ -295,7 +295,12 @@ TEST_F(VecService, ASnapshotOfAnotherScenarioIsRefused) {
   const VecReply s = send(snap);
   ASSERT_TRUE(s.ok) << s.error;
   const std::string first = id_, first_token = token_;
-  create(2, readFile(std::string(GROUNDSIM_CONFIG_DIR) + "/tasks/goal.json"));
+  // the same task with another time limit: another validated document
+  std::string other = taskScenario();
+  const auto at = other.find("\"time_limit\": 10");
+  ASSERT_NE(at, std::string::npos);
+  other.replace(at, 16, "\"time_limit\": 11");
+  create(2, other);
   VecRequest restore = to(VecOp::Restore);
   restore.snapshot = s.snapshot;
   const VecReply r = send(restore);
