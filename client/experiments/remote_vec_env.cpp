@@ -128,6 +128,7 @@ groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double t
   req.token = token_;
   req.nactions = static_cast<int32_t>(req.actions.size());
   req.snapshot_size = static_cast<int32_t>(req.snapshot.size());
+  drain();
   assembler_ = net::VecAssembler(req.request_id);
   part_error_.clear();
   if (lcm_.publish(net::kVecRequestChannel, &req) != 0) throw RemoteError(std::string(what) + ": cannot publish on " + url_);
@@ -160,6 +161,14 @@ groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double t
   assembler_ = net::VecAssembler(0);
   if (!r.ok) throwRefusal(r);
   return r;
+}
+
+// Handles what arrived while the caller was busy elsewhere (heartbeats
+// queued in the socket): a client that did not call for longer than the
+// heartbeat timeout must not take a living server for a dead one.
+void RemoteVecEnv::drain() const {
+  for (int i = 0; i < 100000 && lcm_.handleTimeout(0) > 0; ++i) {
+  }
 }
 
 void RemoteVecEnv::checkOpen(const char* what) const {
@@ -259,6 +268,7 @@ void RemoteVecEnv::close() {
   req.session_id = session_id_;
   req.token = token_;
   req.op = groundsim::request_t::OP_STOP;
+  drain();
   stop_waiting_ = req.request_id;
   stop_reply_.reset();
   if (lcm_.publish(net::kRequestChannel, &req) != 0) throw RemoteError("close: cannot publish on " + url_);

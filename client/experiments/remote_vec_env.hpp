@@ -71,6 +71,7 @@ class RemoteVecEnv final : public BatchEnv {
                 std::uint8_t* truncated);
   void checkEnv(int env) const;
   void checkOpen(const char* what) const;
+  void drain() const;
 
   RemoteVecOptions options_;
   std::string url_;

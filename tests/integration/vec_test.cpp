@@ -323,6 +323,16 @@ TEST_F(Vec, ARealtimeSessionBesideAVectorisedOneKeepsPublishing) {
   EXPECT_GE(during, 30) << steps << " batched steps";
 }
 
+// A client busy elsewhere for longer than the heartbeat timeout (e.g. a
+// learner's update) finds the heartbeats that queued meanwhile.
+TEST_F(Vec, AnIdleClientDoesNotTakeALivingServerForAGoneOne) {
+  RemoteVecEnv remote(taskScenario(), 2, at(kUrl));
+  std::vector<float> obs(2 * remote.layout().obsSize());
+  remote.reset(0, obs.data());
+  std::this_thread::sleep_for(std::chrono::duration<double>(net::kHeartbeatTimeout + 1.5));
+  EXPECT_NO_THROW(remote.reset(0, obs.data()));
+}
+
 TEST_F(Vec, TheClientSaysWhenTheServerIsGone) {
   RemoteVecEnv remote(taskScenario(), 2, at(kUrl));
   std::vector<float> obs(2 * remote.layout().obsSize());
