@@ -13,6 +13,7 @@
 #include "experiments/env.hpp"
 #include "experiments/snapshot.hpp"
 #include "experiments/thread_pool.hpp"
+#include "scenario/object_reader.hpp"
 
 namespace groundsim::experiments {
 namespace {
@@ -137,6 +138,18 @@ std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_e
   if (options.num_threads < 0)
     throw ExperimentError("num_threads", "must be >= 0 (0: one per core), got " + std::to_string(options.num_threads));
   scenario::Scenario s = scenario::parseScenario(scenario_text, options.budget, options.files);
+  // one batched step is bounded like a run: its integrator steps times
+  // their estimated cost within the budget's work limit
+  if (s.task) {
+    const double work = static_cast<double>(num_envs) * s.task->control_period * std::max(1, s.options.substeps) *
+                        scenario::estimateModelSize(s).work_per_step;
+    if (work > options.budget.max_work)
+      throw scenario::ScenarioError({scenario::Issue{
+          "/task/control_period", "one step of " + std::to_string(num_envs) + " environments costs " +
+                                      scenario::formatNumber(work) + " work units, at most " +
+                                      scenario::formatNumber(options.budget.max_work) + " " +
+                                      options.budget.flag("max-work")}});
+  }
   auto ctx = makeTaskContext(std::move(s), options.budget, options.files);
   int threads = options.num_threads;
   if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

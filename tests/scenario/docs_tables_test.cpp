@@ -200,5 +200,27 @@ TEST(DocsTables, GroundTableMatchesTheValidatorForEveryType) {
   }
 }
 
+TEST(DocsTables, TaskTablesMatchTheValidator) {
+  const Tables t = readTables();
+  // a road car named "car" (the documented default vehicle), so the
+  // action's default is car_controls
+  const Scenario s = parseScenario(nlohmann::json::parse(
+      R"({"ground": {"type": "plane"}, "vehicle": {"kind": "road_car"}, "task": {"observation": ["speed"]}})"));
+  const nlohmann::json& d = s.document["task"];
+  checkTable(t, "`task`", d);
+  checkTable(t, "`height_samples`", d["height_samples"]);
+  checkTable(t, "`action`", d["action"]);
+  checkTable(t, "`reward`", d["reward"]);
+  checkTable(t, "`termination`", d["termination"]);
+  checkTable(t, "`randomize`", d["randomize"]);
+  // every feature the validator knows is documented, and no other
+  ASSERT_TRUE(t.count("`task` (second table)"));
+  std::set<std::string> documented;
+  for (const Row& r : t.at("`task` (second table)"))
+    for (const std::string& k : keysIn(r.cells.at(0))) documented.insert(k);
+  const std::set<std::string> known(featureNames().begin(), featureNames().end());
+  EXPECT_EQ(documented, known);
+}
+
 }  // namespace
 }  // namespace groundsim::scenario::test

@@ -1,0 +1,93 @@
+// VecEnv::step allocates nothing in steady state (no episode ending), on
+// one thread and on a pool; resets may (a drawn placement builds a scene).
+// Counted at malloc (Eigen allocates with malloc, operator new calls it), by
+// interposing malloc, calloc, realloc and the aligned allocators in this
+// test binary.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+#include <string>
+
+#include "task_util.hpp"
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+}
+
+namespace {
+std::atomic<long> g_allocations{0};
+void count() { g_allocations.fetch_add(1, std::memory_order_relaxed); }
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t n) {
+  count();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t k, std::size_t n) {
+  count();
+  return __libc_calloc(k, n);
+}
+void* realloc(void* p, std::size_t n) {
+  count();
+  return __libc_realloc(p, n);
+}
+void* aligned_alloc(std::size_t a, std::size_t n) {
+  count();
+  return __libc_memalign(a, n);
+}
+void* memalign(std::size_t a, std::size_t n) {
+  count();
+  return __libc_memalign(a, n);
+}
+int posix_memalign(void** p, std::size_t a, std::size_t n) {
+  count();
+  *p = __libc_memalign(a, n);
+  return *p ? 0 : 12;  // ENOMEM
+}
+}
+
+using namespace groundsim::experiments::test;
+
+namespace {
+
+TEST(Allocation, TheCounterSeesNew) {
+  const long before = g_allocations.load();
+  auto* p = new std::string(100, 'x');
+  EXPECT_GE(g_allocations.load() - before, 1);
+  delete p;
+}
+
+class StepAllocation : public testing::TestWithParam<int> {};
+
+TEST_P(StepAllocation, ASteadyStepAllocatesNothing) {
+  for (const auto& doc : {roadCarDoc(plane(), {{"observation", {"position", "heading", "up_body", "velocity_body",
+                                                                "angular_velocity_body", "speed", "wheel_spin",
+                                                                "wheel_contact", "wheel_slip", "suspension_travel",
+                                                                "height_samples", "goal_body", "goal_distance",
+                                                                "previous_action", "time"}},
+                                               {"goal", {50, 5}},
+                                               {"control_period", 4},
+                                               {"reward", {{"progress_to_goal", 1}, {"jerk", 1}, {"tilt", 1}}},
+                                               {"randomize", {{"yaw_deg", {-10, 10}}}}},
+                                     {{"speed", 5.0}}),
+                          reportCarDoc(plane(), {{"observation", {"velocity_body", "wheel_spin", "wheel_contact"}},
+                                                 {"action", {{"type", "wheel_torques"}}},
+                                                 {"control_period", 8}})}) {
+    Batch b(doc, 5, GetParam());
+    b.reset(1);
+    b.setAll({0.5f, 0.0f, 0.1f, 0.5f});
+    b.step();  // the first step may fill lazily sized buffers
+    const long before = g_allocations.load();
+    for (int i = 0; i < 20; ++i) b.step();
+    EXPECT_EQ(g_allocations.load() - before, 0) << GetParam() << " threads";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Threads, StepAllocation, testing::Values(1, 2));
+
+}  // namespace
