@@ -1,0 +1,16 @@
+"""Gymnasium's classes when gymnasium (1.x, which has AutoresetMode) is
+importable, groundsim.spaces' stand-ins otherwise."""
+
+try:
+    from gymnasium.spaces import Box
+    from gymnasium.vector import AutoresetMode, VectorEnv
+    from gymnasium.vector.utils import batch_space
+
+    HAVE_GYMNASIUM = True
+except ImportError:
+    from .spaces import AutoresetMode, Box, batch_space
+
+    VectorEnv = object
+    HAVE_GYMNASIUM = False
+
+__all__ = ["AutoresetMode", "Box", "HAVE_GYMNASIUM", "VectorEnv", "batch_space"]

@@ -1,0 +1,255 @@
+"""Gymnasium's vector API over a groundsim._core.BatchEnv.
+
+The arrays returned by reset() and step() are allocated once, here, and the
+C++ environments write into them in place: each call returns the same
+(read-only) arrays with new contents. Copy what you keep beyond the next
+call (``obs.copy()``)."""
+
+import json
+import operator
+import os
+from collections.abc import Mapping
+
+import numpy as np
+
+from . import _core
+from ._errors import ExperimentError
+from ._gym import AutoresetMode, Box, VectorEnv, batch_space
+
+_SEED_END = 2**63  # seeds are in [0, 2^63)
+_INFO_KEYS = ("episode", "episode_steps", "episode_return", "diverged")
+
+
+def _readonly(array):
+    view = array.view()
+    view.flags.writeable = False
+    return view
+
+
+def _index(value, field):
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise ExperimentError(field, f"{field}: must be an integer, got {type(value).__name__}") from None
+
+
+class VecEnv(VectorEnv):
+    """num_envs environments of one scenario task, stepped together.
+
+    Gymnasium's vector API (a gymnasium.vector.VectorEnv when gymnasium is
+    importable): reset(seed, options) -> (obs, infos); step(actions) ->
+    (obs, rewards, terminations, truncations, infos); autoreset NEXT_STEP.
+    Besides: ``layout`` (component names, dt, control period, wheel counts),
+    ``snapshot(env)`` and ``restore(env, data)``."""
+
+    def __init__(self, core, name="groundsim"):
+        self._core = core
+        self._name = name
+        layout = core.layout
+        n, obs_size, action_size = layout.num_envs, layout.obs_size, layout.action_size
+        self.num_envs = n
+        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
+        self.render_mode = None
+        self.spec = None
+        self.closed = False
+        self.single_observation_space = Box(np.asarray(layout.observation_low, np.float32),
+                                            np.asarray(layout.observation_high, np.float32), dtype=np.float32)
+        self.single_action_space = Box(np.asarray(layout.action_low, np.float32),
+                                       np.asarray(layout.action_high, np.float32), dtype=np.float32)
+        self.observation_space = batch_space(self.single_observation_space, n)
+        self.action_space = batch_space(self.single_action_space, n)
+        self._action_shape = (n, action_size)
+
+        # the buffers the C++ side writes, and read-only views of them for the caller
+        self._obs = np.zeros((n, obs_size), np.float32)
+        self._rewards = np.zeros(n, np.float64)
+        self._terminations = np.zeros(n, np.bool_)
+        self._truncations = np.zeros(n, np.bool_)
+        self._info_arrays = {"episode": np.zeros(n, np.int64), "episode_steps": np.zeros(n, np.int64),
+                             "episode_return": np.zeros(n, np.float64), "diverged": np.zeros(n, np.bool_)}
+        self._views = tuple(_readonly(a) for a in (self._obs, self._rewards, self._terminations, self._truncations))
+        # every env reports every key on every step: Gymnasium's "_key" masks are all true
+        everyone = _readonly(np.ones(n, np.bool_))
+        self._infos = {}
+        for key, array in self._info_arrays.items():
+            self._infos[key] = _readonly(array)
+            self._infos["_" + key] = everyone
+
+    @property
+    def layout(self):
+        """Names of the observation and action components, dt, control
+        period, time limit, wheels per vehicle (a groundsim._core.Layout)."""
+        return self._core.layout
+
+    def reset(self, *, seed=None, options=None):
+        """Resets every env, or those chosen by options.
+
+        seed: None (each env continues its own random stream), an int s
+        (env i is seeded with s + i, also in a partial reset, so resetting
+        env i alone gives the same state as a full reset), or a sequence of
+        num_envs ints or Nones (env i gets seed[i]).
+        options: None, {"env": i or [i, ...]} or Gymnasium's
+        {"reset_mask": bool array of shape (num_envs,)}; the others keep
+        their state. Returns every env's observation."""
+        envs = self._envs_to_reset(options)
+        seeds = self._seeds(seed)
+        if envs is None and not isinstance(seeds, list):
+            self._core.reset(seeds, self._obs)
+        else:
+            for i in range(self.num_envs) if envs is None else envs:
+                self._core.reset_env(i, seeds[i] if isinstance(seeds, list) else
+                                     (None if seeds is None else seeds + i), self._obs)
+        self._core.fill_infos(*self._info_arrays.values())
+        return self._views[0], dict(self._infos)
+
+    def step(self, actions):
+        """actions: array-like of shape (num_envs, action_size), cast to
+        float32; NaN or inf is refused (ExperimentError, field
+        "actions[i][j]"), finite values are clipped to the action space. An
+        env whose episode ended in the previous step is reset instead, and
+        its action ignored (NEXT_STEP)."""
+        if isinstance(actions, np.ndarray) and actions.dtype == np.float32:
+            a = actions
+        else:
+            try:
+                # a value beyond float32's range becomes inf and is refused below
+                with np.errstate(over="ignore"):
+                    a = np.asarray(actions, dtype=np.float32)
+            except (TypeError, ValueError) as e:
+                raise ExperimentError("actions", f"actions: not castable to float32 ({e})") from None
+        if a.shape != self._action_shape:
+            raise ExperimentError("actions", f"actions: expected shape {self._action_shape}, got {a.shape}")
+        if not a.flags.c_contiguous:
+            a = np.ascontiguousarray(a)
+        self._core.step(a, self._obs, self._rewards, self._terminations, self._truncations)
+        self._core.fill_infos(*self._info_arrays.values())
+        return (*self._views, dict(self._infos))
+
+    def snapshot(self, env):
+        """The full state of env (bytes), restorable bit for bit, also into
+        another process running the same scenario."""
+        return self._core.snapshot(self._env_index(env, "env"))
+
+    def restore(self, env, data):
+        """Restores env from snapshot(); returns its new observation."""
+        i = self._env_index(env, "env")
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise ExperimentError("snapshot", f"snapshot: must be bytes, got {type(data).__name__}")
+        self._core.restore(i, bytes(data), self._obs)
+        self._core.fill_infos(*self._info_arrays.values())
+        return self._views[0][i]
+
+    def close(self, **kwargs):
+        if self.closed:
+            return
+        self.close_extras(**kwargs)
+        self.closed = True
+
+    def close_extras(self, **kwargs):
+        self._core.close()
+
+    def __del__(self):
+        if not getattr(self, "closed", True):
+            self.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+    def __repr__(self):
+        return f"groundsim.VecEnv({self._name!r}, num_envs={self.num_envs})"
+
+    def _env_index(self, env, field):
+        i = _index(env, field)
+        if not 0 <= i < self.num_envs:
+            raise ExperimentError(field, f"{field}: must be in [0, {self.num_envs}), got {i}")
+        return i
+
+    def _envs_to_reset(self, options):
+        if options is None:
+            return None
+        if not isinstance(options, Mapping):
+            raise ExperimentError("options", f"options: must be a dict or None, got {type(options).__name__}")
+        unknown = sorted(set(options) - {"env", "reset_mask"})
+        if unknown:
+            raise ExperimentError("options", f"options: unknown key(s) {unknown}; supported: 'env' (an index "
+                                             f"or a list of indices), 'reset_mask' (bool array of shape "
+                                             f"({self.num_envs},))")
+        if "env" in options and "reset_mask" in options:
+            raise ExperimentError("options", "options: give 'env' or 'reset_mask', not both")
+        if "env" in options:
+            chosen = options["env"]
+            chosen = [chosen] if np.ndim(chosen) == 0 else list(chosen)
+            return list(dict.fromkeys(self._env_index(i, "options['env']") for i in chosen))
+        mask = options["reset_mask"]
+        if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_ and mask.shape == (self.num_envs,)):
+            raise ExperimentError("options", f"options['reset_mask']: expected a bool array of shape "
+                                             f"({self.num_envs},), got {type(mask).__name__} "
+                                             f"{getattr(mask, 'dtype', '')} {np.shape(mask)}")
+        return [int(i) for i in np.flatnonzero(mask)]
+
+    def _seeds(self, seed):
+        """None, an int s with s + num_envs - 1 < 2^63, or a list of
+        num_envs ints or Nones."""
+        if seed is None:
+            return None
+        if np.ndim(seed) == 0:
+            s = _index(seed, "seed")
+            if not 0 <= s <= _SEED_END - self.num_envs:
+                raise ExperimentError("seed", f"seed: must be in [0, 2^63 - num_envs] (env i is seeded with "
+                                              f"seed + i), got {s}")
+            return s
+        seeds = list(seed)
+        if len(seeds) != self.num_envs:
+            raise ExperimentError("seed", f"seed: a sequence of seeds needs one per env ({self.num_envs}), "
+                                          f"got {len(seeds)}")
+        for i, s in enumerate(seeds):
+            if s is not None:
+                seeds[i] = _index(s, f"seed[{i}]")
+                if not 0 <= seeds[i] < _SEED_END:
+                    raise ExperimentError(f"seed[{i}]", f"seed[{i}]: must be in [0, 2^63), got {seeds[i]}")
+        return seeds
+
+
+def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
+    """num_envs environments of a scenario with a ``task`` section, stepped
+    in this process on num_threads threads (0: one per core, 1: the calling
+    thread) with the GIL released.
+
+    scenario: a path to a JSON file (the heightfields it names are read next
+    to it), a JSON string, or a dict. For the last two, files_dir says
+    where named files are read from (none are readable without it).
+    Raises ScenarioError for a bad scenario or task, ExperimentError for bad
+    arguments. The result does not depend on num_threads, bit for bit."""
+    n = _index(num_envs, "num_envs")
+    threads = _index(num_threads, "num_threads")
+    if not 1 <= n < 2**31:
+        raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
+    if not 0 <= threads < 2**31:
+        raise ExperimentError("num_threads", f"num_threads: must be >= 0 (0: one per core), got {threads}")
+    text, name = None, "scenario"
+    if isinstance(scenario, Mapping):
+        try:
+            text = json.dumps(scenario, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
+        name = str(scenario.get("name", name))
+    elif isinstance(scenario, (bytes, bytearray)):
+        text = bytes(scenario).decode("utf-8", errors="replace")
+    elif isinstance(scenario, str) and scenario.lstrip().startswith("{"):
+        text = scenario
+    elif isinstance(scenario, (str, os.PathLike)):
+        path = os.fspath(scenario)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"scenario: no such file: {path!r}")
+        core = _core.make_vec_env_from_file(path, n, threads)
+        return VecEnv(core, os.path.splitext(os.path.basename(path))[0])
+    else:
+        raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
+                                          f"{type(scenario).__name__}")
+    if files_dir is not None:
+        files_dir = os.fspath(files_dir)
+    return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name)

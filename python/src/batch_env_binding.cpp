@@ -1,0 +1,232 @@
+// The handle's methods. Every buffer is the caller's numpy array, written in
+// place: its dtype, shape, C order, alignment and (for outputs) writability
+// are checked here, before the GIL is released, and a mismatch is an
+// ExperimentError (a ValueError in Python) naming the argument and what was
+// expected. Nothing is converted, so nothing is copied.
+#include "batch_env_binding.hpp"
+
+#include <climits>
+#include <cstdint>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using groundsim::experiments::BatchEnv;
+using groundsim::experiments::EnvInfo;
+using groundsim::experiments::ExperimentError;
+using groundsim::experiments::Layout;
+
+namespace groundsim::python {
+
+EnvHandle::EnvHandle(std::unique_ptr<BatchEnv> env) : env_(std::move(env)), layout_(env_->layout()) {}
+
+EnvHandle::~EnvHandle() {
+  // the environment's worker threads are joined without the GIL, so that a
+  // worker never waits on Python while the interpreter waits on it
+  py::gil_scoped_release release;
+  std::lock_guard lock(mutex_);
+  env_.reset();
+}
+
+BatchEnv& EnvHandle::env() {
+  if (!env_) throw ExperimentError("env", "the environment is closed");
+  return *env_;
+}
+
+void EnvHandle::close() {
+  if (env_) env_->close();
+  env_.reset();
+}
+
+namespace {
+
+std::string shapeText(const std::vector<py::ssize_t>& shape) {
+  std::ostringstream s;
+  s << '(';
+  for (std::size_t i = 0; i < shape.size(); ++i) s << (i ? ", " : "") << shape[i];
+  s << (shape.size() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+template <class T>
+const char* dtypeName() {
+  if constexpr (std::is_same_v<T, float>) return "float32";
+  else if constexpr (std::is_same_v<T, double>) return "float64";
+  else if constexpr (std::is_same_v<T, bool>) return "bool";
+  else return "int64";
+}
+
+// The data of `obj` if it is a C-contiguous, aligned numpy array of T with
+// exactly `shape`; writable too when `output`.
+template <class T>
+T* buffer(const py::handle& obj, const char* name, const std::vector<py::ssize_t>& shape, bool output) {
+  const std::string expected = std::string("a C-contiguous") + (output ? " writable" : "") +
+                               " numpy array of " + dtypeName<T>() + " with shape " + shapeText(shape);
+  if (!py::isinstance<py::array>(obj))
+    throw ExperimentError(name, "expected " + expected + ", got " + std::string(py::str(obj.get_type().attr("__name__"))));
+  auto arr = py::reinterpret_borrow<py::array>(obj);
+  std::vector<py::ssize_t> got(arr.shape(), arr.shape() + arr.ndim());
+  if (!py::isinstance<py::array_t<T>>(arr))
+    throw ExperimentError(name, "expected " + expected + ", got dtype " + std::string(py::str(arr.dtype())));
+  if (got != shape) throw ExperimentError(name, "expected " + expected + ", got shape " + shapeText(got));
+  if (!(arr.flags() & py::array::c_style))
+    throw ExperimentError(name, "expected " + expected + ", got a non-contiguous array");
+  if (reinterpret_cast<std::uintptr_t>(arr.data()) % alignof(T) != 0)
+    throw ExperimentError(name, "expected " + expected + ", got an unaligned array");
+  if (output && !arr.writeable()) throw ExperimentError(name, "expected " + expected + ", got a read-only array");
+  return static_cast<T*>(const_cast<void*>(arr.data()));
+}
+
+// None, or an int in [0, 2^63) (numpy integers too).
+std::optional<std::uint64_t> seedOf(const py::handle& seed) {
+  if (seed.is_none()) return std::nullopt;
+  py::object index = py::reinterpret_steal<py::object>(PyNumber_Index(seed.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw ExperimentError("seed", "must be an integer in [0, 2^63) or None, got " +
+                                      std::string(py::str(seed.get_type().attr("__name__"))));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < 0)
+    throw ExperimentError("seed", "must be in [0, 2^63), got " + std::string(py::str(index)));
+  return static_cast<std::uint64_t>(v);
+}
+
+int envIndex(const EnvHandle& h, int env) {
+  if (env < 0 || env >= h.layout().num_envs)
+    throw ExperimentError("env", "must be in [0, " + std::to_string(h.layout().num_envs) + "), got " +
+                                     std::to_string(env));
+  return env;
+}
+
+std::vector<py::ssize_t> obsShape(const Layout& l) { return {l.num_envs, l.obsSize()}; }
+
+}  // namespace
+
+void bindBatchEnv(py::module_& m) {
+  py::class_<Layout>(m, "Layout", "What the buffers of a BatchEnv hold (experiments/batch_env.hpp)")
+      .def_readonly("num_envs", &Layout::num_envs)
+      .def_readonly("dt", &Layout::dt, "physics step, s")
+      .def_readonly("control_period", &Layout::control_period, "physics steps per action")
+      .def_readonly("time_limit", &Layout::time_limit, "episode length before truncation, s; 0 = none")
+      .def_readonly("observation", &Layout::observation, "one name per observation component")
+      .def_readonly("observation_low", &Layout::observation_low)
+      .def_readonly("observation_high", &Layout::observation_high)
+      .def_readonly("action", &Layout::action, "one name per action component")
+      .def_readonly("action_low", &Layout::action_low)
+      .def_readonly("action_high", &Layout::action_high)
+      .def_readonly("wheel_counts", &Layout::wheel_counts, "wheels per vehicle, in document order")
+      .def_readonly("scenario_hash", &Layout::scenario_hash)
+      .def_property_readonly("obs_size", &Layout::obsSize)
+      .def_property_readonly("action_size", &Layout::actionSize)
+      .def("__repr__", [](const Layout& l) {
+        return "Layout(num_envs=" + std::to_string(l.num_envs) + ", obs_size=" + std::to_string(l.obsSize()) +
+               ", action_size=" + std::to_string(l.actionSize()) + ", dt=" + std::to_string(l.dt) +
+               ", control_period=" + std::to_string(l.control_period) + ")";
+      });
+
+  py::class_<EnvHandle>(m, "BatchEnv",
+                        "N environments stepped together; buffers are the caller's numpy arrays, written in place")
+      .def_property_readonly("layout", &EnvHandle::layout, py::return_value_policy::reference_internal)
+      .def_property_readonly("closed", &EnvHandle::closed)
+      .def(
+          "reset",
+          [](EnvHandle& h, const py::handle& seed, const py::handle& obs) {
+            const auto s = seedOf(seed);
+            float* o = buffer<float>(obs, "obs", obsShape(h.layout()), true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().reset(s, o);
+          },
+          py::arg("seed"), py::arg("obs"), "resets every env (env i seeded with seed + i); writes obs")
+      .def(
+          "reset_env",
+          [](EnvHandle& h, int env, const py::handle& seed, const py::handle& obs) {
+            const int i = envIndex(h, env);
+            const auto s = seedOf(seed);
+            float* o = buffer<float>(obs, "obs", obsShape(h.layout()), true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().resetEnv(i, s, o + static_cast<std::ptrdiff_t>(i) * h.layout().obsSize());
+          },
+          py::arg("env"), py::arg("seed"), py::arg("obs"), "resets env with exactly seed; writes its row of obs")
+      .def(
+          "step",
+          [](EnvHandle& h, const py::handle& actions, const py::handle& obs, const py::handle& rewards,
+             const py::handle& terminations, const py::handle& truncations) {
+            const Layout& l = h.layout();
+            const py::ssize_t n = l.num_envs;
+            const float* a = buffer<float>(actions, "actions", {n, l.actionSize()}, false);
+            float* o = buffer<float>(obs, "obs", obsShape(l), true);
+            double* r = buffer<double>(rewards, "rewards", {n}, true);
+            // numpy's bool is one byte holding 0 or 1: the uint8 flags of the interface
+            auto* term = reinterpret_cast<std::uint8_t*>(buffer<bool>(terminations, "terminations", {n}, true));
+            auto* trunc = reinterpret_cast<std::uint8_t*>(buffer<bool>(truncations, "truncations", {n}, true));
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().step(a, o, r, term, trunc);
+          },
+          py::arg("actions"), py::arg("obs"), py::arg("rewards"), py::arg("terminations"), py::arg("truncations"))
+      .def(
+          "fill_infos",
+          [](EnvHandle& h, const py::handle& episode, const py::handle& episode_steps,
+             const py::handle& episode_return, const py::handle& diverged) {
+            const py::ssize_t n = h.layout().num_envs;
+            auto* ep = buffer<std::int64_t>(episode, "episode", {n}, true);
+            auto* steps = buffer<std::int64_t>(episode_steps, "episode_steps", {n}, true);
+            auto* ret = buffer<double>(episode_return, "episode_return", {n}, true);
+            auto* div = buffer<bool>(diverged, "diverged", {n}, true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            BatchEnv& env = h.env();
+            for (py::ssize_t i = 0; i < n; ++i) {
+              const EnvInfo info = env.info(static_cast<int>(i));
+              ep[i] = info.episode;
+              steps[i] = info.episode_steps;
+              ret[i] = info.episode_return;
+              div[i] = info.diverged;
+            }
+          },
+          py::arg("episode"), py::arg("episode_steps"), py::arg("episode_return"), py::arg("diverged"),
+          "writes every env's EnvInfo into the four arrays")
+      .def(
+          "snapshot",
+          [](EnvHandle& h, int env) {
+            const int i = envIndex(h, env);
+            std::string data;
+            {
+              py::gil_scoped_release release;
+              std::lock_guard lock(h.mutex());
+              data = h.env().snapshot(i);
+            }
+            return py::bytes(data);
+          },
+          py::arg("env"), "the full state of env, restorable bit for bit")
+      .def(
+          "restore",
+          [](EnvHandle& h, int env, const py::bytes& snapshot, const py::handle& obs) {
+            const int i = envIndex(h, env);
+            std::string data = snapshot;  // bytes -> string before the GIL is released
+            float* o = buffer<float>(obs, "obs", obsShape(h.layout()), true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().restore(i, data, o + static_cast<std::ptrdiff_t>(i) * h.layout().obsSize());
+          },
+          py::arg("env"), py::arg("snapshot"), py::arg("obs"), "restores env; writes its row of obs")
+      .def(
+          "close",
+          [](EnvHandle& h) {
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.close();
+          },
+          "stops the environment's threads; later calls raise ExperimentError(field='env')");
+}
+
+}  // namespace groundsim::python
