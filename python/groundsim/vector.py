@@ -17,7 +17,6 @@ from ._errors import ExperimentError
 from ._gym import AutoresetMode, Box, VectorEnv, batch_space
 
 _SEED_END = 2**63  # seeds are in [0, 2^63)
-_INFO_KEYS = ("episode", "episode_steps", "episode_return", "diverged")
 
 
 def _readonly(array):

@@ -5,8 +5,7 @@ continues bit for bit."""
 import numpy as np
 import pytest
 
-import groundsim
-from conftest import GOAL, actions, assert_identical, make_goal, run
+from conftest import actions, assert_identical, make_goal, run
 
 
 def test_reset_with_a_seed_is_reproducible_and_seeds_differ(goal_doc):
@@ -99,7 +98,7 @@ def test_snapshot_restore_continues_bit_for_bit(goal_doc):
         row = fresh.restore(i, snaps[i])
         assert row.shape == (env.layout.obs_size,)
     assert_identical(original, continue_(fresh))
-    # and into the same env, with the envs permuted
+    # and back into the env they came from
     for i in range(3):
         env.restore(i, snaps[i])
     assert_identical(original, continue_(env))
