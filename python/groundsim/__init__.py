@@ -5,12 +5,15 @@ reinforcement learning. See docs/experiments-python.md.
     env = groundsim.make_vec("configs/tasks/goal.json", num_envs=64)
     obs, infos = env.reset(seed=0)
     obs, rewards, terminations, truncations, infos = env.step(actions)
+
+    # the same environments in a groundsim-server, over LCM
+    env = groundsim.make_remote_vec("configs/tasks/speed.json", 64, lcm_url="udpm://239.255.76.67:7667?ttl=0")
 """
 
-from ._errors import ExperimentError, ScenarioError, ScenarioIssue
+from ._errors import ExperimentError, RemoteError, ScenarioError, ScenarioIssue
 from ._gym import HAVE_GYMNASIUM, AutoresetMode, Box
-from .vector import VecEnv, make_vec
+from .vector import VecEnv, make_remote_vec, make_vec
 
 __version__ = "0.1.0"
-__all__ = ["AutoresetMode", "Box", "ExperimentError", "HAVE_GYMNASIUM", "ScenarioError", "ScenarioIssue",
-           "VecEnv", "make_vec"]
+__all__ = ["AutoresetMode", "Box", "ExperimentError", "HAVE_GYMNASIUM", "RemoteError", "ScenarioError",
+           "ScenarioIssue", "VecEnv", "make_remote_vec", "make_vec"]

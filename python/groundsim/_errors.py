@@ -37,3 +37,10 @@ class ScenarioError(ValueError):
 
     def __reduce__(self):
         return (type(self), (str(self), [tuple(i) for i in self.issues], self.omitted))
+
+
+class RemoteError(ConnectionError):
+    __module__ = "groundsim"
+    """The server of a make_remote_vec environment cannot be reached or
+    stopped answering: no heartbeat, no reply, or parts of a reply missing
+    (named in the message). Never a silently short result."""

@@ -252,3 +252,44 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
     if files_dir is not None:
         files_dir = os.fspath(files_dir)
     return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name)
+
+
+def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0):
+    """num_envs environments of a scenario with a ``task`` section, run in a
+    vectorised session of groundsim-server over LCM (docs/protocol.md),
+    with the same API and the same results, bit for bit, as make_vec.
+
+    scenario: a path to a JSON file, a JSON string, or a dict; the server
+    reads the files it names from its --terrain-dir. lcm_url: the server's
+    (None: LCM_DEFAULT_URL or LCM's default). timeout: seconds to wait for
+    a reply. Raises ScenarioError or ExperimentError as make_vec does (the
+    server names the field: num_envs above its --max-envs is "num_envs"),
+    RemoteError when the server is gone or parts of a reply are missing.
+    close() stops the session."""
+    n = _index(num_envs, "num_envs")
+    if not 1 <= n < 2**31:
+        raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
+    if not (isinstance(timeout, (int, float)) and timeout > 0):
+        raise ExperimentError("timeout", f"timeout: must be a positive number of seconds, got {timeout!r}")
+    name = "scenario"
+    if isinstance(scenario, Mapping):
+        try:
+            text = json.dumps(scenario, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
+        name = str(scenario.get("name", name))
+    elif isinstance(scenario, (bytes, bytearray)):
+        text = bytes(scenario).decode("utf-8", errors="replace")
+    elif isinstance(scenario, str) and scenario.lstrip().startswith("{"):
+        text = scenario
+    elif isinstance(scenario, (str, os.PathLike)):
+        path = os.fspath(scenario)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"scenario: no such file: {path!r}")
+        with open(path, encoding="utf-8", errors="replace") as f:
+            text = f.read()
+        name = os.path.splitext(os.path.basename(path))[0]
+    else:
+        raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
+                                          f"{type(scenario).__name__}")
+    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout)), name)

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include "batch_env_binding.hpp"
+#include "client/experiments/remote_vec_env.hpp"
 #include "experiments/batch_env.hpp"
 #include "scenario/scenario.hpp"
 
@@ -35,6 +36,8 @@ void registerErrorTranslators() {
       py::list issues;
       for (const auto& issue : e.issues()) issues.append(py::make_tuple(issue.path, issue.message));
       raise("ScenarioError", py::make_tuple(e.what(), issues, e.omitted()));
+    } catch (const experiments::RemoteError& e) {
+      raise("RemoteError", py::make_tuple(e.what()));
     }
   });
 }

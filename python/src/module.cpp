@@ -1,6 +1,7 @@
 // groundsim._core: the factories of BatchEnvs and the handle class
 // (batch_env_binding.cpp). The package's Python side (groundsim/) wraps a
 // handle in Gymnasium's vector API.
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -9,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include "batch_env_binding.hpp"
+#include "client/experiments/remote_vec_env.hpp"
 #include "experiments/vec_env.hpp"
 #include "gate_env.hpp"
 #include "scenario/file_access.hpp"
@@ -59,6 +61,24 @@ PYBIND11_MODULE(_core, m) {
         return std::make_unique<python::EnvHandle>(std::move(env));
       },
       py::arg("path"), py::arg("num_envs"), py::arg("num_threads") = 0);
+
+  // A vectorised session of groundsim-server over LCM (RemoteVecEnv); the
+  // scenario's files are read by the server (its --terrain-dir).
+  m.def(
+      "make_remote_vec_env",
+      [](const std::string& text, int num_envs, const std::string& lcm_url, double timeout) {
+        experiments::RemoteVecOptions o;
+        o.lcm_url = lcm_url;
+        o.timeout_s = timeout;
+        o.create_timeout_s = std::max(timeout, o.create_timeout_s);
+        std::unique_ptr<experiments::BatchEnv> env;
+        {
+          py::gil_scoped_release release;  // waits on the network
+          env = std::make_unique<experiments::RemoteVecEnv>(text, num_envs, o);
+        }
+        return std::make_unique<python::EnvHandle>(std::move(env));
+      },
+      py::arg("text"), py::arg("num_envs"), py::arg("lcm_url") = "", py::arg("timeout") = 30.0);
 
   // For tests of the binding (tests/python/test_gil.py): an env whose step
   // waits until the returned gate is opened from another thread.

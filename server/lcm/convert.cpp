@@ -4,6 +4,9 @@
 #include <cmath>
 
 namespace groundsim::net {
+namespace {
+double finiteOr0(double x) { return std::isfinite(x) ? x : 0.0; }
+}  // namespace
 
 session::Request fromMessage(const groundsim::request_t& m) {
   session::Request r;
@@ -53,9 +56,24 @@ session::CarDrive fromMessage(const groundsim::controls_t& m) {
   return d;
 }
 
-namespace {
-double finiteOr0(double x) { return std::isfinite(x) ? x : 0.0; }
-}  // namespace
+session::VecRequest fromMessage(const groundsim::vec_request_t& m) {
+  session::VecRequest r;
+  r.op = static_cast<session::VecOp>(m.op);  // unknown values are refused by the service
+  r.request_id = m.request_id;
+  r.client_id = m.client_id;
+  r.session_id = m.session_id;
+  r.token = m.token;
+  r.scenario_json = m.scenario_json;
+  r.num_envs = m.num_envs;
+  r.actions = m.actions;
+  r.env = m.env;
+  r.has_seed = m.has_seed;
+  r.seed = m.seed;
+  r.snapshot.assign(m.snapshot.begin(), m.snapshot.end());
+  r.received = session::Clock::now();
+  return r;
+}
+
 
 groundsim::car_state_t toCarMessage(const session::Frame& f) {
   groundsim::car_state_t m;
@@ -133,7 +151,75 @@ groundsim::state_t toMessage(const session::Frame& f) {
   return m;
 }
 
-groundsim::session_info_t toMessage(const session::SessionInfo& s) {
+groundsim::env_layout_t toMessage(const experiments::Layout& l) {
+  groundsim::env_layout_t m;
+  m.num_envs = l.num_envs;
+  m.dt = l.dt;
+  m.control_period = l.control_period;
+  m.time_limit = l.time_limit;
+  m.obs_size = l.obsSize();
+  m.observation = l.observation;
+  m.observation_low = l.observation_low;
+  m.observation_high = l.observation_high;
+  m.observation_low.resize(l.observation.size(), -INFINITY);
+  m.observation_high.resize(l.observation.size(), INFINITY);
+  m.action_size = l.actionSize();
+  m.action = l.action;
+  m.action_low = l.action_low;
+  m.action_high = l.action_high;
+  m.action_low.resize(l.action.size(), -INFINITY);
+  m.action_high.resize(l.action.size(), INFINITY);
+  m.nvehicles = static_cast<int32_t>(l.wheel_counts.size());
+  m.wheel_counts.assign(l.wheel_counts.begin(), l.wheel_counts.end());
+  m.scenario_hash = l.scenario_hash;
+  return m;
+}
+
+groundsim::vec_reply_t toMessage(const session::VecReply& r, std::int64_t seq) {
+  groundsim::vec_reply_t m;
+  m.utime = 0;
+  m.seq = seq;
+  m.request_id = r.request_id;
+  m.client_id = r.client_id;
+  m.session_id = r.session_id;
+  m.op = static_cast<int8_t>(r.op);
+  m.ok = r.ok;
+  m.error_code = static_cast<int32_t>(r.code);
+  m.field = r.field;
+  m.error = r.error;
+  m.token = r.token;
+  m.part = 0;
+  m.nparts = 1;
+  m.tick = r.tick;
+  for (const auto& s : r.sessions) m.sessions.push_back(toMessage(s, true));
+  m.nsessions = static_cast<int32_t>(m.sessions.size());
+  m.num_envs = r.num_envs;
+  m.env_begin = r.env_begin;
+  m.env_count = r.env_count;
+  m.obs_size = r.obs_size;
+  m.obs = r.obs;
+  // never NaN on the wire (the environments sanitize; this is the last guard)
+  for (float& x : m.obs)
+    if (!std::isfinite(x)) x = 0.0f;
+  m.nobs = static_cast<int32_t>(m.obs.size());
+  m.rewards = r.rewards;
+  for (double& x : m.rewards) x = finiteOr0(x);
+  m.terminated.assign(r.terminated.begin(), r.terminated.end());
+  m.truncated.assign(r.truncated.begin(), r.truncated.end());
+  for (const experiments::EnvInfo& i : r.infos) {
+    m.episode.push_back(i.episode);
+    m.episode_steps.push_back(i.episode_steps);
+    m.episode_return.push_back(finiteOr0(i.episode_return));
+    m.diverged.push_back(i.diverged ? 1 : 0);
+  }
+  m.snapshot_total = static_cast<int32_t>(r.snapshot.size());
+  m.snapshot_offset = 0;
+  m.nsnapshot = m.snapshot_total;
+  m.snapshot.assign(r.snapshot.begin(), r.snapshot.end());
+  return m;
+}
+
+groundsim::session_info_t toMessage(const session::SessionInfo& s, bool with_layout) {
   groundsim::session_info_t m;
   m.utime = toUtime(s.t);
   m.seq = s.seq;
@@ -148,6 +234,14 @@ groundsim::session_info_t toMessage(const session::SessionInfo& s) {
   m.nvehicles = static_cast<int32_t>(s.vehicle_names.size());
   m.vehicle_names = s.vehicle_names;
   m.idle_s = s.idle_s;
+  m.dt = s.dt;
+  m.wheel_counts.resize(s.vehicle_names.size(), 0);
+  for (size_t v = 0; v < s.wheel_counts.size() && v < m.wheel_counts.size(); ++v)
+    m.wheel_counts[v] = static_cast<int8_t>(std::clamp(s.wheel_counts[v], 0, 127));
+  m.control_period = s.control_period;
+  m.num_envs = s.num_envs;
+  if (with_layout && s.layout) m.layout.push_back(toMessage(*s.layout));
+  m.nlayout = static_cast<int32_t>(m.layout.size());
   return m;
 }
 

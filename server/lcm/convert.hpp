@@ -11,6 +11,8 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/session_info_t.hpp>
 #include <groundsim/state_t.hpp>
+#include <groundsim/vec_reply_t.hpp>
+#include <groundsim/vec_request_t.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -31,12 +33,19 @@ inline std::int64_t toUtime(double t) {
 session::Request fromMessage(const groundsim::request_t& m);
 session::Drive fromMessage(const groundsim::drive_t& m);
 session::CarDrive fromMessage(const groundsim::controls_t& m);
+session::VecRequest fromMessage(const groundsim::vec_request_t& m);
 
 groundsim::state_t toMessage(const session::Frame& f);
 // The frame's road cars (f.cars), published beside its state_t.
 groundsim::car_state_t toCarMessage(const session::Frame& f);
 groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq);
 groundsim::event_t toMessage(const session::Event& e, std::int64_t seq);
-groundsim::session_info_t toMessage(const session::SessionInfo& s);
+// with_layout: a vectorised session's env_layout_t (replies); the
+// heartbeat leaves it out to stay small.
+groundsim::session_info_t toMessage(const session::SessionInfo& s, bool with_layout = true);
+groundsim::env_layout_t toMessage(const experiments::Layout& l);
+// The whole reply, every environment in one message: LcmServer splits it
+// into parts (protocol/vec_parts.hpp) before publishing.
+groundsim::vec_reply_t toMessage(const session::VecReply& r, std::int64_t seq);
 
 }  // namespace groundsim::net

@@ -12,6 +12,7 @@
 #include "protocol/codec.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/text.hpp"
+#include "protocol/vec_parts.hpp"
 #include "session/answers.hpp"
 #include "session/token.hpp"
 
@@ -50,6 +51,7 @@ LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, 
   lcm_.subscribe(kRequestChannel, &LcmServer::onRequest, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kDriveChannel, &LcmServer::onDrive, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kControlsChannel, &LcmServer::onControls, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(kVecRequestChannel, &LcmServer::onVecRequest, this)->setQueueCapacity(kDeepQueue);
 }
 
 LcmServer::~LcmServer() { service_.reset(); }
@@ -97,6 +99,21 @@ void LcmServer::publishReply(const session::Reply& r) {
   }
 }
 
+void LcmServer::publishVecReply(const session::VecReply& r) {
+  try {
+    groundsim::vec_reply_t whole = toMessage(r, 0);
+    whole.utime = wallMicros();
+    // each part one datagram; a client accounts for each (protocol/vec_parts.hpp)
+    for (groundsim::vec_reply_t& part : splitVecReply(whole)) {
+      part.seq = vec_seq_++;
+      publish(kVecReplyChannel, part);
+    }
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish a vec reply: %s\n", e.what());
+  }
+}
+
 void LcmServer::publishEvent(const session::Event& e) try {
   publish(kEventChannel, toMessage(e, event_seq_++));
   if (e.severity == session::Severity::Info) {
@@ -128,6 +145,10 @@ void LcmServer::onControls(const lcm::ReceiveBuffer* rbuf, const std::string& ch
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 
+void LcmServer::onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
 // Handlers run inside lcm_handle(), which is C: an exception must stop here
 // (as Drake's DrakeLcm stores it) and become an event, never unwind.
 void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
@@ -136,6 +157,7 @@ void LcmServer::handleDatagram(const std::string& channel, const void* data, int
     if (channel == kRequestChannel) handleRequest(channel, data, size);
     else if (channel == kDriveChannel) handleDrive(channel, data, size);
     else if (channel == kControlsChannel) handleControls(channel, data, size);
+    else if (channel == kVecRequestChannel) handleVecRequest(channel, data, size);
   } catch (const std::exception& e) {
     try {
       service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
@@ -192,6 +214,36 @@ void LcmServer::handleControls(const std::string& channel, const void* data, int
   service_->handleControls(fromMessage(msg));
 }
 
+void LcmServer::handleVecRequest(const std::string& channel, const void* data, int size) {
+  groundsim::vec_request_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.vec_request_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
+  std::string field;
+  for (const auto& [f, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
+    if (why.empty() && !(why = badId(f, *v)).empty()) field = f;
+  session::VecRequest r = fromMessage(msg);
+  if (!why.empty()) {
+    // answerable: the client id is fine, so the client hears why
+    session::VecReply reply;
+    reply.op = r.op;
+    reply.request_id = r.request_id;
+    reply.client_id = r.client_id;
+    reply.ok = false;
+    reply.code = session::ErrorCode::BadRequest;
+    reply.field = field;
+    reply.error = why;
+    session::Event e = session::refusalEvent(session::ReplyTo{session::Op::List, r.request_id, r.client_id}, "",
+                                             reply.code, why);
+    e.channel = channel;
+    publishEvent(e);
+    publishVecReply(reply);
+    return;
+  }
+  service_->handleVecRequest(std::move(r));
+}
+
 void LcmServer::heartbeat() {
   const session::ServiceStatus st = service_->status();
   groundsim::server_status_t m;
@@ -206,8 +258,8 @@ void LcmServer::heartbeat() {
   m.errors = errors_.load();
   // ended sessions too (final status, last seq): subscribers whose final
   // state was lost learn from here that the session ended and at which seq
-  for (const auto& s : st.sessions) m.sessions.push_back(toMessage(s));
-  for (const auto& s : st.ended) m.sessions.push_back(toMessage(s));
+  for (const auto& s : st.sessions) m.sessions.push_back(toMessage(s, false));
+  for (const auto& s : st.ended) m.sessions.push_back(toMessage(s, false));
   m.nsessions = static_cast<int32_t>(m.sessions.size());
   publish(kStatusChannel, m);
 }

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   app.add_option("--publish-limit", cfg.publish_limit, "state messages per wall second per session (paced, not dropped)")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-lag", cfg.max_lag, "s behind the wall clock before a real time session skips ahead")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-vehicles", cfg.max_vehicles, "vehicles per session")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--max-envs", cfg.max_envs, "environments of one vectorised session (checked before building)")
+      ->capture_default_str()->check(CLI::Range(1, 65536));
   app.add_flag("--quiet", quiet, "do not log events on stderr");
   app.add_option("--terrain-dir", cfg.terrain_dir, "folder a scenario's heightfield and friction-map files are read from (none: inline only)")
       ->check(CLI::ExistingDirectory);
@@ -89,10 +91,10 @@ int main(int argc, char** argv) {
                 server.workers(), cfg.max_sessions);
     const auto& lim = server.config().budget;
     std::printf("limits: scenario %zu bytes, depth %d, %d vehicles, %lld points, %lld springs, %lld particles, "
-                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz\n",
+                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz; %d envs per vectorised session\n",
                 lim.max_document_bytes, lim.max_depth, lim.max_vehicles, lim.max_points, lim.max_springs,
                 lim.max_particles, lim.max_state, lim.max_implicit_state, lim.max_steps, lim.max_work, cfg.min_rate,
-                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate);
+                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate, cfg.max_envs);
     std::fflush(stdout);
     server.run(g_stop);
     std::printf("groundsim-server stopped\n");

@@ -18,6 +18,9 @@ inline constexpr const char* kScenarioChannel = "GROUNDSIM_SCENARIO";  // scenar
 // request_t.op that asks for a session's scenario_t (answered on
 // kScenarioChannel, then with a reply_t); request_t itself is unchanged
 inline constexpr int8_t kOpScenario = 9;
+// vectorised sessions (experiments API): vec_request_t in, vec_reply_t parts out
+inline constexpr const char* kVecRequestChannel = "GROUNDSIM_VEC_REQUEST";
+inline constexpr const char* kVecReplyChannel = "GROUNDSIM_VEC_REPLY";
 inline constexpr const char* kCarStatePrefix = "GROUNDSIM_CAR_STATE_";  // + session id: car_state_t (road cars)
 
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }

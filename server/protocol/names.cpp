@@ -1,6 +1,7 @@
 #include "names.hpp"
 
 #include <groundsim/request_t.hpp>
+#include <groundsim/session_info_t.hpp>
 #include <groundsim/state_t.hpp>
 
 namespace groundsim::net {
@@ -10,6 +11,7 @@ const char* modeName(int mode) {
     case groundsim::request_t::MODE_REALTIME: return "realtime";
     case groundsim::request_t::MODE_FAST: return "fast";
     case groundsim::request_t::MODE_LOCKSTEP: return "lockstep";
+    case groundsim::session_info_t::MODE_VECTORISED: return "vectorised";
   }
   return "?";
 }

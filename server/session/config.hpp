@@ -22,6 +22,8 @@ struct ServiceConfig {
   int max_vehicles = 32;               // per session: keeps a state message in one UDP datagram
   std::size_t max_scenario_bytes = 1 << 20;  // at most net::kMaxScenarioBytes (what a create can carry)
   std::int64_t max_steps_per_request = 100'000'000;
+  int max_envs = 1024;                 // environments of one vectorised session (checked before building)
+  std::size_t max_snapshot_bytes = 1 << 20;  // a restore request's snapshot (at most net::kMaxSnapshotBytes)
   double min_rate = 1e-3;              // smallest real-time factor (create, mode)
   double max_rate = 1000.0;            // largest real-time factor
   double min_publish_rate = 1e-3;      // Hz of simulation time

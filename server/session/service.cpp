@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "answers.hpp"
+#include "experiments/vec_env.hpp"
 #include "scenario/scenario.hpp"
 #include "token.hpp"
 
@@ -132,6 +133,7 @@ void SessionService::handleRequest(const Request& r) {
         return replyOk(r, std::move(reply));
       }
       case Op::Stop: {
+        if (stopVec(r)) return;
         auto s = owned(r);
         if (!s) return;
         {
@@ -145,6 +147,14 @@ void SessionService::handleRequest(const Request& r) {
       }
       case Op::Scenario: {  // anyone may read a session's scenario, as its states
         auto s = find(r.session_id);
+        if (auto v = s ? nullptr : findVec(r.session_id)) {
+          Reply reply;
+          reply.session_id = r.session_id;
+          reply.scenario_json = v->scenarioJson();
+          reply.scenario_name = v->name();
+          reply.sessions.push_back(v->info(clock_.now()));
+          return replyOk(r, std::move(reply));
+        }
         if (!s) return fail(r, ErrorCode::UnknownSession, "unknown session '" + r.session_id + "'");
         Reply reply;
         reply.session_id = r.session_id;
@@ -164,6 +174,10 @@ void SessionService::handleRequest(const Request& r) {
       case Op::Resume:
       case Op::SetMode: {
         if (r.op == Op::SetMode && !validSettings(r)) return;
+        if (findVec(r.session_id))
+          return fail(r, ErrorCode::WrongMode, "session " + r.session_id +
+                                                   " is vectorised: reset and step it with vec_request_t on "
+                                                   "GROUNDSIM_VEC_REQUEST, stop it with OP_STOP");
         auto s = owned(r);
         if (!s) return;
         s->post(r);
@@ -190,7 +204,7 @@ void SessionService::create(const Request& r) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
     if (shut_down_) return fail(r, ErrorCode::Shutdown, "server is shutting down");
-    const int used = static_cast<int>(sessions_.size()) + reserved_;
+    const int used = static_cast<int>(sessions_.size() + vecs_.size()) + reserved_;
     if (used >= cfg_.max_sessions)
       return fail(r, ErrorCode::TooManySessions,
                   "too many sessions: " + std::to_string(used) + " of " + std::to_string(cfg_.max_sessions) +
@@ -228,8 +242,7 @@ void SessionService::build(const Request& r) {
     setup.control_tables = scene.control_tables;
     {
       std::lock_guard<std::mutex> lk(mutex_);
-      do setup.id = newSessionId();
-      while (sessions_.count(setup.id));
+      setup.id = uniqueId();
       session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
                                           clock_);
       sessions_.emplace(setup.id, session);
@@ -368,6 +381,7 @@ void SessionService::handleControls(CarDrive d) {
 void SessionService::housekeeping() {
   const TimePoint now = clock_.now();
   std::vector<std::shared_ptr<Session>> idle;
+  std::vector<std::shared_ptr<VecSession>> idle_vecs;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     std::erase_if(ended_, [&](const Ended& e) { return seconds(now - e.since) > cfg_.ended_linger; });
@@ -380,6 +394,19 @@ void SessionService::housekeeping() {
         ++it;
       }
     }
+    for (auto it = vecs_.begin(); cfg_.idle_timeout > 0 && it != vecs_.end();) {
+      if (it->second->idleSeconds(now) > cfg_.idle_timeout) {
+        idle_vecs.push_back(it->second);
+        retire(it->second);
+        it = vecs_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (auto& s : idle_vecs) {
+    s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
+    pool_.wake(s);
   }
   for (auto& s : idle) {
     s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
@@ -396,14 +423,17 @@ ServiceStatus SessionService::status() {
   std::lock_guard<std::mutex> lk(mutex_);
   st.sessions.reserve(sessions_.size());
   for (const auto& [id, s] : sessions_) st.sessions.push_back(s->info(now));
-  for (const Ended& e : ended_) st.ended.push_back(e.session->info(now));
+  for (const auto& [id, s] : vecs_) st.sessions.push_back(s->info(now));
+  for (const Ended& e : ended_) st.ended.push_back(e.session ? e.session->info(now) : e.vec->info(now));
   return st;
 }
 
-void SessionService::retire(std::shared_ptr<Session> s) { ended_.push_back(Ended{std::move(s), clock_.now()}); }
+void SessionService::retire(std::shared_ptr<Session> s) { ended_.push_back(Ended{std::move(s), nullptr, clock_.now()}); }
+void SessionService::retire(std::shared_ptr<VecSession> s) { ended_.push_back(Ended{nullptr, std::move(s), clock_.now()}); }
 
 void SessionService::shutdown(const std::string& reason) {
   std::map<std::string, std::shared_ptr<Session>> sessions;
+  std::map<std::string, std::shared_ptr<VecSession>> vecs;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     if (shut_down_) return;
@@ -413,6 +443,12 @@ void SessionService::shutdown(const std::string& reason) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
     sessions.swap(sessions_);
+    vecs.swap(vecs_);
+  }
+  for (auto& [id, s] : vecs) {
+    s->stop(std::nullopt, reason);
+    while (s->run(clock_.now())) {  // answers what was queued, then stops
+    }
   }
   for (auto& [id, s] : sessions) {
     s->stop(std::nullopt, reason);
@@ -420,6 +456,166 @@ void SessionService::shutdown(const std::string& reason) {
   }
   std::lock_guard<std::mutex> lk(mutex_);
   ended_.clear();
+}
+
+// ---- vectorised sessions ----------------------------------------------------
+
+std::string SessionService::uniqueId() {
+  std::string id;
+  do id = newSessionId();
+  while (sessions_.count(id) || vecs_.count(id));
+  return id;
+}
+
+std::shared_ptr<VecSession> SessionService::findVec(const std::string& id) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = vecs_.find(id);
+  return it == vecs_.end() ? nullptr : it->second;
+}
+
+void SessionService::failVec(const VecRequest& r, ErrorCode code, const std::string& field,
+                             const std::string& error) noexcept {
+  try {
+    VecReply reply;
+    reply.op = r.op;
+    reply.request_id = r.request_id;
+    reply.client_id = r.client_id;
+    reply.session_id = r.session_id;
+    reply.ok = false;
+    reply.code = code;
+    reply.field = field;
+    reply.error = field.empty() ? error : field + ": " + error;
+    out_.publishEvent(refusalEvent(ReplyTo{Op::List, r.request_id, r.client_id}, r.session_id, code, reply.error));
+    out_.publishVecReply(reply);
+  } catch (...) {
+  }
+}
+
+bool SessionService::stopVec(const Request& r) {
+  auto v = findVec(r.session_id);
+  if (!v) return false;
+  if (!v->tokenMatches(r.token)) {
+    fail(r, ErrorCode::Unauthorized,
+         r.token.empty() ? "session " + r.session_id + " needs its token (from the create reply)"
+                         : "wrong token for session " + r.session_id);
+    return true;
+  }
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    vecs_.erase(r.session_id);
+    retire(v);
+  }
+  v->stop(ReplyTo{r.op, r.request_id, r.client_id}, "stopped by its owner");
+  pool_.wake(v);
+  return true;
+}
+
+void SessionService::handleVecRequest(VecRequest r) {
+  try {
+    if (r.op == VecOp::Create) return createVec(r);
+    if (r.op < VecOp::Create || r.op > VecOp::Restore)
+      return failVec(r, ErrorCode::BadRequest, "op", "unknown op " + std::to_string(static_cast<int>(r.op)));
+    auto v = findVec(r.session_id);
+    if (!v) {
+      if (find(r.session_id))
+        return failVec(r, ErrorCode::WrongMode, "session_id",
+                       "session " + r.session_id + " is not vectorised (use request_t on GROUNDSIM_REQUEST)");
+      return failVec(r, ErrorCode::UnknownSession, "session_id", "unknown session '" + r.session_id + "'");
+    }
+    if (!v->tokenMatches(r.token))
+      return failVec(r, ErrorCode::Unauthorized, "token",
+                     r.token.empty() ? "session " + r.session_id + " needs its token (from the create reply)"
+                                     : "wrong token for session " + r.session_id);
+    if (r.snapshot.size() > cfg_.max_snapshot_bytes)
+      return failVec(r, ErrorCode::BadRequest, "snapshot",
+                     std::to_string(r.snapshot.size()) + " bytes, at most " + std::to_string(cfg_.max_snapshot_bytes));
+    // counts, finite actions, env and seed ranges: checked here so that a
+    // bad request is refused at once, without waiting behind queued steps
+    std::string field;
+    const std::string why = checkVecRequest(r, v->layout(), field);
+    if (!why.empty())
+      return failVec(r, field.rfind("actions", 0) == 0 ? ErrorCode::BadControl : ErrorCode::BadRequest, field, why);
+    v->touch(r.received == TimePoint{} ? clock_.now() : r.received);
+    v->post(std::move(r));
+    pool_.wake(v);
+  } catch (const std::exception& e) {
+    failVec(r, ErrorCode::Internal, "", std::string("internal error: ") + e.what());
+  } catch (...) {
+    failVec(r, ErrorCode::Internal, "", "internal error: unknown exception");
+  }
+}
+
+void SessionService::createVec(const VecRequest& r) {
+  if (r.scenario_json.size() > cfg_.max_scenario_bytes)
+    return failVec(r, ErrorCode::BadScenario, "scenario_json",
+                   std::to_string(r.scenario_json.size()) + " bytes, at most " +
+                       std::to_string(cfg_.max_scenario_bytes) + " (server --max-scenario-bytes)");
+  // before anything is built: the server's bound on the batch
+  if (r.num_envs < 1 || r.num_envs > cfg_.max_envs)
+    return failVec(r, ErrorCode::BadRequest, "num_envs",
+                   std::to_string(r.num_envs) + " is outside [1, " + std::to_string(cfg_.max_envs) +
+                       "] (groundsim-server --max-envs)");
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (shut_down_) return failVec(r, ErrorCode::Shutdown, "", "server is shutting down");
+    const int used = static_cast<int>(sessions_.size() + vecs_.size()) + reserved_;
+    if (used >= cfg_.max_sessions)
+      return failVec(r, ErrorCode::TooManySessions, "",
+                     "too many sessions: " + std::to_string(used) + " of " + std::to_string(cfg_.max_sessions) +
+                         " in use (stop one, or start the server with a larger --max-sessions)");
+    ++reserved_;
+  }
+  pool_.post([this, r] { buildVec(r); });
+}
+
+void SessionService::buildVec(const VecRequest& r) {
+  std::shared_ptr<VecSession> session;
+  try {
+    experiments::VecEnvOptions opt;
+    opt.num_threads = 1;  // on this worker only: the pool shares the cores among sessions
+    opt.budget = cfg_.budget;
+    opt.files = cfg_.terrain_dir.empty() ? scenario::FileAccess::none() : scenario::FileAccess::confined(cfg_.terrain_dir);
+    opt.max_envs = cfg_.max_envs;
+    std::unique_ptr<experiments::BatchEnv> env = experiments::makeVecEnv(r.scenario_json, r.num_envs, opt);
+    // the name and vehicle names for listings (the scenario was just validated by makeVecEnv)
+    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json, cfg_.budget, opt.files);
+    VecSetup setup;
+    setup.token = newToken();
+    setup.name = sc.name;
+    setup.scenario_json = r.scenario_json;
+    for (const auto& v : sc.vehicles) setup.vehicle_names.push_back(v.name);
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      setup.id = uniqueId();
+      session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
+      vecs_.emplace(setup.id, session);
+      --reserved_;
+    }
+    VecReply reply;
+    reply.op = VecOp::Create;
+    reply.request_id = r.request_id;
+    reply.client_id = r.client_id;
+    reply.session_id = setup.id;
+    reply.token = setup.token;
+    reply.num_envs = session->layout().num_envs;
+    reply.obs_size = session->layout().obsSize();
+    reply.sessions.push_back(session->info(clock_.now()));
+    out_.publishVecReply(reply);
+    return;
+  } catch (const scenario::ScenarioError& e) {
+    failVec(r, ErrorCode::BadScenario, "scenario_json", "invalid scenario: " + joinIssues(e));
+  } catch (const experiments::ExperimentError& e) {
+    failVec(r, ErrorCode::BadRequest, e.field(), reasonOf(e));
+  } catch (const std::bad_alloc&) {
+    failVec(r, ErrorCode::BadScenario, "num_envs", "building the environments needs more memory than the server has");
+  } catch (const std::exception& e) {
+    failVec(r, session ? ErrorCode::Internal : ErrorCode::BadScenario, session ? "" : "scenario_json",
+            std::string(session ? "internal error: " : "invalid scenario: ") + e.what());
+  } catch (...) {
+    failVec(r, ErrorCode::Internal, "", "internal error: unknown exception while building the environments");
+  }
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (!session) --reserved_;
 }
 
 }  // namespace groundsim::session

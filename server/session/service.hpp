@@ -16,6 +16,7 @@
 #include "scheduler.hpp"
 #include "session.hpp"
 #include "types.hpp"
+#include "vec_session.hpp"
 
 namespace groundsim::session {
 
@@ -42,6 +43,9 @@ class SessionService {
   // naming the field for a vehicle that is not a road car or a value that
   // is not finite or out of range.
   void handleControls(CarDrive d);
+  // A request to a vectorised session (or the create of one): answered
+  // with a VecReply (publishVecReply), refusals naming the field.
+  void handleVecRequest(VecRequest r);
   // Input the transport could not decode (names the channel and why).
   void reportBadInput(ErrorCode code, const std::string& channel, const std::string& reason);
   // Reclaims idle sessions; call about once a second.
@@ -55,12 +59,19 @@ class SessionService {
  private:
   void create(const Request& r);
   void build(const Request& r);  // on a worker
+  void createVec(const VecRequest& r);
+  void buildVec(const VecRequest& r);  // on a worker
+  void failVec(const VecRequest& r, ErrorCode code, const std::string& field, const std::string& error) noexcept;
+  std::shared_ptr<VecSession> findVec(const std::string& id);
+  bool stopVec(const Request& r);  // Op::Stop of a vectorised session; false: not one
+  std::string uniqueId();          // mutex_ held
   std::shared_ptr<Session> find(const std::string& id);
   // Looks up the session and checks the token; answers the refusal itself.
   std::shared_ptr<Session> owned(const Request& r);
   bool validSettings(const Request& r);
   void fail(const Request& r, ErrorCode code, const std::string& error) noexcept;
   void retire(std::shared_ptr<Session> s);  // mutex_ held: into ended_
+  void retire(std::shared_ptr<VecSession> s);
   void replyOk(const Request& r, Reply reply);
 
   ServiceConfig cfg_;
@@ -68,8 +79,10 @@ class SessionService {
   const SessionClock& clock_;
   std::mutex mutex_;  // sessions_ and reserved_ (workers add sessions after building them)
   std::map<std::string, std::shared_ptr<Session>> sessions_;
+  std::map<std::string, std::shared_ptr<VecSession>> vecs_;  // vectorised sessions
   struct Ended {
     std::shared_ptr<Session> session;
+    std::shared_ptr<VecSession> vec;  // one of the two
     TimePoint since;
   };
   std::vector<Ended> ended_;

@@ -75,6 +75,8 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
     vehicles_[v].gears = static_cast<int>(m.road_cars[c].p.powertrain.gears.size());
   }
   names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
+  info_.dt = m.opt.dt;
+  for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
   anchor_.reset(now, sim_.state().t, setup_.rate);
   updateInfo(now);

@@ -7,6 +7,7 @@ const char* modeName(Mode m) {
     case Mode::Realtime: return "realtime";
     case Mode::Fast: return "fast";
     case Mode::Lockstep: return "lockstep";
+    case Mode::Vectorised: return "vectorised";
   }
   return "?";
 }
@@ -18,6 +19,18 @@ const char* statusName(Status s) {
     case Status::Finished: return "finished";
     case Status::Diverged: return "diverged";
     case Status::Stopped: return "stopped";
+  }
+  return "?";
+}
+
+const char* vecOpName(VecOp op) {
+  switch (op) {
+    case VecOp::Create: return "create";
+    case VecOp::Step: return "step";
+    case VecOp::Reset: return "reset";
+    case VecOp::ResetEnv: return "reset_env";
+    case VecOp::Snapshot: return "snapshot";
+    case VecOp::Restore: return "restore";
   }
   return "?";
 }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "experiments/batch_env.hpp"
 #include "physics/telemetry.hpp"
 
 namespace groundsim::session {
@@ -17,7 +18,8 @@ namespace groundsim::session {
 using Clock = std::chrono::steady_clock;
 using TimePoint = Clock::time_point;
 
-enum class Mode : int { Realtime = 1, Fast = 2, Lockstep = 3 };
+// Vectorised: N environments of a task, stepped only by VecOp::Step (session_info_t.MODE_VECTORISED).
+enum class Mode : int { Realtime = 1, Fast = 2, Lockstep = 3, Vectorised = 4 };
 enum class Status : int { Running = 1, Paused = 2, Finished = 3, Diverged = 4, Stopped = 5 };
 enum class Op : int { Create = 1, List = 2, Stop = 3, Reset = 4, Pause = 5, Resume = 6, Step = 7, SetMode = 8,
                       Scenario = 9 };
@@ -106,6 +108,11 @@ struct SessionInfo {
   std::int64_t seq = -1;          // last published frame
   std::vector<std::string> vehicle_names;
   double idle_s = 0.0;
+  double dt = 0.0;                // s  physics step
+  std::vector<int> wheel_counts;  // per vehicle
+  int control_period = 0;         // vectorised: physics steps per action, else 0
+  int num_envs = 0;               // vectorised: environments, else 0
+  std::shared_ptr<const experiments::Layout> layout;  // vectorised sessions
 };
 
 struct Reply {
@@ -135,6 +142,51 @@ struct Event {
   double t = 0.0;
 };
 
+// A request to a vectorised session (vec_request_t), numbered as its OP_*.
+enum class VecOp : int { Create = 1, Step = 2, Reset = 3, ResetEnv = 4, Snapshot = 5, Restore = 6 };
+const char* vecOpName(VecOp op);
+
+struct VecRequest {
+  VecOp op = VecOp::Step;
+  std::int64_t request_id = 0;
+  std::string client_id;
+  std::string session_id;
+  std::string token;
+  std::string scenario_json;      // Create: a scenario with a `task`
+  int num_envs = 0;               // Create
+  std::vector<float> actions;     // Step: [num_envs x action_size], row-major
+  int env = 0;                    // ResetEnv, Snapshot, Restore
+  bool has_seed = false;          // Reset, ResetEnv
+  std::int64_t seed = 0;          // checked: [0, 2^63); env i of a Reset gets seed + i
+  std::string snapshot;           // Restore
+  TimePoint received{};
+};
+
+// The whole answer to a VecRequest; the transport splits it into parts.
+// Arrays cover the environments [env_begin, env_begin + env_count).
+struct VecReply {
+  VecOp op = VecOp::Step;
+  std::int64_t request_id = 0;
+  std::string client_id;
+  std::string session_id;
+  bool ok = true;
+  ErrorCode code = ErrorCode::None;
+  std::string field;              // refusals: what is wrong
+  std::string error;
+  std::string token;              // Create
+  std::int64_t tick = 0;          // batched steps taken
+  std::vector<SessionInfo> sessions;  // Create: the session, with its layout
+  int num_envs = 0;
+  int env_begin = 0;
+  int env_count = 0;
+  int obs_size = 0;
+  std::vector<float> obs;
+  std::vector<double> rewards;
+  std::vector<std::uint8_t> terminated, truncated;
+  std::vector<experiments::EnvInfo> infos;
+  std::string snapshot;           // Snapshot
+};
+
 // Reply to a request, remembered until the request has been carried out.
 struct ReplyTo {
   Op op = Op::List;
@@ -151,6 +203,7 @@ class Output {
   virtual void publishState(const Frame& f) = 0;
   virtual void publishReply(const Reply& r) = 0;
   virtual void publishEvent(const Event& e) = 0;
+  virtual void publishVecReply(const VecReply& r) = 0;
 };
 
 }  // namespace groundsim::session

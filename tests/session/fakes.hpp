@@ -64,6 +64,26 @@ class RecordingOutput final : public Output {
     std::lock_guard<std::mutex> lk(m_);
     events.push_back(e);
   }
+  void publishVecReply(const VecReply& r) override {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      vec_replies.push_back(r);
+    }
+    cv_.notify_all();
+  }
+  // Waits (bounded; the verdict never depends on how long) for the vec reply to request_id.
+  bool waitVecReply(std::int64_t request_id, VecReply* out, double timeout_s = 60) {
+    std::unique_lock<std::mutex> lk(m_);
+    const bool got = cv_.wait_for(lk, std::chrono::duration<double>(timeout_s), [&] {
+      for (const auto& r : vec_replies)
+        if (r.request_id == request_id) return true;
+      return false;
+    });
+    if (got)
+      for (const auto& r : vec_replies)
+        if (r.request_id == request_id) *out = r;
+    return got;
+  }
   // Waits (bounded; the verdict never depends on how long) for a reply to request_id.
   bool waitReply(std::int64_t request_id, Reply* out, double timeout_s = 60) {
     std::unique_lock<std::mutex> lk(m_);
@@ -87,6 +107,7 @@ class RecordingOutput final : public Output {
   std::atomic<bool> throw_on_state{false};
   std::vector<Frame> frames;
   std::vector<Reply> replies;
+  std::vector<VecReply> vec_replies;
   std::vector<Event> events;
 
  private:

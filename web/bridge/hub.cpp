@@ -557,6 +557,9 @@ void Hub::publishLobby() {
       j["rate"] = si.rate;
       j["publish_rate"] = si.publish_rate;
       j["vehicles"] = si.vehicle_names;
+      j["wheel_counts"] = std::vector<int>(si.wheel_counts.begin(), si.wheel_counts.end());
+      j["dt"] = si.dt;
+      j["num_envs"] = si.num_envs;  // > 0: a vectorised session (nothing to draw: it publishes no states)
       j["source"] = "server";
       listed.insert(si.session_id);
       sessions.push_back(std::move(j));

@@ -1,0 +1,285 @@
+#include "remote_vec_env.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <unistd.h>
+
+#include <groundsim/event_t.hpp>
+#include <groundsim/request_t.hpp>
+
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/text.hpp"
+
+namespace groundsim::experiments {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::int64_t wallMicros() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+Layout fromWire(const groundsim::env_layout_t& m) {
+  Layout l;
+  l.num_envs = m.num_envs;
+  l.dt = m.dt;
+  l.control_period = m.control_period;
+  l.time_limit = m.time_limit;
+  l.observation = m.observation;
+  l.observation_low = m.observation_low;
+  l.observation_high = m.observation_high;
+  l.action = m.action;
+  l.action_low = m.action_low;
+  l.action_high = m.action_high;
+  l.wheel_counts.assign(m.wheel_counts.begin(), m.wheel_counts.end());
+  l.scenario_hash = m.scenario_hash;
+  return l;
+}
+
+// A refusal: the server names the field for bad input (an ExperimentError,
+// as makeVecEnv throws); without a field it is the transport's or the
+// server's own trouble.
+[[noreturn]] void throwRefusal(const groundsim::vec_reply_t& r) {
+  if (!r.field.empty()) {
+    const std::string prefix = r.field + ": ";
+    throw ExperimentError(r.field, r.error.rfind(prefix, 0) == 0 ? r.error.substr(prefix.size()) : r.error);
+  }
+  throw RemoteError("groundsim-server refused: " + r.error);
+}
+
+// The wire's int64 holds [0, 2^63), what makeVecEnv takes; said here so
+// that 2^64 - 1 is not sent as -1.
+std::string seedText(std::optional<std::uint64_t> seed) {
+  if (seed && *seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+    return "must be in [0, 2^63), got " + std::to_string(*seed);
+  return "";
+}
+
+}  // namespace
+
+RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, RemoteVecOptions options)
+    : options_(std::move(options)),
+      // parts come in a burst: a deep socket buffer, as every subscriber that must not lose messages
+      url_(net::withReceiveBuffer(options_.lcm_url)),
+      lcm_(url_),
+      watch_(lcm_) {
+  if (!lcm_.good())
+    throw RemoteError("cannot open LCM URL " + net::quoted(url_) +
+                      " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
+  std::random_device rd;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "vec-%d-%08x", static_cast<int>(getpid()), rd());
+  client_id_ = buf;
+  lcm_.subscribe(net::kVecReplyChannel, &RemoteVecEnv::onVecReply, this)->setQueueCapacity(net::kDeepQueue);
+  lcm_.subscribe(net::kReplyChannel, &RemoteVecEnv::onReply, this)->setQueueCapacity(net::kDeepQueue);
+
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_CREATE;
+  req.scenario_json = scenario_text;
+  req.num_envs = num_envs;
+  const groundsim::vec_reply_t r = call(req, options_.create_timeout_s, "create");
+  if (r.nsessions < 1 || r.sessions[0].nlayout < 1)
+    throw RemoteError("create: the server's reply carries no layout (an older groundsim-server?)");
+  session_id_ = r.session_id;
+  token_ = r.token;
+  layout_ = fromWire(r.sessions[0].layout[0]);
+  if (layout_.num_envs != num_envs)
+    throw RemoteError("create: asked for " + std::to_string(num_envs) + " environments, the server made " +
+                      std::to_string(layout_.num_envs));
+  infos_.assign(num_envs, EnvInfo{});
+}
+
+RemoteVecEnv::~RemoteVecEnv() {
+  try {
+    close();
+  } catch (...) {
+    // a server that is gone cannot stop the session; it reclaims it when idle
+  }
+}
+
+void RemoteVecEnv::onVecReply(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  groundsim::vec_reply_t m;
+  if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.vec_reply_t").ok()) return;
+  if (m.client_id != client_id_ || m.request_id != assembler_.requestId() || assembler_.requestId() == 0) return;
+  const std::string why = assembler_.add(m);
+  if (!why.empty() && part_error_.empty()) part_error_ = why;
+}
+
+void RemoteVecEnv::onReply(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  groundsim::reply_t m;
+  if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.reply_t").ok()) return;
+  if (m.client_id == client_id_ && m.request_id == stop_waiting_) stop_reply_ = std::move(m);
+}
+
+groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double timeout_s, const char* what) const {
+  req.utime = wallMicros();
+  req.seq = next_id_;
+  req.request_id = next_id_++;
+  req.client_id = client_id_;
+  req.session_id = session_id_;
+  req.token = token_;
+  req.nactions = static_cast<int32_t>(req.actions.size());
+  req.snapshot_size = static_cast<int32_t>(req.snapshot.size());
+  drain();
+  assembler_ = net::VecAssembler(req.request_id);
+  part_error_.clear();
+  if (lcm_.publish(net::kVecRequestChannel, &req) != 0) throw RemoteError(std::string(what) + ": cannot publish on " + url_);
+  const auto start = Clock::now();
+  auto last_part = start;
+  int parts_seen = 0;
+  while (!assembler_.complete()) {
+    if (!part_error_.empty())
+      throw RemoteError(std::string(what) + ": request " + std::to_string(req.request_id) + ": " + part_error_);
+    if (watch_.lost()) throw RemoteError(std::string(what) + ": " + watch_.lostMessage(url_));
+    const int got = assembler_.parts() - static_cast<int>(assembler_.missing().size());
+    if (got != parts_seen) {
+      parts_seen = got;
+      last_part = Clock::now();
+    }
+    // before the first part: the request's timeout; after one, the rest come in a burst
+    if (assembler_.started() ? secondsSince(last_part) > options_.part_gap_s : secondsSince(start) > timeout_s) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.1f", secondsSince(start));
+      throw RemoteError(std::string(what) + ": request " + std::to_string(req.request_id) + " of session " +
+                        (session_id_.empty() ? std::string("(new)") : session_id_) + ": missing " +
+                        assembler_.missingText() + " of the reply after " + buf + " s on " + url_ +
+                        (assembler_.started() ? " (lost datagrams: a larger recv_buf_size helps)"
+                         : watch_.heartbeats() > 0 ? " (the server's heartbeat is there: busy or dropped)"
+                                                   : " (is groundsim-server running with the same --lcm-url?)"));
+    }
+    lcm_.handleTimeout(assembler_.started() ? 20 : 100);
+  }
+  groundsim::vec_reply_t r = assembler_.take();
+  assembler_ = net::VecAssembler(0);
+  if (!r.ok) throwRefusal(r);
+  return r;
+}
+
+// Handles what arrived while the caller was busy elsewhere (heartbeats
+// queued in the socket): a client that did not call for longer than the
+// heartbeat timeout must not take a living server for a dead one.
+void RemoteVecEnv::drain() const {
+  for (int i = 0; i < 100000 && lcm_.handleTimeout(0) > 0; ++i) {
+  }
+}
+
+void RemoteVecEnv::checkOpen(const char* what) const {
+  if (closed_) throw RemoteError(std::string(what) + ": the environment was closed");
+}
+
+void RemoteVecEnv::checkEnv(int env) const {
+  if (env < 0 || env >= layout_.num_envs)
+    throw ExperimentError("env", std::to_string(env) + " is outside [0, " + std::to_string(layout_.num_envs - 1) + "]");
+}
+
+void RemoteVecEnv::takeEnvs(const groundsim::vec_reply_t& r, float* obs, double* rewards, std::uint8_t* terminated,
+                            std::uint8_t* truncated) {
+  const int o = layout_.obsSize();
+  if (r.obs_size != o || r.env_begin < 0 || r.env_begin + r.env_count > layout_.num_envs)
+    throw RemoteError("reply of request " + std::to_string(r.request_id) + " does not fit the layout");
+  if (obs && !r.obs.empty()) std::memcpy(obs, r.obs.data(), r.obs.size() * sizeof(float));
+  for (int i = 0; i < r.env_count; ++i) {
+    if (rewards) rewards[i] = r.rewards[i];
+    if (terminated) terminated[i] = static_cast<std::uint8_t>(r.terminated[i]);
+    if (truncated) truncated[i] = static_cast<std::uint8_t>(r.truncated[i]);
+    EnvInfo& info = infos_[r.env_begin + i];
+    info.episode = r.episode[i];
+    info.episode_steps = r.episode_steps[i];
+    info.episode_return = r.episode_return[i];
+    info.diverged = r.diverged[i] != 0;
+  }
+}
+
+void RemoteVecEnv::reset(std::optional<std::uint64_t> seed, float* obs) {
+  checkOpen("reset");
+  if (const std::string why = seedText(seed); !why.empty()) throw ExperimentError("seed", why);
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_RESET;
+  req.has_seed = seed.has_value();
+  req.seed = seed ? static_cast<std::int64_t>(*seed) : 0;
+  takeEnvs(call(req, options_.timeout_s, "reset"), obs, nullptr, nullptr, nullptr);
+}
+
+void RemoteVecEnv::resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_row) {
+  checkOpen("reset_env");
+  checkEnv(env);
+  if (const std::string why = seedText(seed); !why.empty()) throw ExperimentError("seed", why);
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_RESET_ENV;
+  req.env = env;
+  req.has_seed = seed.has_value();
+  req.seed = seed ? static_cast<std::int64_t>(*seed) : 0;
+  takeEnvs(call(req, options_.timeout_s, "reset_env"), obs_row, nullptr, nullptr, nullptr);
+}
+
+void RemoteVecEnv::step(const float* actions, float* obs, double* rewards, std::uint8_t* terminated,
+                        std::uint8_t* truncated) {
+  checkOpen("step");
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_STEP;
+  req.actions.assign(actions, actions + static_cast<std::size_t>(layout_.num_envs) * layout_.actionSize());
+  takeEnvs(call(std::move(req), options_.timeout_s, "step"), obs, rewards, terminated, truncated);
+}
+
+EnvInfo RemoteVecEnv::info(int env) const {
+  checkEnv(env);
+  return infos_[env];
+}
+
+std::string RemoteVecEnv::snapshot(int env) const {
+  checkOpen("snapshot");
+  checkEnv(env);
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_SNAPSHOT;
+  req.env = env;
+  const groundsim::vec_reply_t r = call(req, options_.timeout_s, "snapshot");
+  return std::string(r.snapshot.begin(), r.snapshot.end());
+}
+
+void RemoteVecEnv::restore(int env, const std::string& snapshot, float* obs_row) {
+  checkOpen("restore");
+  checkEnv(env);
+  if (snapshot.size() > net::kMaxSnapshotBytes)
+    throw ExperimentError("snapshot", std::to_string(snapshot.size()) + " bytes, at most " +
+                                          std::to_string(net::kMaxSnapshotBytes));
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_RESTORE;
+  req.env = env;
+  req.snapshot.assign(snapshot.begin(), snapshot.end());
+  takeEnvs(call(std::move(req), options_.timeout_s, "restore"), obs_row, nullptr, nullptr, nullptr);
+}
+
+void RemoteVecEnv::close() {
+  if (closed_ || session_id_.empty()) return;
+  closed_ = true;
+  groundsim::request_t req{};
+  req.utime = wallMicros();
+  req.seq = next_id_;
+  req.request_id = next_id_++;
+  req.client_id = client_id_;
+  req.session_id = session_id_;
+  req.token = token_;
+  req.op = groundsim::request_t::OP_STOP;
+  drain();
+  stop_waiting_ = req.request_id;
+  stop_reply_.reset();
+  if (lcm_.publish(net::kRequestChannel, &req) != 0) throw RemoteError("close: cannot publish on " + url_);
+  const auto start = Clock::now();
+  while (!stop_reply_) {
+    if (watch_.lost()) throw RemoteError("close: " + watch_.lostMessage(url_));
+    if (secondsSince(start) > options_.timeout_s)
+      throw RemoteError("close: no reply to the stop of session " + session_id_ + " on " + url_);
+    lcm_.handleTimeout(100);
+  }
+  if (!stop_reply_->ok) throw RemoteError("close: groundsim-server refused: " + stop_reply_->error);
+}
+
+}  // namespace groundsim::experiments

@@ -1,0 +1,70 @@
+"""make_remote_vec against make_vec: the same seed and actions give the same
+bits, over a real groundsim-server. Run by CTest inside a private network
+namespace (tests/integration/netns_run.sh) as python.remote; not collected
+by the plain pytest run (it needs the namespace's multicast route)."""
+
+import os
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+import groundsim
+from conftest import TASKS, actions
+
+URL = "udpm://239.255.76.67:7667?ttl=0"
+SPEED = TASKS / "speed.json"
+
+
+@pytest.fixture()
+def server():
+    p = subprocess.Popen([os.environ["GROUNDSIM_SERVER"], "--lcm-url", URL, "--workers", "2", "--quiet",
+                          "--terrain-dir", str(TASKS)], stdout=subprocess.PIPE, text=True)
+    line = p.stdout.readline()  # the ready line comes first
+    assert "groundsim-server ready" in line, line
+    yield p
+    if p.poll() is None:
+        p.terminate()
+        p.wait(30)
+
+
+def steps(env, seq, seed):
+    out = [tuple(np.copy(a) for a in env.reset(seed=seed)[:1])]
+    for a in seq:
+        obs, rew, term, trunc, infos = env.step(a)
+        out.append((obs.copy(), rew.copy(), term.copy(), trunc.copy(), infos["episode"].copy()))
+    return out
+
+
+def test_remote_is_bit_identical_to_in_process(server):
+    local = groundsim.make_vec(SPEED, 8, num_threads=2)
+    remote = groundsim.make_remote_vec(SPEED, 8, lcm_url=URL)
+    assert remote.single_observation_space.shape == local.single_observation_space.shape
+    assert list(remote.layout.action) == list(local.layout.action)
+    assert remote.layout.dt == local.layout.dt
+    seq = actions(local, 60)
+    a, b = steps(local, seq, 11), steps(remote, seq, 11)
+    for x, y in zip(a, b):
+        for u, v in zip(x, y):
+            assert u.tobytes() == v.tobytes()
+    remote.close()
+    local.close()
+
+
+def test_remote_errors_name_the_field_and_a_dead_server_is_reported(server):
+    remote = groundsim.make_remote_vec(SPEED, 2, lcm_url=URL)
+    remote.reset(seed=0)
+    bad = np.zeros((2, remote.single_action_space.shape[0]), np.float32)
+    bad[1, 0] = np.nan
+    with pytest.raises(groundsim.ExperimentError) as e:
+        remote.step(bad)
+    assert e.value.field == "actions[1][0]"
+    with pytest.raises(groundsim.ExperimentError) as e:
+        groundsim.make_remote_vec(SPEED, 100000, lcm_url=URL)
+    assert e.value.field == "num_envs"
+    server.kill()
+    server.wait(30)
+    time.sleep(0.1)
+    with pytest.raises(groundsim.RemoteError, match="no heartbeat from groundsim-server"):
+        remote.step(np.zeros_like(bad))
