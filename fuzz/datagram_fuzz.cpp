@@ -4,11 +4,8 @@
 // LcmServer::handleDatagram exactly as LCM's receive thread would, then the
 // answers it queued (replies, events, states) are drained.
 //
-// Input layout: the first byte chooses how the rest is sent
-//   bit 0: channel, 0 GROUNDSIM_REQUEST, 1 GROUNDSIM_DRIVE
-//   bit 1: 1 prefixes the rest with that channel's type fingerprint, so the
-//          fuzzer reaches the decoder and the handlers instead of stopping
-//          at the fingerprint check
+// Input layout: datagram_input.hpp (the first byte chooses the channel and
+// whether the target prefixes the rest with that channel's fingerprint).
 // Links groundsim_lcm (and through it groundsim_session, groundsim_protocol,
 // groundsim_scenario, groundsim_physics, groundsim_lcmtypes, liblcm).
 #include <cstddef>
@@ -18,6 +15,7 @@
 #include <groundsim/drive_t.hpp>
 #include <groundsim/request_t.hpp>
 
+#include "datagram_input.hpp"
 #include "lcm/lcm_server.hpp"
 #include "protocol/channels.hpp"
 
@@ -45,10 +43,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1 || size > (1u << 20)) return 0;
   groundsim::net::LcmServer& s = server();
   const std::uint8_t how = data[0];
-  const bool drive = how & 1;
+  const bool drive = how & groundsim::fuzz::kDriveBit;
   std::vector<std::uint8_t> buf;
   buf.reserve(size + 8);
-  if (how & 2)
+  if (how & groundsim::fuzz::kBodyOnlyBit)
     appendFingerprint(buf, drive ? groundsim::drive_t::getHash() : groundsim::request_t::getHash());
   buf.insert(buf.end(), data + 1, data + size);
   s.handleDatagram(drive ? groundsim::net::kDriveChannel : groundsim::net::kRequestChannel, buf.data(),

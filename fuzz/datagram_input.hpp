@@ -1,44 +1,30 @@
-// The datagram fuzzer's input format: a sequence of records
-//   [channel byte][length, 2 bytes little endian][payload]
-// channel byte even: GROUNDSIM_REQUEST, odd: GROUNDSIM_DRIVE. A record whose
-// length runs past the end takes the rest. Shared by the target and the
-// seed writer so that seeds are valid inputs.
+// The datagram fuzzer's input format, shared by the target (datagram_fuzz.cpp)
+// and the seed writer (datagram_seeds.cpp) so that seeds are valid inputs.
+// One input is one datagram:
+//   byte 0, bit 0: channel, 0 GROUNDSIM_REQUEST, 1 GROUNDSIM_DRIVE
+//   byte 0, bit 1: 1 when the rest is a message body without its 8-byte type
+//                  fingerprint; the target puts that channel's fingerprint
+//                  back, so mutations reach the decoder and the handlers
+//                  instead of stopping at the fingerprint check
+//   bytes 1..:     the datagram (or the body)
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace groundsim::fuzz {
 
-enum class Channel { Request, Drive };
+inline constexpr std::uint8_t kDriveBit = 1;
+inline constexpr std::uint8_t kBodyOnlyBit = 2;
 
-struct Datagram {
-  Channel channel;
-  const std::uint8_t* data;
-  int size;
-};
-
-inline std::vector<Datagram> splitDatagrams(const std::uint8_t* data, std::size_t size) {
-  std::vector<Datagram> out;
-  std::size_t at = 0;
-  while (at + 3 <= size) {
-    const Channel ch = (data[at] & 1) ? Channel::Drive : Channel::Request;
-    std::size_t len = data[at + 1] | (std::size_t(data[at + 2]) << 8);
-    at += 3;
-    if (len > size - at) len = size - at;
-    out.push_back({ch, data + at, static_cast<int>(len)});
-    at += len;
-  }
-  return out;
-}
-
-inline void appendDatagram(std::string& input, Channel ch, const std::vector<std::uint8_t>& payload) {
-  input.push_back(ch == Channel::Drive ? 1 : 0);
-  input.push_back(static_cast<char>(payload.size() & 0xff));
-  input.push_back(static_cast<char>((payload.size() >> 8) & 0xff));
-  input.append(payload.begin(), payload.end());
+// An input that delivers `encoded` (a whole LCM encoding, fingerprint first)
+// on the drive or request channel; body_only strips the fingerprint.
+inline std::string makeInput(bool drive, bool body_only, const std::vector<std::uint8_t>& encoded) {
+  std::string input(1, static_cast<char>((drive ? kDriveBit : 0) | (body_only ? kBodyOnlyBit : 0)));
+  const std::size_t skip = body_only && encoded.size() >= 8 ? 8 : 0;
+  input.append(encoded.begin() + static_cast<std::ptrdiff_t>(skip), encoded.end());
+  return input;
 }
 
 }  // namespace groundsim::fuzz

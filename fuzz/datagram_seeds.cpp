@@ -1,10 +1,17 @@
 // Writes the datagram fuzzer's seed corpus: encoded request_t and drive_t
-// messages in the fuzzer's input format (datagram_input.hpp), one file each:
-// a list, a create per scenario file given, and sequences that drive the
-// harness's session ("@") through every op.
+// messages in the target's input format (datagram_input.hpp), one datagram
+// per file, each twice: whole ("-full", fingerprint included) and as a body
+// the target prefixes with the fingerprint ("-body"; mutations of it reach
+// the decoder). The seeds: a list, a create per scenario file given (every
+// mode), every session op and drives on an unknown session (ids and tokens
+// are random, so a fuzzer's session ops are refusals), and refusals (wrong
+// wheel count, non-finite torque, a drive on the request channel, a
+// truncated request).
 //   datagram_seeds <out dir> <scenario.json>...
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,8 +23,7 @@
 
 namespace {
 
-using groundsim::fuzz::appendDatagram;
-using groundsim::fuzz::Channel;
+using groundsim::fuzz::makeInput;
 
 template <class T>
 std::vector<std::uint8_t> encode(const T& msg) {
@@ -26,14 +32,14 @@ std::vector<std::uint8_t> encode(const T& msg) {
   return buf;
 }
 
-groundsim::request_t request(int8_t op, const std::string& session = "@") {
+groundsim::request_t request(int8_t op, const std::string& session = "s0123456789") {
   groundsim::request_t r{};
   r.utime = 1;
   r.seq = 1;
   r.request_id = 7;
   r.client_id = "seed";
   r.session_id = session;
-  r.token = session.empty() ? "" : "@";
+  r.token = session.empty() ? "" : "0123456789abcdef";
   r.op = op;
   return r;
 }
@@ -41,8 +47,8 @@ groundsim::request_t request(int8_t op, const std::string& session = "@") {
 groundsim::drive_t drive(int nwheels, double torque) {
   groundsim::drive_t d{};
   d.client_id = "seed";
-  d.session_id = "@";
-  d.token = "@";
+  d.session_id = "s0123456789";
+  d.token = "0123456789abcdef";
   d.vehicle = 0;
   d.nwheels = static_cast<int8_t>(nwheels);
   d.drive_torque.assign(nwheels, torque);
@@ -51,10 +57,16 @@ groundsim::drive_t drive(int nwheels, double torque) {
   return d;
 }
 
-bool write(const std::string& dir, const std::string& name, const std::string& input) {
-  std::ofstream f(dir + "/" + name, std::ios::binary);
-  f << input;
+bool writeFile(const std::string& path, const std::string& bytes) {
+  std::ofstream f(path, std::ios::binary);
+  f << bytes;
   return static_cast<bool>(f);
+}
+
+// one datagram, as both input forms
+bool write(const std::string& dir, const std::string& name, bool drive, const std::vector<std::uint8_t>& encoded) {
+  return writeFile(dir + "/" + name + "-full", makeInput(drive, false, encoded)) &&
+         writeFile(dir + "/" + name + "-body", makeInput(drive, true, encoded));
 }
 
 std::string readFile(const std::string& path) {
@@ -74,55 +86,43 @@ int main(int argc, char** argv) {
   const std::string dir = argv[1];
   using R = groundsim::request_t;
   bool ok = true;
-  std::string in;
 
-  in.clear();
-  appendDatagram(in, Channel::Request, encode(request(R::OP_LIST, "")));
-  ok &= write(dir, "list", in);
+  ok &= write(dir, "list", false, encode(request(R::OP_LIST, "")));
 
+  const int8_t modes[] = {R::MODE_LOCKSTEP, R::MODE_REALTIME, R::MODE_FAST};
   for (int i = 2; i < argc; ++i) {
     R c = request(R::OP_CREATE, "");
     c.scenario_json = readFile(argv[i]);
-    c.mode = i % 2 ? R::MODE_LOCKSTEP : R::MODE_REALTIME;
-    c.duration = i % 3 ? 0.0 : -1.0;
+    c.mode = modes[i % 3];
+    c.duration = i % 4 ? 0.0 : -1.0;
     c.rate = 2.0;
     c.publish_rate = 25.0;
-    in.clear();
-    appendDatagram(in, Channel::Request, encode(c));
-    ok &= write(dir, "create-" + std::to_string(i - 1), in);
+    ok &= write(dir, "create-" + std::to_string(i - 1), false, encode(c));
   }
 
-  // the harness's lockstep session through every op
-  in.clear();
+  // every session op (on a session the fuzzer cannot know: refusals)
   R step = request(R::OP_STEP);
   step.steps = 20;
-  appendDatagram(in, Channel::Request, encode(step));
-  appendDatagram(in, Channel::Drive, encode(drive(4, 5.0)));
-  appendDatagram(in, Channel::Request, encode(step));
-  appendDatagram(in, Channel::Request, encode(request(R::OP_PAUSE)));
-  appendDatagram(in, Channel::Request, encode(request(R::OP_RESUME)));
-  appendDatagram(in, Channel::Request, encode(request(R::OP_RESET)));
+  ok &= write(dir, "step", false, encode(step));
+  ok &= write(dir, "stop", false, encode(request(R::OP_STOP)));
+  ok &= write(dir, "reset", false, encode(request(R::OP_RESET)));
+  ok &= write(dir, "pause", false, encode(request(R::OP_PAUSE)));
+  ok &= write(dir, "resume", false, encode(request(R::OP_RESUME)));
   R mode = request(R::OP_SET_MODE);
   mode.mode = R::MODE_FAST;
   mode.rate = 4.0;
   mode.publish_rate = 100.0;
-  appendDatagram(in, Channel::Request, encode(mode));
-  appendDatagram(in, Channel::Request, encode(request(R::OP_STOP)));
-  appendDatagram(in, Channel::Request, encode(step));
-  ok &= write(dir, "session-ops", in);
+  ok &= write(dir, "set-mode", false, encode(mode));
+  ok &= write(dir, "drive", true, encode(drive(4, 5.0)));
 
-  // refusals: a drive with the wrong wheel count, a wrong token, a drive on
-  // the request channel (fingerprint), a truncated request
-  in.clear();
-  appendDatagram(in, Channel::Drive, encode(drive(3, 1.0)));
-  groundsim::drive_t wrong = drive(4, 1e9);
-  wrong.token = "0123456789abcdef";
-  appendDatagram(in, Channel::Drive, encode(wrong));
-  appendDatagram(in, Channel::Request, encode(drive(4, 1.0)));
-  std::vector<std::uint8_t> cut = encode(request(R::OP_STEP));
+  // refusals: a drive with the wrong wheel count, a non-finite torque, a
+  // drive on the request channel (wrong fingerprint), a truncated request
+  ok &= write(dir, "drive-3-wheels", true, encode(drive(3, 1.0)));
+  ok &= write(dir, "drive-nan", true, encode(drive(4, std::numeric_limits<double>::quiet_NaN())));
+  ok &= write(dir, "drive-on-request", false, encode(drive(4, 1.0)));
+  std::vector<std::uint8_t> cut = encode(step);
   cut.resize(cut.size() / 2);
-  appendDatagram(in, Channel::Request, cut);
-  ok &= write(dir, "refusals", in);
+  ok &= write(dir, "step-truncated", false, cut);
 
   if (!ok) std::fprintf(stderr, "datagram_seeds: cannot write to %s\n", dir.c_str());
   return ok ? 0 : 1;

@@ -5,7 +5,8 @@
 #   scripts/test.sh                             every test, Release build in build/
 #   scripts/test.sh --sanitize=address,undefined  every test under ASan + UBSan, in build-asan/
 #   scripts/test.sh --sanitize=thread           the integration tests (the multi-threaded
-#                                               server and clients) under TSan, in build-tsan/
+#                                               server and clients) and the session tests
+#                                               under TSan, in build-tsan/
 # A sanitizer report makes the process exit non-zero, so the test fails;
 # the report is in the test's output.
 set -euo pipefail
@@ -36,13 +37,41 @@ case "$sanitize" in
     ;;
   thread)
     dir=build-tsan
-    # only what the integration tests run: the server, the clients and the two suites
-    build_dir "$dir" "groundsim-server groundsim service_integration_tests lifecycle_integration_tests" \
+    # only the multi-threaded code's tests: the server, the clients and every
+    # integration suite (ctest -L integration), and the session layer in process
+    # (session_tests: scheduler workers, LCM's receive thread); the other suites
+    # are single-threaded
+    build_dir "$dir" "groundsim-server groundsim service_integration_tests lifecycle_integration_tests
+      hostile_integration_tests controls_integration_tests session_tests" \
       -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE=thread -DGROUNDSIM_BUILD_BENCH=OFF
     export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
-    # TSan's shadow memory needs the classic address layout: no ASLR (inherited by the
-    # test processes); the other suites are single-threaded
-    exec setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" -L integration "$@"
+    # TSan's shadow memory needs the classic address layout: no ASLR (a
+    # personality flag, inherited by the test processes through unshare and exec)
+    # Three tests are left out: two lifecycle tests assert that a real-time
+    # session keeps pace with the wall clock (torque in force for 0.5 s of
+    # wall time, 0.5 s simulated within a wall-time window), and
+    # LogLearnsAnEnd... needs a 0.2 s fast session to end before the next
+    # client starts; TSan's 5-15x slowdown breaks both premises on 2 cores.
+    # They run in the plain and ASan suites.
+    # Other integration tests wait on the wall clock too (a client's start-up,
+    # a heartbeat) and can miss under TSan on a loaded machine: a failed test
+    # is run again (up to 3 times), but a ThreadSanitizer report in any run,
+    # passed or failed, fails the stage (the output of every run is kept).
+    log="$dir/tsan-ctest.log"
+    rc=0
+    setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" -V --repeat until-pass:3 \
+      -R '^(integration|session)\.' \
+      -E '^integration\.(lifecycle\.CommandTimeoutReleasesTheTorque|lifecycle\.PauseFreezesSimulatedTime|hostile\.LogLearnsAnEndItDidNotHearFromTheHeartbeat)$' \
+      "$@" \
+      >"$log" 2>&1 || rc=$?
+    grep -E 'tests passed|FAILED|Failed' "$log" || true
+    if grep -q 'WARNING: ThreadSanitizer' "$log"; then
+      echo "test.sh: ThreadSanitizer reports (in $log):" >&2
+      grep -A30 'WARNING: ThreadSanitizer' "$log" | head -n 120 >&2
+      exit 1
+    fi
+    [ $rc -eq 0 ] || { echo "test.sh: TSan run failed (log: $log)" >&2; tail -n 60 "$log" >&2; }
+    exit $rc
     ;;
   *)
     echo "test.sh: --sanitize takes address,undefined or thread, got '$sanitize'" >&2
