@@ -1,7 +1,7 @@
 // Per-step cost of a vectorised session over LCM (RemoteVecEnv) against the
 // same batch stepped in process (makeVecEnv on one thread, as the server
 // steps it), for several batch sizes. Prints the figures of
-// docs/experiments-remote.md; run.sh starts the server in a private network
+// docs/experiments.md; run.sh starts the server in a private network
 // namespace.
 #include <algorithm>
 #include <chrono>

@@ -2,7 +2,7 @@
 # Per-step overhead of a vectorised session over LCM against the same batch
 # in process, in a private network namespace (root: unshare -n). The server
 # (one worker) runs on core 0, the client and the in-process batch on core 1.
-# Usage: [SIZES=16,256,1024] [REPEATS=5] bench/remote_vec/run.sh BUILD_DIR [SCENARIO]   (docs/experiments-remote.md)
+# Usage: [SIZES=16,256,1024] [REPEATS=5] bench/remote_vec/run.sh BUILD_DIR [SCENARIO]   (docs/experiments.md)
 set -eu
 build=${1:?usage: run.sh BUILD_DIR [SCENARIO]}
 here=$(cd "$(dirname "$0")" && pwd)

@@ -1,5 +1,5 @@
 """groundsim: vehicles on implicit ground, as vectorised environments for
-reinforcement learning. See docs/experiments-python.md.
+reinforcement learning. See docs/experiments.md.
 
     import groundsim
     env = groundsim.make_vec("configs/tasks/goal.json", num_envs=64)
