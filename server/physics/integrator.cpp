@@ -26,11 +26,17 @@ Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& om
   return integrateRotation(q0, omega, h);
 }
 
+bool contactsHaveFriction(const Workspace& ws) {
+  for (int i = 0; i < ws.ncontacts; ++i)
+    if (ws.contacts[static_cast<size_t>(i)].mu > 0.0) return true;
+  return false;
+}
+
 bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws) {
   if (!m.road_cars.empty()) return true;  // velocity-level brakes, ABS and traction control
-  if (m.opt.contact.friction_model == FrictionModel::StickSlip && m.opt.contact.friction > 0.0 &&
-      ws.ncontacts > 0)
-    return true;
+  // each contact's own mu: friction by place can grip where the scene's
+  // contact.friction is 0
+  if (m.opt.contact.friction_model == FrictionModel::StickSlip && contactsHaveFriction(ws)) return true;
   if (!velocityLevelBrakes(m)) return false;
   for (const auto& c : applied)
     if (c.brake_torque > 0.0) return true;

@@ -82,5 +82,8 @@ Vec3 angularVelocityAt(const Quat& q, const Mat3& inv_inertia_body, const Vec3& 
 // True when the last force evaluation in ws depended on the step h passed to
 // computeForces: stick-slip contacts with friction, or brakes.
 bool forcesDependOnStep(const Model& m, const std::vector<WheelControl>& applied, const Workspace& ws);
+// Whether any contact of the last evaluation has friction (its own mu, which
+// friction by place sets per contact).
+bool contactsHaveFriction(const Workspace& ws);
 
 }  // namespace groundsim

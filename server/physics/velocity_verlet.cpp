@@ -22,7 +22,7 @@ bool velocityIndependent(const Model& m, const std::vector<WheelControl>& applie
     if (c.brake_torque != 0.0 || c.drive_torque != 0.0) return false;
   for (const Spring& sp : m.springs)
     if (sp.damping != 0.0) return false;
-  if (ws.ncontacts > 0 && (m.opt.contact.damping != 0.0 || m.opt.contact.friction != 0.0)) return false;
+  if (ws.ncontacts > 0 && (m.opt.contact.damping != 0.0 || contactsHaveFriction(ws))) return false;
   return true;
 }
 

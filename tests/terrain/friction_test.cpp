@@ -22,12 +22,14 @@ FrictionPatch rect(double x0, double y0, double x1, double y1, double mu) {
 }
 
 // Distance a point mass slides from x = 0 at 5 m/s on z = 0 until it stops.
-double skid(GroundPtr ground, double scene_mu, FrictionModel model = FrictionModel::StickSlip) {
+double skid(GroundPtr ground, double scene_mu, FrictionModel model = FrictionModel::StickSlip,
+            IntegratorKind integrator = IntegratorKind::SemiImplicitEuler, bool damped = true) {
   Options o;
   o.contact.friction_model = model;
+  o.integrator = integrator;
   o.dt = 1e-4;
   o.contact.stiffness = 1e5;
-  o.contact.damping = 2.0 * std::sqrt(1e5 * 1.0);
+  o.contact.damping = damped ? 2.0 * std::sqrt(1e5 * 1.0) : 0.0;
   o.contact.friction = scene_mu;
   ModelBuilder b(o, std::move(ground));
   b.addParticle(1.0, Vec3(0, 0, -9.8 / 1e5), Vec3(5.0, 0, 0));  // resting at its static sag
@@ -56,6 +58,16 @@ TEST(FrictionPatches, SkidStopsAtVSquaredOverTwoMuGOfThePatch) {
   EXPECT_NEAR(skid(withSurfaceFriction(plane, {far}), 0.5), skid(plane, 0.5), 1e-12);
   // the explicit (report's sign) friction reads the patch's mu too
   EXPECT_NEAR(skid(ice, 0.5, FrictionModel::Sign), v2 / (2 * 0.1 * g), 0.01 * v2 / (2 * 0.1 * g));
+}
+
+// A scene without friction or damping of its own is velocity independent
+// for Verlet's force cache, unless a patch gives its contacts friction: the
+// cache must ask each contact's mu, not the scene's contact.friction.
+TEST(FrictionPatches, GripOnAFrictionlessSceneCountsForVerletsForceCache) {
+  const double g = 9.8, v2 = 25.0, mu = 0.5;
+  const GroundPtr grip = withSurfaceFriction(makePlane(Vec3::UnitZ(), 0), {rect(-10, -10, 100, 10, mu)});
+  const double d = skid(grip, 0.0, FrictionModel::StickSlip, IntegratorKind::VelocityVerlet, false);
+  EXPECT_NEAR(d, v2 / (2 * mu * g), 0.01 * v2 / (2 * mu * g));
 }
 
 TEST(FrictionPatches, CrossingFromAsphaltOntoIceStopsWhereBothZonesSay) {
