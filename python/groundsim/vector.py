@@ -213,6 +213,28 @@ class VecEnv(VectorEnv):
         return seeds
 
 
+def _scenario_source(scenario):
+    """(text, path, name) of a scenario given as a dict, JSON text (str or
+    bytes) or a path to a file: text is None for a file, path None otherwise."""
+    if isinstance(scenario, Mapping):
+        try:
+            text = json.dumps(scenario, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
+        return text, None, str(scenario.get("name", "scenario"))
+    if isinstance(scenario, (bytes, bytearray)):
+        return bytes(scenario).decode("utf-8", errors="replace"), None, "scenario"
+    if isinstance(scenario, str) and scenario.lstrip().startswith("{"):
+        return scenario, None, "scenario"
+    if isinstance(scenario, (str, os.PathLike)):
+        path = os.fspath(scenario)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"scenario: no such file: {path!r}")
+        return None, path, os.path.splitext(os.path.basename(path))[0]
+    raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
+                                      f"{type(scenario).__name__}")
+
+
 def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
     """num_envs environments of a scenario with a ``task`` section, stepped
     in this process on num_threads threads (0: one per core, 1: the calling
@@ -229,26 +251,9 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
     if not 0 <= threads < 2**31:
         raise ExperimentError("num_threads", f"num_threads: must be >= 0 (0: one per core), got {threads}")
-    text, name = None, "scenario"
-    if isinstance(scenario, Mapping):
-        try:
-            text = json.dumps(scenario, allow_nan=False)
-        except (TypeError, ValueError) as e:
-            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
-        name = str(scenario.get("name", name))
-    elif isinstance(scenario, (bytes, bytearray)):
-        text = bytes(scenario).decode("utf-8", errors="replace")
-    elif isinstance(scenario, str) and scenario.lstrip().startswith("{"):
-        text = scenario
-    elif isinstance(scenario, (str, os.PathLike)):
-        path = os.fspath(scenario)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"scenario: no such file: {path!r}")
-        core = _core.make_vec_env_from_file(path, n, threads)
-        return VecEnv(core, os.path.splitext(os.path.basename(path))[0])
-    else:
-        raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
-                                          f"{type(scenario).__name__}")
+    text, path, name = _scenario_source(scenario)
+    if path is not None:
+        return VecEnv(_core.make_vec_env_from_file(path, n, threads), name)
     if files_dir is not None:
         files_dir = os.fspath(files_dir)
     return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name)
@@ -271,25 +276,8 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0):
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
     if not (isinstance(timeout, (int, float)) and timeout > 0):
         raise ExperimentError("timeout", f"timeout: must be a positive number of seconds, got {timeout!r}")
-    name = "scenario"
-    if isinstance(scenario, Mapping):
-        try:
-            text = json.dumps(scenario, allow_nan=False)
-        except (TypeError, ValueError) as e:
-            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
-        name = str(scenario.get("name", name))
-    elif isinstance(scenario, (bytes, bytearray)):
-        text = bytes(scenario).decode("utf-8", errors="replace")
-    elif isinstance(scenario, str) and scenario.lstrip().startswith("{"):
-        text = scenario
-    elif isinstance(scenario, (str, os.PathLike)):
-        path = os.fspath(scenario)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"scenario: no such file: {path!r}")
+    text, path, name = _scenario_source(scenario)
+    if path is not None:
         with open(path, encoding="utf-8", errors="replace") as f:
             text = f.read()
-        name = os.path.splitext(os.path.basename(path))[0]
-    else:
-        raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
-                                          f"{type(scenario).__name__}")
     return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout)), name)
