@@ -16,23 +16,13 @@
 
 #include "client/experiments/remote_vec_env.hpp"
 #include "experiments/vec_env.hpp"
+#include "support/actions.hpp"
 
 using namespace groundsim::experiments;
 using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::vector<float> actionsFor(const Layout& l, int n, int step) {
-  std::vector<float> a(static_cast<std::size_t>(n) * l.actionSize());
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < l.actionSize(); ++j) {
-      const float lo = std::isfinite(l.action_low[j]) ? l.action_low[j] : -1.0f;
-      const float hi = std::isfinite(l.action_high[j]) ? l.action_high[j] : 1.0f;
-      a[static_cast<std::size_t>(i) * l.actionSize() + j] =
-          lo + (hi - lo) * (0.5f + 0.45f * std::sin(0.3f * step + 1.7f * i + 2.9f * j));
-    }
-  return a;
-}
 
 // Seconds per batched step: a few steps to warm up, then steps until
 // min_seconds have passed (at least min_steps). Actions are made beforehand.
@@ -40,7 +30,7 @@ double perStep(BatchEnv& env, double min_seconds, int min_steps) {
   const Layout& l = env.layout();
   const int n = l.num_envs;
   std::vector<std::vector<float>> actions;
-  for (int k = 0; k < 64; ++k) actions.push_back(actionsFor(l, n, k));
+  for (int k = 0; k < 64; ++k) actions.push_back(groundsim::test::sweepActions(l, n, k));
   std::vector<float> obs(static_cast<std::size_t>(n) * l.obsSize());
   std::vector<double> rew(n);
   std::vector<std::uint8_t> te(n), tr(n);

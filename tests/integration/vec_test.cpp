@@ -29,6 +29,7 @@
 #include "protocol/codec.hpp"
 #include "protocol/limits.hpp"
 #include "test_env.hpp"
+#include "support/actions.hpp"
 
 namespace groundsim::itest {
 namespace {
@@ -49,17 +50,6 @@ std::string taskScenario() {
   return s.str();
 }
 
-std::vector<float> actionsFor(const Layout& l, int n, int step) {
-  std::vector<float> a(static_cast<std::size_t>(n) * l.actionSize());
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < l.actionSize(); ++j) {
-      const float lo = std::isfinite(l.action_low[j]) ? l.action_low[j] : -1.0f;
-      const float hi = std::isfinite(l.action_high[j]) ? l.action_high[j] : 1.0f;
-      a[static_cast<std::size_t>(i) * l.actionSize() + j] =
-          lo + (hi - lo) * (0.5f + 0.45f * std::sin(0.3f * step + 1.7f * i + 2.9f * j));
-    }
-  return a;
-}
 
 RemoteVecOptions at(const std::string& url) {
   RemoteVecOptions o;
@@ -106,7 +96,7 @@ class Vec : public ::testing::Test {
     remote.reset(2024, obs_r.data());
     ASSERT_EQ(std::memcmp(obs_l.data(), obs_r.data(), o * sizeof(float)), 0);
     for (int k = 0; k < steps; ++k) {
-      const std::vector<float> a = actionsFor(l, n, k);
+      const std::vector<float> a = groundsim::test::sweepActions(l, n, k);
       local->step(a.data(), obs_l.data(), rew_l.data(), te_l.data(), tr_l.data());
       remote.step(a.data(), obs_r.data(), rew_r.data(), te_r.data(), tr_r.data());
       ASSERT_EQ(std::memcmp(obs_l.data(), obs_r.data(), o * sizeof(float)), 0) << "step " << k;
@@ -168,12 +158,12 @@ TEST_F(Vec, SnapshotFromOneServerProcessContinuesBitIdenticalInAnother) {
   std::vector<double> rew(n);
   std::vector<std::uint8_t> te(n), tr(n);
   a.reset(5, obs.data());
-  for (int s = 0; s < 12; ++s) a.step(actionsFor(l, n, s).data(), obs.data(), rew.data(), te.data(), tr.data());
+  for (int s = 0; s < 12; ++s) a.step(groundsim::test::sweepActions(l, n, s).data(), obs.data(), rew.data(), te.data(), tr.data());
   const std::string snap = a.snapshot(env);
   std::vector<std::vector<float>> rows, acts;
   std::vector<double> rewards;
   for (int s = 0; s < 40; ++s) {
-    const std::vector<float> act = actionsFor(l, n, 50 + s);
+    const std::vector<float> act = groundsim::test::sweepActions(l, n, 50 + s);
     a.step(act.data(), obs.data(), rew.data(), te.data(), tr.data());
     acts.emplace_back(act.begin() + env * k, act.begin() + (env + 1) * k);
     rows.emplace_back(obs.begin() + env * o, obs.begin() + (env + 1) * o);
@@ -209,7 +199,7 @@ TEST_F(Vec, BadRequestsAreAnsweredNamingTheFieldAndTheServerKeepsServing) {
     }
     return "(no error)";
   };
-  std::vector<float> nan = actionsFor(l, 3, 0);
+  std::vector<float> nan = groundsim::test::sweepActions(l, 3, 0);
   nan[2 * l.actionSize() + l.actionSize() - 1] = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(field([&] { remote.step(nan.data(), obs.data(), rew.data(), te.data(), tr.data()); }),
             "actions[2][" + std::to_string(l.actionSize() - 1) + "]");
@@ -312,7 +302,7 @@ TEST_F(Vec, ARealtimeSessionBesideAVectorisedOneKeepsPublishing) {
   const auto start = std::chrono::steady_clock::now();
   int steps = 0;
   while (std::chrono::steady_clock::now() - start < std::chrono::seconds(3)) {
-    remote.step(actionsFor(l, n, steps).data(), obs.data(), rew.data(), te.data(), tr.data());
+    remote.step(groundsim::test::sweepActions(l, n, steps).data(), obs.data(), rew.data(), te.data(), tr.data());
     ++steps;
   }
   const std::int64_t during = w.states - before;

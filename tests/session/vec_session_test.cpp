@@ -12,6 +12,7 @@
 #include "experiments/vec_env.hpp"
 #include "fakes.hpp"
 #include "session/service.hpp"
+#include "support/actions.hpp"
 
 namespace groundsim::session::test {
 namespace {
@@ -30,18 +31,6 @@ const std::string& taskScenario() {
   return text;
 }
 
-// Actions that move every control through its range, different per env and step.
-std::vector<float> actionsFor(const Layout& l, int n, int step) {
-  std::vector<float> a(static_cast<std::size_t>(n) * l.actionSize());
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < l.actionSize(); ++j) {
-      const float lo = std::isfinite(l.action_low[j]) ? l.action_low[j] : -1.0f;
-      const float hi = std::isfinite(l.action_high[j]) ? l.action_high[j] : 1.0f;
-      const float u = 0.5f + 0.45f * std::sin(0.3f * step + 1.7f * i + 2.9f * j);
-      a[static_cast<std::size_t>(i) * l.actionSize() + j] = lo + (hi - lo) * u;
-    }
-  return a;
-}
 
 class VecService : public ::testing::Test {
  protected:
@@ -125,7 +114,7 @@ TEST_F(VecService, StepsAreBitIdenticalToMakeVecEnvInProcess) {
   ASSERT_EQ(r.obs.size(), o);
   EXPECT_EQ(std::memcmp(r.obs.data(), obs.data(), o * sizeof(float)), 0);
   for (int k = 0; k < 60; ++k) {
-    const std::vector<float> a = actionsFor(l, n, k);
+    const std::vector<float> a = groundsim::test::sweepActions(l, n, k);
     local->step(a.data(), obs.data(), rew.data(), term.data(), trunc.data());
     r = step(a);
     ASSERT_TRUE(r.ok) << r.error;
@@ -162,7 +151,7 @@ TEST_F(VecService, SnapshotRestoredIntoAnotherServiceContinuesBitIdentical) {
   const int n = 4, env = 2;
   create(n);
   ASSERT_TRUE(reset(7).ok);
-  for (int k = 0; k < 15; ++k) ASSERT_TRUE(step(actionsFor(layout_, n, k)).ok);
+  for (int k = 0; k < 15; ++k) ASSERT_TRUE(step(groundsim::test::sweepActions(layout_, n, k)).ok);
   VecRequest snap = to(VecOp::Snapshot);
   snap.env = env;
   const VecReply s = send(snap);
@@ -171,7 +160,7 @@ TEST_F(VecService, SnapshotRestoredIntoAnotherServiceContinuesBitIdentical) {
   const int a = layout_.actionSize(), o = layout_.obsSize();
   std::vector<std::vector<float>> rows_a, acts;
   for (int k = 0; k < 30; ++k) {
-    const std::vector<float> act = actionsFor(layout_, n, 100 + k);
+    const std::vector<float> act = groundsim::test::sweepActions(layout_, n, 100 + k);
     acts.emplace_back(act.begin() + env * a, act.begin() + (env + 1) * a);
     const VecReply r = step(act);
     ASSERT_TRUE(r.ok);
@@ -230,7 +219,7 @@ TEST_F(VecService, BadRequestsAreRefusedNamingTheField) {
   VecRequest r = to(VecOp::Step);
   r.actions.assign(n * layout_.actionSize() - 1, 0.0f);
   refused(r, ErrorCode::BadControl, "actions");
-  r.actions = actionsFor(layout_, n, 0);
+  r.actions = groundsim::test::sweepActions(layout_, n, 0);
   r.actions[layout_.actionSize()] = std::nanf("");  // env 1, component 0
   refused(r, ErrorCode::BadControl, "actions[1][0]");
   r.actions[layout_.actionSize()] = std::numeric_limits<float>::infinity();
@@ -285,7 +274,7 @@ TEST_F(VecService, BadRequestsAreRefusedNamingTheField) {
   // the session is untouched by all of this
   VecReply ok = reset(1);
   EXPECT_TRUE(ok.ok) << ok.error;
-  EXPECT_TRUE(step(actionsFor(layout_, n, 1)).ok);
+  EXPECT_TRUE(step(groundsim::test::sweepActions(layout_, n, 1)).ok);
 }
 
 TEST_F(VecService, ASnapshotOfAnotherScenarioIsRefused) {
@@ -352,7 +341,7 @@ TEST_F(VecService, ListedWithItsLayoutAndStoppedLikeOtherSessions) {
   EXPECT_TRUE(after.sessions.empty());
   ASSERT_EQ(after.ended.size(), 1u);
   EXPECT_EQ(after.ended[0].status, Status::Stopped);
-  VecReply gone = step(actionsFor(layout_, 5, 0));
+  VecReply gone = step(groundsim::test::sweepActions(layout_, 5, 0));
   EXPECT_FALSE(gone.ok);
   EXPECT_EQ(gone.code, ErrorCode::UnknownSession);
 }
