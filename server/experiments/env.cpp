@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "experiments/task_context.hpp"
+#include "physics/batch_step.hpp"
 
 namespace groundsim::experiments {
 namespace {
@@ -146,6 +147,14 @@ void Env::applyAction() {
         sim_->controls()[static_cast<size_t>(ctx_->wheels[static_cast<size_t>(w)])].drive_torque =
             action_[static_cast<size_t>(w)];
   }
+}
+
+bool stepsBatched(const TaskContext& c) {
+  const scenario::TaskSpec& t = c.task();
+  if (!t.parameters.empty() || BatchStep::unsupported(*c.scene.built.model) != nullptr) return false;
+  for (scenario::Feature f : t.observation)
+    if (f == scenario::Feature::WheelContact || f == scenario::Feature::WheelSlip) return false;
+  return true;
 }
 
 void Env::step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {

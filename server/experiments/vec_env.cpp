@@ -173,14 +173,6 @@ class VecEnv final : public BatchEnv {
 
 }  // namespace
 
-bool stepsBatched(const TaskContext& c) {
-  const scenario::TaskSpec& t = c.task();
-  if (!t.parameters.empty() || BatchStep::unsupported(*c.scene.built.model) != nullptr) return false;
-  for (scenario::Feature f : t.observation)
-    if (f == scenario::Feature::WheelContact || f == scenario::Feature::WheelSlip) return false;
-  return true;
-}
-
 std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_envs, const VecEnvOptions& options) {
   if (num_envs < 1 || num_envs > options.max_envs)
     throw ExperimentError("num_envs", "must be in [1, " + std::to_string(options.max_envs) + "], got " +
