@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan) into build-fuzz/ and runs
+# Builds the libFuzzer targets (clang, ASan + UBSan) into build-asan/
+# (the build of scripts/test.sh --sanitize=address,undefined) and runs
 # each one in turn, starting from its seed corpus (configs/, tests/cli/data/,
-# encoded messages) and the corpus earlier runs left in build-fuzz/corpus/.
+# encoded messages) and the corpus earlier runs left in build-asan/corpus/.
 # Fails on any crash, leak, sanitizer report, timeout (-timeout) or
 # allocation beyond the limits; the input that did it is saved in
-# build-fuzz/artifacts/ and replays with `build-fuzz/fuzz/<target> <file>`.
+# build-asan/artifacts/ and replays with `build-asan/fuzz/<target> <file>`.
 #   scripts/fuzz.sh                  60 s per target
 #   scripts/fuzz.sh --seconds 300    300 s per target
 #   scripts/fuzz.sh --runs 5000000   5 million executions per target
@@ -28,12 +29,9 @@ done
 
 scripts/setup.sh
 . scripts/lib/build_dir.sh
-dir=build-fuzz
-build_dir "$dir" "${targets[*]} fuzz_seeds" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++-14 \
-  -DGROUNDSIM_FUZZ=ON -DGROUNDSIM_BUILD_TESTS=OFF -DGROUNDSIM_BUILD_BENCH=OFF
-
-symbolizer=/usr/lib/llvm-14/bin/llvm-symbolizer
-[ -x "$symbolizer" ] && export ASAN_SYMBOLIZER_PATH="$symbolizer"
+. scripts/lib/asan_build.sh
+asan_build "${targets[*]} fuzz_seeds"
+dir=$asan_build_dir
 export ASAN_OPTIONS="detect_leaks=1:detect_stack_use_after_return=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 

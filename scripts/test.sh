@@ -4,6 +4,7 @@
 # to ctest (e.g. -R physics).
 #   scripts/test.sh                             every test, Release build in build/
 #   scripts/test.sh --sanitize=address,undefined  every test under ASan + UBSan, in build-asan/
+#                                               (clang; the build scripts/fuzz.sh uses too)
 #   scripts/test.sh --sanitize=thread           the integration tests (the multi-threaded
 #                                               server and clients) and the session tests
 #                                               under TSan, in build-tsan/
@@ -27,9 +28,10 @@ case "$sanitize" in
     scripts/build.sh
     exec ctest --test-dir build "${ctest_args[@]}" "$@"
     ;;
-  address,undefined | undefined,address | address | undefined)
-    dir=build-asan
-    build_dir "$dir" "" -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE="$sanitize" -DGROUNDSIM_BUILD_BENCH=OFF
+  address,undefined | undefined,address)
+    . scripts/lib/asan_build.sh
+    asan_build ""
+    dir=$asan_build_dir
     # leaks are errors too; a UBSan report stops the process (-fno-sanitize-recover)
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
