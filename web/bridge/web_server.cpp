@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+
+#include "lcm/latency_trace.hpp"
 
 namespace groundsim::web {
 
@@ -103,6 +106,7 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
       current_ = std::move(*it);
     }
     writing_ = true;
+    if (net::LatencyTrace::on()) traceSend(*current_);
     ws_.text(true);
     ws_.async_write(asio::buffer(*current_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
       self->writing_ = false;
@@ -110,6 +114,16 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
       if (ec) return self->close();
       self->write();
     });
+  }
+
+  // The latency trace: which state this browser is sent, and when.
+  void traceSend(const std::string& msg) const {
+    static const std::string state = "{\"op\":\"state\"", seq = "\"seq\":";
+    if (msg.compare(0, state.size(), state) != 0) return;
+    const auto at = msg.find(seq);
+    if (at == std::string::npos) return;
+    net::LatencyTrace::line("wsend %s %lld %lld", name_.c_str(), std::atoll(msg.c_str() + at + seq.size()),
+                            static_cast<long long>(net::LatencyTrace::nowUs()));
   }
 
   // Detaches from the hub once; the socket goes when the last handler
