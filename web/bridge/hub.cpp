@@ -156,8 +156,13 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
     return sendJson(p, R"({"op":"left"})");
   }
   if (auto* ping = std::get_if<PingMsg>(&m)) {
-    char b[64];
-    std::snprintf(b, sizeof b, "{\"op\":\"pong\",\"t\":%.17g}", ping->t);
+    const PeerStats st = p->stats();
+    char b[256];
+    std::snprintf(b, sizeof b,
+                  "{\"op\":\"pong\",\"t\":%.17g,\"states_sent\":%llu,\"states_skipped\":%llu,\"queued\":%zu,"
+                  "\"waiting_bytes\":%zu,\"send_buffer\":%d}",
+                  ping->t, static_cast<unsigned long long>(st.states_sent),
+                  static_cast<unsigned long long>(st.states_skipped), st.queued, st.waiting_bytes, st.send_buffer);
     return sendJson(p, b);
   }
 }
