@@ -81,6 +81,7 @@ lat.sort((a, b) => a - b);
 const q = (p) => lat[Math.min(lat.length - 1, Math.floor(p * lat.length))];
 console.log(`latency key press -> state, ${lat.length}/${trials} trials at 60 Hz publish rate, drawing ${draw ? 'on' : 'off'}:`);
 console.log(`  p50 ${q(0.5).toFixed(1)} ms  p99 ${q(0.99).toFixed(1)} ms  min ${lat[0].toFixed(1)} ms  max ${lat[lat.length - 1].toFixed(1)} ms`);
+console.log(`  ${lat.filter((x) => x > 50).length} of ${lat.length} trials above 50 ms`);
 console.log(`  page frame rate ${fps.toFixed(1)} frames/s (640x360, headless Chromium, SwiftShader); car at ${speed.toFixed(1)} m/s at the end`);
 if (trace) {
   const { recv, off } = await page.evaluate(() => ({ recv: [...window.groundsim.bench.recv.entries()], off: window.groundsim.bench.off }));
