@@ -1,6 +1,7 @@
 #!/bin/sh
 # Key press -> state latency of the browser front end (latency.mjs), in a
-# private network namespace. Usage: bench/web/latency.sh [TRIALS] [norender]
+# private network namespace. Usage: bench/web/latency.sh [TRIALS] [norender] [trace]
+# (trace: a breakdown per hop, from GROUNDSIM_TRACE stamps of the server and the bridge)
 # from the source tree, after building groundsim-server, groundsim and groundsim-web in build/.
 set -e
 cd "$(dirname "$0")/../.."

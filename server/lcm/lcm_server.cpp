@@ -8,6 +8,7 @@
 #include <groundsim/scenario_t.hpp>
 
 #include "convert.hpp"
+#include "latency_trace.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/limits.hpp"
@@ -71,6 +72,11 @@ void LcmServer::publishState(const session::Frame& f) {
   try {
     publish(stateChannel(f.session_id), toMessage(f));
     ++frames_;
+    if (LatencyTrace::on())
+      LatencyTrace::line("spub %s %lld %lld %lld %lld", f.session_id.c_str(), static_cast<long long>(f.seq),
+                         static_cast<long long>(LatencyTrace::nowUs()),
+                         static_cast<long long>(LatencyTrace::us(f.drive_received)),
+                         static_cast<long long>(LatencyTrace::us(f.drive_applied)));
     if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f));
   } catch (const std::exception& e) {
     ++errors_;
@@ -200,7 +206,11 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
   if (why.empty()) why = badId("session_id", msg.session_id);
   if (why.empty()) why = badId("token", msg.token);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
-  service_->handleDrive(fromMessage(msg));
+  session::Drive drive = fromMessage(msg);
+  if (LatencyTrace::on())
+    LatencyTrace::line("drx %s %lld %lld", msg.session_id.c_str(), static_cast<long long>(msg.seq),
+                       static_cast<long long>(LatencyTrace::us(drive.received)));
+  service_->handleDrive(std::move(drive));
 }
 
 void LcmServer::handleControls(const std::string& channel, const void* data, int size) {

@@ -282,6 +282,7 @@ void Session::apply(const Drive& d) {
     any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
   }
   last_drive_ = d.received;
+  drive_applied_ = clock_.now();
   drive_held_ = any;
 }
 
@@ -465,6 +466,8 @@ Frame Session::makeFrame(bool published) {
   f.health = s.health;
   f.reason = reason_;
   f.names = names_;
+  f.drive_received = last_drive_;
+  f.drive_applied = drive_applied_;
   f.vehicles.reserve(vehicles_.size());
   for (size_t v = 0; v < vehicles_.size(); ++v) {
     f.vehicles.push_back(sampleVehicle(sim_, static_cast<int>(v), v == 0));

@@ -124,6 +124,7 @@ class Session : public Task {
   PublishBudget budget_;
   std::deque<StepJob> steps_;
   TimePoint last_drive_{};
+  TimePoint drive_applied_{};  // when last_drive_'s command was applied
   bool drive_held_ = false;           // a non-zero drive command is in force
   TimePoint last_car_drive_{};
   bool car_held_ = false;             // a road car's throttle or brake is in force

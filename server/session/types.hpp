@@ -93,6 +93,9 @@ struct Frame {
   std::vector<VehicleSample> vehicles;
   std::vector<CarFrame> cars;        // the road cars among the vehicles (empty without)
   std::shared_ptr<const std::vector<std::string>> names;
+  // the last drive command applied before this frame: when the server got
+  // it and when the session applied it (the latency trace, bench/web)
+  TimePoint drive_received{}, drive_applied{};
 };
 
 struct SessionInfo {

@@ -110,6 +110,30 @@ TEST(Session, CommandTimeoutReleasesTheTorque) {
   EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 1) << "one warning per expiry";
 }
 
+// The latency trace (server/lcm/latency_trace.hpp) follows a press through
+// these two stamps: which drive a frame is the first to reflect, and when
+// the session applied it.
+TEST(Session, FramesCarryWhenTheirLastDriveWasReceivedAndApplied) {
+  Rig rig(Mode::Realtime);
+  const auto due = rig.run();
+  ASSERT_EQ(rig.out.frames.size(), 1u);
+  EXPECT_EQ(rig.out.frames[0].drive_received, TimePoint{}) << "no drive yet";
+  Drive d;
+  d.vehicle = 0;
+  d.wheels.assign(4, WheelControl{});
+  d.received = rig.clock.now();
+  rig.clock.advance(0.003);  // the worker takes it 3 ms later
+  const TimePoint applied = rig.clock.now();
+  rig.session->post(d);
+  rig.run();
+  ASSERT_TRUE(due);
+  rig.clock.set(*due);
+  rig.run();
+  ASSERT_EQ(rig.out.frames.size(), 2u);
+  EXPECT_EQ(rig.out.frames[1].drive_received, d.received);
+  EXPECT_EQ(rig.out.frames[1].drive_applied, applied);
+}
+
 TEST(Session, OverrunSkipsAheadWithOneWarning) {
   Rig rig(Mode::Realtime);
   rig.run();

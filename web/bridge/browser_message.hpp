@@ -33,7 +33,7 @@ struct JoinMsg {
 };
 struct ControlsMsg {
   Controls controls;
-  double seq = 0;              // echoed in states' "ack" (latency measurement)
+  double seq = 0;              // the page's count; the latency trace pairs it with drive_t's seq
 };
 struct GroundMsg {
   double cx = 0, cy = 0;       // m, centre of the grid wanted

@@ -9,6 +9,7 @@
 #include <boost/asio/post.hpp>
 
 #include "bridge/state_json.hpp"
+#include "lcm/latency_trace.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::web {
@@ -16,6 +17,8 @@ namespace groundsim::web {
 namespace asio = boost::asio;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
+// at most one drive command per browser per period (bounds what a browser can make the server do)
+constexpr auto kControlsPeriod = std::chrono::milliseconds(4);
 
 namespace {
 
@@ -50,6 +53,9 @@ LcmHandlers Hub::lcmHandlers() {
   h.status = [this](const groundsim::server_status_t& s) { asio::post(io_, [this, s] { onStatus(s); }); };
   h.state = [this](const groundsim::state_t& s) {
     const std::string& id = s.session_id;
+    if (net::LatencyTrace::on())
+      net::LatencyTrace::line("srx %s %lld %lld", id.c_str(), static_cast<long long>(s.seq),
+                              static_cast<long long>(net::LatencyTrace::nowUs()));
     bool watched = false;
     {
       std::lock_guard<std::mutex> lk(shared_mu_);
@@ -150,8 +156,13 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
     return sendJson(p, R"({"op":"left"})");
   }
   if (auto* ping = std::get_if<PingMsg>(&m)) {
-    char b[64];
-    std::snprintf(b, sizeof b, "{\"op\":\"pong\",\"t\":%.17g}", ping->t);
+    const PeerStats st = p->stats();
+    char b[256];
+    std::snprintf(b, sizeof b,
+                  "{\"op\":\"pong\",\"t\":%.17g,\"states_sent\":%llu,\"states_skipped\":%llu,\"queued\":%zu,"
+                  "\"waiting_bytes\":%zu,\"send_buffer\":%d}",
+                  ping->t, static_cast<unsigned long long>(st.states_sent),
+                  static_cast<unsigned long long>(st.states_skipped), st.queued, st.waiting_bytes, st.send_buffer);
     return sendJson(p, b);
   }
 }
@@ -373,12 +384,48 @@ void Hub::updateWatched(const std::string& id) {
 
 void Hub::controls(Peer* p, PeerState& ps, const ControlsMsg& m) {
   if (ps.role != Role::Drive) return refuse(p, "controls", "", "not driving a vehicle (join with role drive first)");
-  SessionEntry& s = sessions_[ps.session];
-  // a browser cannot flood the server: at most one command per 4 ms each
+  // A browser cannot flood the server: at most one command per period each.
+  // One that comes sooner is held, the newest replacing an older, and sent
+  // when the period is over. Dropped instead, a key press or release that
+  // came right after the page's periodic re-send (or in a burst after a
+  // stall) would wait for the next re-send, 50 ms on.
   const auto now = Clock::now();
-  if (now - ps.last_drive < std::chrono::milliseconds(4)) return;
-  ps.last_drive = now;
-  sendControls(s, ps.session, ps.vehicle, m.controls, ps.drive_seq++);
+  const auto due = ps.last_drive + kControlsPeriod;
+  if (now >= due) return driveNow(ps, m, now);
+  if (ps.held && net::LatencyTrace::on())
+    net::LatencyTrace::line("ctl %s %.0f -1 %lld -1", ps.session.c_str(), ps.held->seq,
+                            static_cast<long long>(net::LatencyTrace::us(ps.held_rx)));
+  const bool waiting = ps.held.has_value();
+  ps.held = m;
+  ps.held_rx = now;
+  if (waiting) return;
+  if (!ps.hold_timer) ps.hold_timer = std::make_shared<asio::steady_timer>(io_);
+  ps.hold_timer->expires_at(due);
+  ps.hold_timer->async_wait([this, p, timer = std::weak_ptr(ps.hold_timer)](const boost::system::error_code& ec) {
+    if (!ec) sendHeld(p, timer);
+  });
+}
+
+// The held controls of a browser, if it still drives: its PeerState (and
+// the timer it owns) is gone when it left or disconnected.
+void Hub::sendHeld(Peer* p, const std::weak_ptr<asio::steady_timer>& timer) {
+  const auto t = timer.lock();
+  auto it = peers_.find(p);
+  if (!t || it == peers_.end() || it->second.hold_timer != t || !it->second.held) return;
+  PeerState& ps = it->second;
+  const ControlsMsg m = *ps.held;
+  ps.held.reset();
+  if (ps.role == Role::Drive) driveNow(ps, m, ps.held_rx);
+}
+
+void Hub::driveNow(PeerState& ps, const ControlsMsg& m, Clock::time_point rx) {
+  ps.last_drive = Clock::now();
+  const std::int64_t seq = ps.drive_seq++;
+  sendControls(sessions_[ps.session], ps.session, ps.vehicle, m.controls, seq);
+  if (net::LatencyTrace::on())
+    net::LatencyTrace::line("ctl %s %.0f %lld %lld %lld", ps.session.c_str(), m.seq, static_cast<long long>(seq),
+                            static_cast<long long>(net::LatencyTrace::us(rx)),
+                            static_cast<long long>(net::LatencyTrace::nowUs()));
 }
 
 void Hub::sendControls(const SessionEntry& s, const std::string& session, int vehicle, const Controls& c,

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -74,6 +75,11 @@ class Hub {
     int vehicle = -1;
     std::int64_t drive_seq = 0;
     std::chrono::steady_clock::time_point last_drive{};
+    // controls that came within kControlsPeriod of the last sent: the
+    // newest, sent by hold_timer when the period is over
+    std::optional<ControlsMsg> held;
+    std::chrono::steady_clock::time_point held_rx{};
+    std::shared_ptr<boost::asio::steady_timer> hold_timer;
     bool grid_busy = false;
     std::optional<GroundMsg> grid_next;
     int logged = 0;
@@ -102,6 +108,8 @@ class Hub {
   void finishJoin(Peer* p, const JoinMsg& m);
   void leave(Peer* p);
   void controls(Peer* p, PeerState& ps, const ControlsMsg& m);
+  void sendHeld(Peer* p, const std::weak_ptr<boost::asio::steady_timer>& timer);
+  void driveNow(PeerState& ps, const ControlsMsg& m, std::chrono::steady_clock::time_point rx);
   void ground(Peer* p, PeerState& ps, const GroundMsg& m);
   void sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m);
   void refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason);

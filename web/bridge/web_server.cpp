@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+
+#include "lcm/latency_trace.hpp"
 
 namespace groundsim::web {
 
@@ -23,6 +26,14 @@ namespace {
 
 // ordered messages a browser may fall behind by before it is dropped
 constexpr std::size_t kMaxQueued = 1024;
+// The kernel's send buffer of a WebSocket. Autotuned it grows to megabytes
+// (net.ipv4.tcp_wmem), seconds of states that a browser which stopped
+// reading would get, stale, before the newest-only slot came into play;
+// bounded, a stalled browser holds at most this much (and its own receive
+// buffer) in the kernel: a browser that reads, but slower than states come,
+// runs that far behind. 32 KiB (Linux books twice that) still carries 60
+// states/s of 32 cars (1.2 MB/s) to a browser 20 ms away.
+constexpr int kSendBufferBytes = 32 * 1024;
 // frames larger than this close the connection (Beast refuses them while
 // reading); smaller ones above kMaxMessageBytes are answered with an error
 constexpr std::size_t kMaxFrameBytes = 64 * 1024;
@@ -75,11 +86,25 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   void sendLatest(Slot slot, std::shared_ptr<const std::string> msg) override {
     if (!open_) return;
     auto& s = latest_[static_cast<int>(slot)];
-    if (s) ++dropped_;
+    if (s && slot == Slot::State) ++states_skipped_;
     s = std::move(msg);
     write();
   }
   std::string describe() const override { return name_; }
+  PeerStats stats() const override {
+    PeerStats st;
+    st.states_sent = states_sent_;
+    st.states_skipped = states_skipped_;
+    st.queued = queue_.size();
+    for (const auto& m : queue_) st.waiting_bytes += m->size();
+    for (const auto& m : latest_)
+      if (m) st.waiting_bytes += m->size();
+    beast::error_code ec;
+    asio::socket_base::send_buffer_size size;
+    ws_.next_layer().socket().get_option(size, ec);
+    st.send_buffer = ec ? -1 : size.value();
+    return st;
+  }
 
  private:
   void read() {
@@ -100,9 +125,11 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     } else {
       auto it = std::find_if(std::begin(latest_), std::end(latest_), [](const auto& m) { return m != nullptr; });
       if (it == std::end(latest_)) return;
+      if (it == std::begin(latest_) + static_cast<int>(Slot::State)) ++states_sent_;
       current_ = std::move(*it);
     }
     writing_ = true;
+    if (net::LatencyTrace::on()) traceSend(*current_);
     ws_.text(true);
     ws_.async_write(asio::buffer(*current_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
       self->writing_ = false;
@@ -110,6 +137,16 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
       if (ec) return self->close();
       self->write();
     });
+  }
+
+  // The latency trace: which state this browser is sent, and when.
+  void traceSend(const std::string& msg) const {
+    static const std::string state = "{\"op\":\"state\"", seq = "\"seq\":";
+    if (msg.compare(0, state.size(), state) != 0) return;
+    const auto at = msg.find(seq);
+    if (at == std::string::npos) return;
+    net::LatencyTrace::line("wsend %s %lld %lld", name_.c_str(), std::atoll(msg.c_str() + at + seq.size()),
+                            static_cast<long long>(net::LatencyTrace::nowUs()));
   }
 
   // Detaches from the hub once; the socket goes when the last handler
@@ -133,7 +170,7 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   std::shared_ptr<const std::string> latest_[kSlots];
   std::shared_ptr<const std::string> current_;
   bool writing_ = false, open_ = false, closing_ = false;
-  std::uint64_t dropped_ = 0;
+  std::uint64_t states_sent_ = 0, states_skipped_ = 0;
 };
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
@@ -233,6 +270,7 @@ void WebServer::accept() {
   acceptor_.async_accept([this](beast::error_code ec, tcp::socket socket) {
     if (!ec) {
       socket.set_option(tcp::no_delay(true), ec);
+      socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
       std::make_shared<HttpSession>(std::move(socket), hub_, files_)->read();
     }
     if (acceptor_.is_open()) accept();

@@ -1,0 +1,279 @@
+#!/usr/bin/env python3
+"""A browser that stops reading never blocks another, and gets the newest
+state, not a backlog, when it reads again.
+
+Two WebSocket clients on the real groundsim-server and groundsim-web (run
+in a private network namespace by netns_run.sh): the fast one creates an
+8-car session publishing at 60 Hz and reads all along; the slow one, with a
+4 KiB receive buffer, spectates it and stops reading for 4 s. Verdicts are
+counts and sequence numbers, checked against the bridge's own account of
+each browser (the pong: states written, states replaced by a newer one
+before being written, bytes waiting), never durations:
+
+- each client's gaps in seq are states the bridge says it skipped for it,
+  and the fast one got every state the bridge did not skip (the pong's
+  count is exactly what it read);
+- the slow one's stale states after resuming (published before it resumed)
+  are no more bytes than the kernel's buffers between them hold (the
+  bridge's send buffer and the client's receive buffer), far fewer than
+  were published while it slept: the bridge skipped the rest;
+- while it slept, the bridge held no more for it than one message per slot;
+- the bridge still serves a new client afterwards.
+
+The clients are raw sockets (RFC 6455 framing by hand): Python sets the
+small receive buffer a browser's socket API cannot.
+"""
+import base64
+import json
+import os
+import re
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+LCM_URL = "udpm://239.255.76.67:7667?ttl=0"
+PAUSE_S = 4.0
+RCVBUF = 4096
+
+
+def fail(msg):
+    print(f"FAIL: {msg}", flush=True)
+    sys.exit(1)
+
+
+class Ws:
+    """A minimal WebSocket client: text frames out (masked), frames in."""
+
+    def __init__(self, port, rcvbuf=None):
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        if rcvbuf:
+            # before connect, so that the window offered to the bridge is small from the start
+            self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, rcvbuf)
+        self.sock.settimeout(15)
+        self.sock.connect(("127.0.0.1", port))
+        key = base64.b64encode(os.urandom(16)).decode()
+        self.sock.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+                           "Sec-WebSocket-Version: 13\r\n\r\n").encode())
+        self.buf = b""
+        while b"\r\n\r\n" not in self.buf:
+            self._more()
+        head, self.buf = self.buf.split(b"\r\n\r\n", 1)
+        if b" 101 " not in head.split(b"\r\n")[0]:
+            fail(f"no WebSocket upgrade: {head[:200]!r}")
+        self.lock = threading.Lock()
+        self.states = []  # seq of every state received
+        self.sizes = []   # and its size in bytes
+
+    def rcvbuf(self):
+        return self.sock.getsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF)
+
+    def _more(self):
+        d = self.sock.recv(65536)
+        if not d:
+            raise ConnectionError("the bridge closed the connection")
+        self.buf += d
+
+    def _take(self, n):
+        while len(self.buf) < n:
+            self._more()
+        out, self.buf = self.buf[:n], self.buf[n:]
+        return out
+
+    def send(self, obj):
+        data = json.dumps(obj).encode()
+        mask = os.urandom(4)
+        n = len(data)
+        head = bytes([0x81]) + (bytes([0x80 | n]) if n < 126 else bytes([0x80 | 126]) + struct.pack("!H", n))
+        body = bytes(b ^ mask[i % 4] for i, b in enumerate(data))
+        with self.lock:
+            self.sock.sendall(head + mask + body)
+
+    def recv(self):
+        """The next text message as (object, its size in bytes)."""
+        text = b""
+        while True:
+            b0, b1 = self._take(2)
+            n = b1 & 0x7F
+            if n == 126:
+                n = struct.unpack("!H", self._take(2))[0]
+            elif n == 127:
+                n = struct.unpack("!Q", self._take(8))[0]
+            payload = self._take(n)
+            op = b0 & 0x0F
+            if op == 8:
+                raise ConnectionError("the bridge closed the WebSocket")
+            if op == 9:  # ping: answer, keep reading
+                with self.lock:
+                    self.sock.sendall(bytes([0x8A, 0x80 | len(payload)]) + b"\0\0\0\0" + payload)
+                continue
+            if op in (0, 1):
+                text += payload
+                if b0 & 0x80:
+                    m = json.loads(text)
+                    if m.get("op") == "state":
+                        self.states.append(m["seq"])
+                        self.sizes.append(len(text))
+                    return m, len(text)
+
+    def until(self, pred, what, limit=5000):
+        for _ in range(limit):
+            m, size = self.recv()
+            if m.get("op") == "error":
+                fail(f"{what}: the bridge refused: {m}")
+            if pred(m):
+                return m
+        fail(f"{limit} messages without {what}")
+
+
+def start(cmd):
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=None, text=True)
+
+
+def gaps(seqs):
+    return (seqs[-1] - seqs[0] + 1) - len(seqs) if seqs else 0
+
+
+def main():
+    env = os.environ
+    procs = [start([env["GROUNDSIM_SERVER"], "--lcm-url", LCM_URL, "--workers", "1"])]
+    bridge = start([env["GROUNDSIM_WEB"], "--lcm-url", LCM_URL, "--bind", "127.0.0.1", "--port", "0"])
+    procs.append(bridge)
+    try:
+        line = bridge.stdout.readline()
+        m = re.search(r"open http://127\.0\.0\.1:(\d+)/", line)
+        if not m:
+            fail(f"the bridge printed no URL: {line!r}")
+        run(int(m.group(1)))
+    finally:
+        for p in procs:
+            p.send_signal(signal.SIGTERM)
+        for p in procs:
+            try:
+                p.wait(5)
+            except subprocess.TimeoutExpired:
+                p.kill()
+
+
+def run(port):
+    fast = Ws(port)
+    fast.until(lambda m: m["op"] == "welcome", "the welcome")
+    fast.send({"op": "create", "config": "plain.json", "mode": "realtime", "publish_rate": 60,
+               "vehicles": 8, "drive": True})
+    joined = fast.until(lambda m: m["op"] == "joined", "the created session joined")
+    session = joined["session"]
+
+    # the fast client reads all along, on its own thread
+    fast_pongs, stop, errors = [], threading.Event(), []
+
+    def read_fast():
+        try:
+            while not stop.is_set():
+                m, _ = fast.recv()
+                if m["op"] == "pong":
+                    fast_pongs.append((m, len(fast.states)))
+        except Exception as e:  # noqa: BLE001 - reported as the verdict
+            if not stop.is_set():
+                errors.append(repr(e))
+
+    reader = threading.Thread(target=read_fast, daemon=True)
+    reader.start()
+
+    slow = Ws(port, rcvbuf=RCVBUF)
+    slow.until(lambda m: m["op"] == "welcome", "the slow client's welcome")
+    slow.send({"op": "join", "session": session, "role": "spectate", "vehicle": -1})
+    slow.until(lambda m: m["op"] == "joined", "the slow client joined")
+    slow.until(lambda m: len(slow.states) >= 10, "10 states")
+    before = len(slow.states)
+    paused_at = max(fast.states[-1], slow.states[-1])
+
+    time.sleep(PAUSE_S)  # the slow client reads nothing; the bridge keeps writing to the fast one
+    slow.send({"op": "ping", "t": 1})
+    resumed_at = fast.states[-1]
+    # reads what the kernel held, then fresh states (bounded: until() gives up)
+    stalled_pong = None
+    for _ in range(2000):
+        m, _ = slow.recv()
+        if m["op"] == "pong":
+            stalled_pong = (m, len(slow.states))
+        if stalled_pong and slow.states[-1] > resumed_at:
+            break
+    after = slow.states[before:]
+    stale = [k for k, seq in enumerate(after) if seq <= resumed_at]
+    stale_bytes = sum(slow.sizes[before + k] for k in stale)
+
+    # final accounts: each pong says how many states the bridge wrote before it
+    slow.send({"op": "ping", "t": 2})
+    final_slow = slow.until(lambda m: m["op"] == "pong", "the slow client's last pong")
+    slow_seqs = list(slow.states)
+    fast.send({"op": "ping", "t": 2})
+    deadline = time.monotonic() + 10
+    while not fast_pongs and time.monotonic() < deadline and not errors:
+        time.sleep(0.01)
+    stop.set()
+    if errors:
+        fail(f"the fast client lost its connection: {errors[0]}")
+    if not fast_pongs:
+        fail("the fast client got no pong")
+    final_fast, fast_read = fast_pongs[-1]
+
+    # a new client is served: the bridge neither stalled nor fell over
+    late = Ws(port)
+    late.until(lambda m: m["op"] == "welcome", "a new client's welcome")
+    late.send({"op": "ping", "t": 3})
+    late.until(lambda m: m["op"] == "pong", "a new client's pong")
+
+    published = resumed_at - paused_at
+    sizes = fast.sizes + slow.sizes
+    smallest = min(sizes)
+    # what the kernel can hold between them: the bridge's send buffer (Linux
+    # books twice the SO_SNDBUF set, and lets one 64 KiB segment past it),
+    # the client's receive buffer (getsockopt reports the doubled figure)
+    send_buffer = stalled_pong[0]["send_buffer"]
+    bound = 2 * send_buffer + 64 * 1024 + slow.rcvbuf()
+    fs = fast.states[:fast_read]
+    print(f"session {session}: states of {smallest}-{max(sizes)} bytes; {published} published while the slow "
+          f"client slept ({PAUSE_S} s)")
+    print(f"fast: read {len(fs)} states, seq {fs[0]}..{fs[-1]}, {gaps(fs)} gaps; bridge: "
+          f"{final_fast['states_sent']} written, {final_fast['states_skipped']} skipped")
+    print(f"slow: read {len(slow_seqs)} states, {gaps(slow_seqs)} gaps; bridge: {final_slow['states_sent']} written, "
+          f"{final_slow['states_skipped']} skipped; after resuming {len(stale)} stale states ({stale_bytes} bytes, "
+          f"the kernel holds at most {bound}), then seq {after[-1]} (newest when it resumed: {resumed_at})")
+    print(f"while it slept the bridge held {stalled_pong[0]['waiting_bytes']} bytes and "
+          f"{stalled_pong[0]['queued']} ordered messages for it")
+
+    if published * sum(sizes) / len(sizes) <= 2 * bound:
+        fail(f"only {published} states published while the slow client slept: the test cannot tell "
+             f"skipping from buffering ({bound} bytes in the kernel)")
+    if final_fast["states_sent"] != fast_read:
+        fail(f"the fast client read {fast_read} states before its pong, the bridge wrote {final_fast['states_sent']}")
+    if gaps(fs) > final_fast["states_skipped"]:
+        fail(f"the fast client missed {gaps(fs)} states, the bridge skipped {final_fast['states_skipped']} for it")
+    if final_fast["states_skipped"] * 4 > published:
+        fail(f"the fast client was skipped {final_fast['states_skipped']} of {published} states while the other slept")
+    if stalled_pong[0]["states_sent"] != stalled_pong[1]:
+        fail(f"the slow client read {stalled_pong[1]} states before its pong, the bridge wrote "
+             f"{stalled_pong[0]['states_sent']}")
+    if gaps(slow_seqs) > final_slow["states_skipped"]:
+        fail(f"the slow client missed {gaps(slow_seqs)} states, the bridge skipped {final_slow['states_skipped']}")
+    if stale_bytes > bound:
+        fail(f"after resuming the slow client read {len(stale)} stale states, {stale_bytes} bytes: more than "
+             f"the kernel's buffers hold ({bound})")
+    if final_slow["states_skipped"] < published - len(stale) - 2:
+        fail(f"the bridge skipped {final_slow['states_skipped']} states for the slow client; "
+             f"{published} were published while it slept")
+    if after[-1] <= resumed_at:
+        fail(f"the slow client's newest state {after[-1]} is older than the newest when it resumed ({resumed_at})")
+    limit = 2 * max(sizes) + 64 * 1024  # the state slot, the car slot, the lobby and a few replies
+    if stalled_pong[0]["queued"] > 4 or stalled_pong[0]["waiting_bytes"] > limit:
+        fail(f"the bridge held {stalled_pong[0]['queued']} messages, {stalled_pong[0]['waiting_bytes']} bytes "
+             "for a browser that did not read")
+    print("PASS", flush=True)
+
+
+if __name__ == "__main__":
+    main()
