@@ -42,7 +42,7 @@ void reportCar(benchmark::State& st, bool deterministic) {
   double sweeps = 0;
   for (auto _ : st) {
     if (!sim.step()) st.SkipWithError("diverged");
-    sweeps += sim.workspace().friction_sweeps;
+    sweeps += sim.frictionSweeps();
   }
   report(st, o.dt);
   // mean Gauss-Seidel sweeps of the friction solve: its share of the cost

@@ -13,6 +13,7 @@ Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
     : model_(std::move(model)), state_(std::move(initial)), ws_(*model_),
       integrator_(makeIntegrator(model_->opt.integrator)) {
   if (fastCarUnsupported(*model_) == nullptr) fast_ = std::make_unique<FastCar>(*model_);
+  else if (ringCarUnsupported(*model_) == nullptr) ring_ = std::make_unique<RingCar>(*model_);
   restore(state_);
 }
 
@@ -69,6 +70,10 @@ bool Simulator::step() {
   ws_.car_inputs = state_.cars;  // same size every step: no allocation
   if (fast_) {
     fast_->step(m, state_, ws_);
+    ws_stale_ = true;
+    integrator_->evaluations += n;
+  } else if (ring_) {
+    ring_->step(m, state_, ws_);
     ws_stale_ = true;
     integrator_->evaluations += n;
   } else {

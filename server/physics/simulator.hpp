@@ -9,6 +9,7 @@
 #include "fast_car.hpp"
 #include "integrator.hpp"
 #include "model.hpp"
+#include "ring_car.hpp"
 #include "state.hpp"
 #include "workspace.hpp"
 
@@ -43,12 +44,16 @@ class Simulator {
   // The road car of a vehicle, or -1 when the vehicle is not one.
   int roadCarIndex(int vehicle) const;
   const Workspace& workspace() const {
-    if (fast_ && ws_stale_) {  // the specialised step fills it on demand
-      fast_->exportTo(*model_, ws_);
+    if (ws_stale_) {  // the specialised steps fill it on demand
+      if (fast_) fast_->exportTo(*model_, ws_);
+      else ring_->exportTo(*model_, ws_);
       ws_stale_ = false;
     }
     return ws_;
   }
+  // Gauss-Seidel sweeps of the last step's friction solve, without filling
+  // the workspace where the ring-car step has it already
+  int frictionSweeps() const { return fast_ ? workspace().friction_sweeps : ws_.friction_sweeps; }
   bool healthy() const { return state_.health == Health::Ok; }
   // The state, for advancing it outside this Simulator (BatchStep: many
   // environments' cars stepped together). The workspace then describes the
@@ -59,6 +64,8 @@ class Simulator {
   long long forceEvaluations() const { return integrator_->evaluations; }
   // Whether steps take the specialised rigid-car path (fast_car.hpp).
   bool specialised() const { return fast_ != nullptr; }
+  // Whether steps take the specialised ring-car path (ring_car.hpp).
+  bool ringCar() const { return ring_ != nullptr; }
   // Energy of the current state, computed in the diagnostics' own scratch
   // (workspace().diagnostics): the last force evaluation stays as it was.
   Energy energy() const;
@@ -73,6 +80,8 @@ class Simulator {
   std::unique_ptr<Integrator> integrator_;
   // the specialised step where the model allows it (fast_car.hpp)
   std::unique_ptr<FastCar> fast_;
+  // the ring car's specialised step where the model allows it (ring_car.hpp)
+  std::unique_ptr<RingCar> ring_;
 };
 
 }  // namespace groundsim
