@@ -1,6 +1,7 @@
 #include "diagnostics.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "forces.hpp"
@@ -76,11 +77,32 @@ bool fail(State& s, Health h, const std::string& why) {
   s.health_reason = why;
   return false;
 }
+
+// Whether every entry is finite: x - x is 0 for a finite x and NaN for a
+// NaN or an infinity, and a sum of such terms is 0 exactly when all are.
+// Two lanes at a time (SSE2, the baseline build); Eigen's allFinite took
+// ~8 instructions an entry, 5% of a ring-car step.
+bool allFinite(const Eigen::VectorXd& y) {
+  using v2d = double __attribute__((vector_size(16)));
+  const double* p = y.data();
+  const Eigen::Index n = y.size();
+  v2d acc = {0.0, 0.0};
+  Eigen::Index i = 0;
+  for (; i + 2 <= n; i += 2) {
+    v2d v;
+    std::memcpy(&v, p + i, sizeof v);
+    acc += v - v;
+  }
+  double rest = acc[0] + acc[1];
+  for (; i < n; ++i) rest += p[i] - p[i];
+  return rest == 0.0;
+}
+
 }  // namespace
 
 bool checkHealth(const Model& m, State& s, Workspace& ws, bool check_energy) {
   if (s.health != Health::Ok) return false;
-  if (!s.y.allFinite()) return fail(s, Health::NonFinite, "state became NaN or infinite");
+  if (!allFinite(s.y)) return fail(s, Health::NonFinite, "state became NaN or infinite");
   const Limits& lim = m.opt.limits;
   if (ws.max_depth > lim.max_penetration) {
     std::ostringstream o;

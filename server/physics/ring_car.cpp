@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "fast_car_kernel.hpp"  // the rigid-body helpers shared with the circle-wheel car
@@ -26,8 +27,12 @@ struct PlainPoint {
 };
 // Points [a0, a0 + n) of one body (a wheel's rim), each joined by one spring
 // of every fan to the fan's far point (an axle point, plain).
+// Its arrays are padded to a multiple of four with points at the wheel's
+// centre on springs of zero stiffness and damping that touch nothing: they
+// add exactly zero, and the 4-wide loops need no remainder.
 struct Rim {
   int body = -1, a0 = 0, n = 0, nf = 0, wheel = -1;
+  int padded = 0;
   int b[2] = {-1, -1};  // plain index of each fan's far point
   std::vector<double> lx, ly, lz;
   std::vector<unsigned char> contact;
@@ -150,7 +155,19 @@ const char* buildPlan(const Model& m, Plan* P) {
     while (r < P->rims.size() && P->rims[r].body == static_cast<int>(i)) ++r;
     P->rim_end[i] = static_cast<int>(r);
   }
-  for (const Rim& r : P->rims) P->max_rim = std::max(P->max_rim, r.n);
+  for (Rim& r : P->rims) {
+    if (r.nf == 1) {  // one fan: the second is the first with no force (zero stiffness and damping)
+      r.b[1] = r.b[0];
+      r.k[1].assign(r.n, 0.0);
+      r.c[1].assign(r.n, 0.0);
+      r.rest[1].assign(r.n, 0.0);
+    }
+    r.padded = (r.n + 3) / 4 * 4;
+    for (auto* v : {&r.lx, &r.ly, &r.lz, &r.k[0], &r.c[0], &r.rest[0], &r.k[1], &r.c[1], &r.rest[1]})
+      v->resize(static_cast<size_t>(r.padded), 0.0);
+    r.contact.resize(static_cast<size_t>(r.padded), 0);
+    P->max_rim = std::max(P->max_rim, r.padded);
+  }
   for (int s : m.loose_springs) {
     const Spring& sp = m.springs[s];
     P->loose.push_back({plain_of[sp.a], plain_of[sp.b], sp.stiffness, sp.damping, sp.rest_length, sp.isotropic});
@@ -195,12 +212,15 @@ struct ContactR {
 
 struct Scratch {
   explicit Scratch(const Plan& P, const Model& m)
-      : rigid(P.rigid), plain(P.plain.size()), H(static_cast<size_t>(P.max_rim)) {
+      : rigid(P.rigid), plain(P.plain.size()) {
+    for (auto* v : {&H, &fx, &fy, &fz, &gx, &gy, &gz}) v->assign(static_cast<size_t>(P.max_rim), 0.0);
     con.reserve(m.contact_points.size());
   }
   fastcar::Scratch<double> rigid;  // bodies: R, Iw, w, F, T, vp, wp
   std::vector<PlainL> plain;
-  std::vector<double> H;  // one rim's H at each point
+  std::vector<double> H;           // one rim's H at each point
+  std::vector<double> fx, fy, fz;  // its spring force on each point (wheel frame)
+  std::vector<double> gx, gy, gz;  // of which the first fan's
   std::vector<ContactR> con;
   double axis[kMaxWheels][3];  // wheel axes, world
   double brake_impulse[kMaxWheels];
@@ -228,14 +248,21 @@ GROUNDSIM_INLINE_BODY void addContact(const Model& m, const Plan& P, Scratch& S,
   c.j0 = c.j1 = 0.0;
 }
 
-// One rim: its NF springs, the plane's H and the sums into the wheel body
+// One rim: its two fans, the plane's H and the sums into the wheel body
 // and the fans' far points, in one pass over its points. The pass runs in
 // the wheel's frame, where a rim point sits still at l: the spring vector
 // is R^T (b - c) - l and the relative velocity R^T (u_b - v) - Omega x l
 // (Omega = R^T omega), lengths and rates are the same in every frame, and
 // the sums go back to the world frame once per rim. No point's world
 // position or velocity is formed.
-template <int NF>
+using v4d = fastcar::v4d;
+GROUNDSIM_INLINE_BODY v4d load4(const double* p) {
+  v4d v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+GROUNDSIM_INLINE_BODY double sum4(v4d v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+
 GROUNDSIM_INLINE_BODY void rimPass(const Plan& P, const Rim& rim, const double* y, BodyL<double>& B, Scratch& S) {
   const double* R = B.R;
   // R^T x for a world vector x
@@ -245,7 +272,7 @@ GROUNDSIM_INLINE_BODY void rimPass(const Plan& P, const Rim& rim, const double* 
     o[2] = R[2] * x + R[5] * yy + R[8] * z;
   };
   PlainL& b0 = S.plain[rim.b[0]];
-  PlainL& b1 = S.plain[rim.b[NF - 1]];
+  PlainL& b1 = S.plain[rim.b[1]];
   double be0[3], ge0[3], be1[3], ge1[3], Om[3], nu[3];
   back(b0.p[0] - y[0], b0.p[1] - y[1], b0.p[2] - y[2], be0);
   back(b0.u[0] - y[7], b0.u[1] - y[8], b0.u[2] - y[9], ge0);
@@ -263,14 +290,20 @@ GROUNDSIM_INLINE_BODY void rimPass(const Plan& P, const Rim& rim, const double* 
   const double* __restrict k0 = rim.k[0].data();
   const double* __restrict c0 = rim.c[0].data();
   const double* __restrict s0 = rim.rest[0].data();
-  const double* __restrict k1 = rim.k[NF - 1].data();
-  const double* __restrict c1 = rim.c[NF - 1].data();
-  const double* __restrict s1 = rim.rest[NF - 1].data();
+  const double* __restrict k1 = rim.k[1].data();
+  const double* __restrict c1 = rim.c[1].data();
+  const double* __restrict s1 = rim.rest[1].data();
   double* __restrict H = S.H.data();
-  double Fx = 0, Fy = 0, Fz = 0, Tx = 0, Ty = 0, Tz = 0;
-  double G0x = 0, G0y = 0, G0z = 0, G1x = 0, G1y = 0, G1z = 0;
-  const int n = rim.n;
-#pragma omp simd reduction(+ : Fx, Fy, Fz, Tx, Ty, Tz, G0x, G0y, G0z, G1x, G1y, G1z)
+  double* __restrict fxs = S.fx.data();
+  double* __restrict fys = S.fy.data();
+  double* __restrict fzs = S.fz.data();
+  double* __restrict gxs = S.gx.data();
+  double* __restrict gys = S.gy.data();
+  double* __restrict gzs = S.gz.data();
+  const int n = rim.padded;
+  // per point, no reduction (GCC keeps `omp simd` reductions in memory):
+  // the sums follow 4 wide
+#pragma omp simd
   for (int q = 0; q < n; ++q) {
     const double px = lx[q], py = ly[q], pz = lz[q];
     const double ux = Oy * pz - Oz * py, uy = Oz * px - Ox * pz, uz = Ox * py - Oy * px;
@@ -281,62 +314,70 @@ GROUNDSIM_INLINE_BODY void rimPass(const Plan& P, const Rim& rim, const double* 
     const double inv = 1.0 / std::sqrt(len2 + 1e-300);
     const double rate = (dx * (e0x - ux) + dy * (e0y - uy) + dz * (e0z - uz)) * inv;
     const double t = (k0[q] * (len2 * inv - s0[q]) + c0[q] * rate) * inv;
-    double fx = t * dx, fy = t * dy, fz = t * dz;
-    G0x -= fx;
-    G0y -= fy;
-    G0z -= fz;
-    if constexpr (NF == 2) {
-      const double gx = b1x - px, gy = b1y - py, gz = b1z - pz;
-      const double m2 = gx * gx + gy * gy + gz * gz;
-      const double iv = 1.0 / std::sqrt(m2 + 1e-300);
-      const double rt = (gx * (e1x - ux) + gy * (e1y - uy) + gz * (e1z - uz)) * iv;
-      const double t1 = (k1[q] * (m2 * iv - s1[q]) + c1[q] * rt) * iv;
-      fx += t1 * gx;
-      fy += t1 * gy;
-      fz += t1 * gz;
-      G1x -= t1 * gx;
-      G1y -= t1 * gy;
-      G1z -= t1 * gz;
-    }
+    const double gx = b1x - px, gy = b1y - py, gz = b1z - pz;
+    const double m2 = gx * gx + gy * gy + gz * gz;
+    const double iv = 1.0 / std::sqrt(m2 + 1e-300);
+    const double rt = (gx * (e1x - ux) + gy * (e1y - uy) + gz * (e1z - uz)) * iv;
+    const double t1 = (k1[q] * (m2 * iv - s1[q]) + c1[q] * rt) * iv;
+    gxs[q] = t * dx;
+    gys[q] = t * dy;
+    gzs[q] = t * dz;
+    fxs[q] = t * dx + t1 * gx;
+    fys[q] = t * dy + t1 * gy;
+    fzs[q] = t * dz + t1 * gz;
+    H[q] = H0 + (nx * px + ny * py + nz * pz);
+  }
+  v4d Fx{}, Fy{}, Fz{}, Tx{}, Ty{}, Tz{}, Gx{}, Gy{}, Gz{};
+  for (int q = 0; q < n; q += 4) {
+    const v4d px = load4(lx + q), py = load4(ly + q), pz = load4(lz + q);
+    const v4d fx = load4(fxs + q), fy = load4(fys + q), fz = load4(fzs + q);
     Fx += fx;
     Fy += fy;
     Fz += fz;
     Tx += py * fz - pz * fy;
     Ty += pz * fx - px * fz;
     Tz += px * fy - py * fx;
-    H[q] = H0 + (nx * px + ny * py + nz * pz);
+    Gx += load4(gxs + q);
+    Gy += load4(gys + q);
+    Gz += load4(gzs + q);
   }
-  const double Fb[3] = {Fx, Fy, Fz}, Tb[3] = {Tx, Ty, Tz}, G0[3] = {G0x, G0y, G0z}, G1[3] = {G1x, G1y, G1z};
-  double Fw[3], Tw[3], Gw[3];
+  // the far points get the opposite: the first fan's sum, and the rest
+  const double Fb[3] = {sum4(Fx), sum4(Fy), sum4(Fz)}, Tb[3] = {sum4(Tx), sum4(Ty), sum4(Tz)};
+  const double G0[3] = {-sum4(Gx), -sum4(Gy), -sum4(Gz)};
+  const double G1[3] = {-Fb[0] - G0[0], -Fb[1] - G0[1], -Fb[2] - G0[2]};
+  double Fw[3], Tw[3], G0w[3], G1w[3];
   mat3vec(R, Fb, Fw);
   mat3vec(R, Tb, Tw);
-  mat3vec(R, G0, Gw);
+  mat3vec(R, G0, G0w);
+  mat3vec(R, G1, G1w);
   for (int d = 0; d < 3; ++d) {
     B.F[d] += Fw[d];
     B.T[d] += Tw[d];
-    b0.f[d] += Gw[d];
-  }
-  if constexpr (NF == 2) {
-    mat3vec(R, G1, Gw);
-    for (int d = 0; d < 3; ++d) b1.f[d] += Gw[d];
+    b0.f[d] += G0w[d];
+    b1.f[d] += G1w[d];
   }
 }
 
 // The rim's points below the plane become contacts (their kinematics again:
-// a handful of points, so the pass above stores none).
+// a handful of points, so the pass above stores none), found four at a time.
 GROUNDSIM_INLINE_BODY void rimContacts(const Model& m, const Plan& P, const Rim& rim, const double* y,
                                        const BodyL<double>& B, Scratch& S) {
-  for (int q = 0; q < rim.n; ++q) {
-    if (!(S.H[q] < 0.0) || !rim.contact[q]) continue;
-    const double l[3] = {rim.lx[q], rim.ly[q], rim.lz[q]};
-    double r[3], p[3], u[3], wr[3];
-    mat3vec(B.R, l, r);
-    cross3(B.w, r, wr);
-    for (int d = 0; d < 3; ++d) {
-      p[d] = y[d] + r[d];
-      u[d] = y[7 + d] + wr[d];
+  for (int q0 = 0; q0 < rim.padded; q0 += 4) {
+    const v4d h = load4(S.H.data() + q0);
+    const auto below = h < 0.0;
+    if (!((below[0] | below[1]) | (below[2] | below[3]))) continue;
+    for (int q = q0; q < q0 + 4; ++q) {
+      if (!(S.H[q] < 0.0) || !rim.contact[q]) continue;
+      const double l[3] = {rim.lx[q], rim.ly[q], rim.lz[q]};
+      double r[3], p[3], u[3], wr[3];
+      mat3vec(B.R, l, r);
+      cross3(B.w, r, wr);
+      for (int d = 0; d < 3; ++d) {
+        p[d] = y[d] + r[d];
+        u[d] = y[7 + d] + wr[d];
+      }
+      addContact(m, P, S, rim.body, rim.a0 + q, rim.wheel, S.H[q], p, r, u);
     }
-    addContact(m, P, S, rim.body, rim.a0 + q, rim.wheel, S.H[q], p, r, u);
   }
 }
 
@@ -385,8 +426,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     const double* y = Y + 13 * i;
     for (int r = P.rim_begin[i]; r < P.rim_end[i]; ++r) {
       const Rim& rim = P.rims[r];
-      if (rim.nf == 2) rimPass<2>(P, rim, y, bodies[i], S);
-      else rimPass<1>(P, rim, y, bodies[i], S);
+      rimPass(P, rim, y, bodies[i], S);
       rimContacts(m, P, rim, y, bodies[i], S);
     }
     for (int k = P.plain_begin[i]; k < P.plain_end[i]; ++k) {
@@ -658,6 +698,7 @@ struct RingCar::Impl {
   Eigen::VectorXd y_eval;               // the configuration of the last evaluation
   std::vector<WheelControl> applied;    // and its controls
   double h = 0.0;                       // and its step
+  int substeps = 1;                     // one: the configuration is the workspace's rollback copy
 };
 
 RingCar::RingCar(const Model& m) {
@@ -674,19 +715,21 @@ void RingCar::step(const Model& m, State& s, Workspace& ws) {
   const bool wide = useWideSimd(m);
   double* y = s.y.data();
   for (int k = 0; k < n; ++k) {
-    if (k + 1 == n) I.y_eval = s.y;  // same size: no allocation
+    // one substep: the rollback copy (Simulator::step) holds the configuration already
+    if (k + 1 == n && n > 1) I.y_eval = s.y;  // same size: no allocation
     if (wide) advanceWide(m, I.plan, y, s.applied, h, I.scratch);
     else advanceGeneric(m, I.plan, y, s.applied, h, I.scratch);
     s.drive_work += h * I.scratch.drive_power;
   }
   I.applied = s.applied;
   I.h = h;
+  I.substeps = n;
   ws.max_depth = I.scratch.max_depth;
   ws.friction_sweeps = I.scratch.sweeps;
 }
 
 void RingCar::exportTo(const Model& m, Workspace& ws) const {
-  computeForces(m, impl_->y_eval, impl_->applied, impl_->h, ws);
+  computeForces(m, impl_->substeps > 1 ? impl_->y_eval : ws.last_good.y, impl_->applied, impl_->h, ws);
 }
 
 }  // namespace groundsim
