@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 
 #include "fast_car_kernel.hpp"  // the rigid-body helpers shared with the circle-wheel car
@@ -214,14 +215,16 @@ struct Scratch {
   explicit Scratch(const Plan& P, const Model& m)
       : rigid(P.rigid), plain(P.plain.size()) {
     for (auto* v : {&H, &fx, &fy, &fz, &gx, &gy, &gz}) v->assign(static_cast<size_t>(P.max_rim), 0.0);
-    con.reserve(m.contact_points.size());
+    con.resize(m.contact_points.size());
   }
   fastcar::Scratch<double> rigid;  // bodies: R, Iw, w, F, T, vp, wp
   std::vector<PlainL> plain;
   std::vector<double> H;           // one rim's H at each point
   std::vector<double> fx, fy, fz;  // its spring force on each point (wheel frame)
   std::vector<double> gx, gy, gz;  // of which the first fan's
-  std::vector<ContactR> con;
+  std::vector<ContactR> con;  // every contact point once at most; [0, ncon) this evaluation's
+  size_t ncon = 0;
+  std::span<ContactR> contacts() { return {con.data(), ncon}; }
   double axis[kMaxWheels][3];  // wheel axes, world
   double brake_impulse[kMaxWheels];
   double drive_power = 0.0, max_depth = 0.0;
@@ -234,7 +237,7 @@ using fastcar::mat3vec;
 
 GROUNDSIM_INLINE_BODY void addContact(const Model& m, const Plan& P, Scratch& S, int body, int point, int wheel,
                                       double H, const double* p, const double* r, const double* u) {
-  ContactR& c = S.con.emplace_back();  // within the reserved capacity: every contact point once at most
+  ContactR& c = S.con[S.ncon++];  // every field below is set before it is read
   c.body = body;
   c.point = point;
   c.wheel = wheel;
@@ -421,7 +424,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     }
   }
   // rims and contacts body by body: the general path's contact order
-  S.con.clear();
+  S.ncon = 0;
   for (size_t i = 0; i < nb; ++i) {
     const double* y = Y + 13 * i;
     for (int r = P.rim_begin[i]; r < P.rim_end[i]; ++r) {
@@ -472,7 +475,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
   }
   // normal forces (report eq. 10 with damping)
   S.max_depth = 0.0;
-  for (ContactR& c : S.con) {
+  for (ContactR& c : S.contacts()) {
     const double rate = -(c.u[0] * P.cn[0] + c.u[1] * P.cn[1] + c.u[2] * P.cn[2]);
     double N = P.stiffness * c.depth;
     N = P.hunt_crossley ? N * (1.0 + P.damping * rate) : N + P.damping * rate;
@@ -513,7 +516,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
   // stick-slip friction and brakes: velocity_constraints.cpp
   S.sweeps = 0;
   for (size_t w = 0; w < nw; ++w) S.brake_impulse[w] = 0.0;
-  if (S.con.empty() && !braking) return;
+  if (S.ncon == 0 && !braking) return;
   for (size_t i = 0; i < nb; ++i) {
     BodyL<double>& B = bodies[i];
     const double* y = Y + 13 * i;
@@ -525,7 +528,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     mat3vec(B.Iw, Lh, B.wp);
   }
   double scale = 0.0;
-  for (ContactR& c : S.con) {
+  for (ContactR& c : S.contacts()) {
     const BodyL<double>& B = bodies[c.body];
     const double inv_m = P.rigid.bodies[c.body].inv_mass;
     cross3(c.r, P.t1, c.a1);
@@ -565,7 +568,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
         C.wp[k] -= d * ic[k];
       }
     }
-    for (ContactR& c : S.con) {
+    for (ContactR& c : S.contacts()) {
       BodyL<double>& B = bodies[c.body];
       const double ut0 = dot3(P.t1, B.vp) + dot3(B.wp, c.a1);
       const double ut1 = dot3(P.t2, B.vp) + dot3(B.wp, c.a2);
@@ -610,7 +613,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       bodies[wc.carrier].T[k] -= tq;
     }
   }
-  for (const ContactR& c : S.con) {
+  for (const ContactR& c : S.contacts()) {
     BodyL<double>& B = bodies[c.body];
     double f[3], rf[3];
     for (int q = 0; q < 3; ++q) f[q] = (c.j0 * P.t1[q] + c.j1 * P.t2[q]) / h;
