@@ -35,6 +35,8 @@ struct Report {
   std::vector<HourRun> hours;
   std::vector<RoadReference> road_refs;  // one per roadManoeuvres() entry
   std::vector<RoadRun> road;             // every manoeuvre x roadSettings()
+  std::vector<RoadReference> stick_refs; // the same with the stick-slip tyre (its own reference)
+  std::vector<RoadRun> stick;            // every manoeuvre x stickSlipSettings(), stick-slip tyre
   std::string command;
   std::string out_dir;  // where the CSV files went
   double total_wall_seconds = 0;
@@ -68,5 +70,9 @@ struct RoadChoice {
   std::string worst_in;     // the manoeuvre with the largest error
 };
 RoadChoice roadChoice(const Report& r, double bound, const std::string& manoeuvre = "");
+RoadChoice roadChoice(const std::vector<RoadRun>& runs, double bound, const std::string& manoeuvre = "");
+// The stick-slip tyre's part of the road section: its references and the
+// fastest settings within the bounds (also printed by `tradeoff --road-only`).
+void writeStickSlipMarkdown(const Report& r, std::ostream& md);
 
 }  // namespace groundsim::accuracy

@@ -38,9 +38,13 @@ std::string errorCell(const RoadRun& r) { return r.healthy ? fmt("%.2e", r.path_
 }  // namespace
 
 RoadChoice roadChoice(const Report& rep, double bound, const std::string& manoeuvre) {
+  return roadChoice(rep.road, bound, manoeuvre);
+}
+
+RoadChoice roadChoice(const std::vector<RoadRun>& runs, double bound, const std::string& manoeuvre) {
   RoadChoice best;
   std::vector<Setting> seen;
-  for (const RoadRun& r : rep.road) {
+  for (const RoadRun& r : runs) {
     if (std::any_of(seen.begin(), seen.end(), [&](const Setting& s) { return same(s, r.setting); })) continue;
     seen.push_back(r.setting);
     RoadChoice c;
@@ -48,7 +52,7 @@ RoadChoice roadChoice(const Report& rep, double bound, const std::string& manoeu
     c.setting = r.setting;
     c.sim_per_wall = 1e300;
     int counted = 0;
-    for (const RoadRun& o : rep.road) {
+    for (const RoadRun& o : runs) {
       if (!same(o.setting, r.setting) || (!manoeuvre.empty() && o.manoeuvre != manoeuvre)) continue;
       ++counted;
       if (!o.healthy || !(o.path_max <= bound)) { c.found = false; break; }
@@ -70,15 +74,19 @@ RoadChoice roadChoice(const Report& rep, double bound, const std::string& manoeu
 void writeRoadCsv(const Report& rep, const std::string& path) {
   std::ofstream f(path);
   f << "manoeuvre,integrator,dt,tolerance,healthy,status,key,key_error,path_rms,path_max,length,"
-       "sim_seconds,wall_seconds,sim_per_wall,evaluations,evals_per_sim\n";
-  for (const RoadRun& r : rep.road) {
+       "sim_seconds,wall_seconds,sim_per_wall,evaluations,evals_per_sim,tyre\n";
+  std::vector<const RoadRun*> all;
+  for (const RoadRun& r : rep.road) all.push_back(&r);
+  for (const RoadRun& r : rep.stick) all.push_back(&r);
+  for (const RoadRun* rp : all) {
+    const RoadRun& r = *rp;
     f << r.manoeuvre << ',' << integratorName(r.setting.integrator) << ',' << r.setting.dt << ','
       << (r.setting.integrator == IntegratorKind::Adaptive ? r.setting.tolerance : 0.0) << ',' << r.healthy << ','
       << r.status << ',';
     if (r.healthy) f << r.key << ',' << r.key_error << ',' << r.path_rms << ',' << r.path_max << ',' << r.length;
     else f << ",,,,";  // a diverged cell has no figures: the CSV never carries NaN
     f << ',' << r.sim_seconds << ',' << r.wall_seconds << ',' << r.simPerWall() << ',' << r.evaluations << ','
-      << r.evalsPerSim() << '\n';
+      << r.evalsPerSim() << ',' << (r.stick_slip ? "stick_slip" : "magic_formula") << '\n';
   }
 }
 
@@ -156,11 +164,14 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
         "since the steering angle moves once per step (its rate limit, like the controls, is applied per "
         "step), and on the braking run the ABS and brake clamp act per step too); how converged it is: the same errors of RK4 at dt "
      << 2 * kRoadRefDt << " s against it (the columns `ref: 2 dt vs dt`).\n\n"
-     << "Tyre models: only the Magic Formula. `tyres.model` accepts `\"magic_formula\"` only: a rigid "
-        "stick-slip contact has no slip angle, so it cannot give the declared cornering stiffnesses (60 / 80 "
-        "kN/rad) nor the understeer gradient, yaw response or ABS slip the sedan is specified by, and its "
-        "velocity-level impulses would rule out RK4, implicit Euler and the adaptive method (see the refused "
-        "combinations below); it is not offered for road cars. `physics.substeps` n at step dt integrates "
+     << "Tyre models: the Magic Formula (the tables above and below, and the presets) and the rigid stick-slip "
+        "contact (`tyres.model: \"stick_slip\"`, its own section after the presets). The stick-slip tyre has no "
+        "slip angle, so it does not give the declared cornering stiffnesses (its understeer gradient is 0, the "
+        "yaw response kinematic until the friction limit), and its friction and brake impulses are sized by the "
+        "step, so only semi-implicit Euler and velocity Verlet take it (RK4, implicit Euler and the adaptive "
+        "method are refused at `/vehicles/i/tyres/model`); it is measured against its own converged reference, "
+        "not the Magic Formula's. "
+        "`physics.substeps` n at step dt integrates "
         "exactly as dt / n with the controls held for n substeps, so the step grid covers it. The ODE "
         "integrators run with `contact.friction_model: \"regularized\"` (they are refused with stick-slip); "
         "a road car's tyres do not use the ground's friction model, so nothing else changes.\n\n"
@@ -213,6 +224,8 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
        << fmt("%.0f", c.sim_per_wall) << " |\n";
   }
 
+  writeStickSlipMarkdown(rep, md);
+
   md << "\n![sedan work-precision](img/road_work_precision.png)\n\n"
      << "Dashed lines: the bounds 5%, 1%, 0.1%. Diverged settings are left out of a panel; the adaptive "
         "method's points are its tolerances 1e-3 to 1e-6 at an output step of 8 ms.\n\n"
@@ -229,6 +242,65 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
         md << " | | | ";
       md << fmt("%.0f", r.evalsPerSim()) << " | " << fmt("%.0f", r.simPerWall()) << " |\n";
     }
+    md << "\n";
+  }
+}
+
+void writeStickSlipMarkdown(const Report& rep, std::ostream& md) {
+  if (rep.stick.empty()) return;
+  const auto& ms = roadManoeuvres();
+  md << "\n### The stick-slip tyre\n\n"
+     << "The same manoeuvres with `tyres.model: \"stick_slip\"` on both axles (everything else as in "
+        "`configs/sedan.json`). Reference: velocity Verlet at dt "
+     << kStickRefDt
+     << " s (RK4 is refused with this tyre), its convergence the same errors of Verlet at dt " << 2 * kStickRefDt
+     << " s against it. The paths are not comparable with the Magic Formula's: with no slip angle the car "
+        "steers kinematically (more yaw for the same steer), and ABS brakes at the static friction.\n\n"
+     << "| manoeuvre | path length m | reference key | ref: 2 dt vs dt, path max | path rms | key |\n"
+     << "|---|---|---|---|---|---|\n";
+  for (size_t i = 0; i < ms.size() && i < rep.stick_refs.size(); ++i) {
+    const RoadReference& ref = rep.stick_refs[i];
+    md << "| " << ms[i].name << " | " << fmt("%.1f", ref.run.length) << " | "
+       << (ref.run.healthy ? fmt("%.6g", ref.run.key) : "diverged (" + ref.run.status + ")") << " | "
+       << (ref.half.healthy ? fmt("%.1e", ref.half.path_max) : "diverged") << " | " << fmt("%.1e", ref.half.path_rms)
+       << " | " << fmt("%.1e", ref.half.key_error) << " |\n";
+  }
+  md << "\nFastest setting within each bound of its own reference (cheapest as above):\n\n"
+     << "| manoeuvre | bound | setting | path max | path rms | key error | evals/sim-s | sim-s/wall-s |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  std::vector<std::string> names;
+  for (const RoadManoeuvre& m : ms) names.push_back(m.name);
+  names.push_back("");  // every manoeuvre at once
+  for (const std::string& name : names)
+    for (auto it = std::rbegin(kBounds); it != std::rend(kBounds); ++it) {
+      const RoadChoice c = roadChoice(rep.stick, it->bound, name);
+      md << "| " << (name.empty() ? "all five" : name) << " | " << pct(it->bound) << " | ";
+      if (!c.found) { md << "none in the sweep | | | | | |\n"; continue; }
+      if (name.empty()) {
+        md << c.setting.label() << " | " << fmt("%.2e", c.worst) << " (" << c.worst_in << ") | | | "
+           << fmt("%.0f", c.evals_per_sim) << " | " << fmt("%.0f", c.sim_per_wall) << " |\n";
+        continue;
+      }
+      const RoadRun* r = nullptr;
+      for (const RoadRun& o : rep.stick)
+        if (o.manoeuvre == name && same(o.setting, c.setting)) r = &o;
+      md << r->setting.label() << " | " << fmt("%.2e", r->path_max) << " | " << fmt("%.2e", r->path_rms) << " | "
+         << fmt("%.2e", r->key_error) << " | " << fmt("%.0f", r->evalsPerSim()) << " | "
+         << fmt("%.0f", r->simPerWall()) << " |\n";
+    }
+  md << "\nEvery stick-slip cell (path max error; diverged settings named):\n\n| setting |";
+  for (const RoadManoeuvre& m : ms) md << " " << m.name << " |";
+  md << "\n|---|";
+  for (size_t i = 0; i < ms.size(); ++i) md << "---|";
+  md << "\n";
+  std::vector<Setting> done;
+  for (const RoadRun& r : rep.stick) {
+    if (std::any_of(done.begin(), done.end(), [&](const Setting& s) { return same(s, r.setting); })) continue;
+    done.push_back(r.setting);
+    md << "| " << r.setting.label() << " |";
+    for (const RoadManoeuvre& m : ms)
+      for (const RoadRun& o : rep.stick)
+        if (o.manoeuvre == m.name && same(o.setting, r.setting)) md << " " << errorCell(o) << " |";
     md << "\n";
   }
 }

@@ -47,6 +47,16 @@ json manoeuvreDoc(const std::string& name, const std::string& configs, double du
   return doc;
 }
 
+void useStickSlip(json& doc) {
+  json& t = doc["vehicle"]["tyres"];
+  if (t.contains("front") || t.contains("rear")) {
+    t["front"]["model"] = "stick_slip";
+    t["rear"]["model"] = "stick_slip";
+  } else {
+    t["model"] = "stick_slip";
+  }
+}
+
 void applySetting(json& doc, const Setting& s) {
   doc["physics"] = {{"integrator", integratorName(s.integrator)}, {"dt", s.dt}};
   if (s.integrator == IntegratorKind::Adaptive) doc["physics"]["tolerance"] = s.tolerance;
@@ -89,12 +99,23 @@ std::vector<Setting> roadSettings(bool quick) {
   return out;
 }
 
-RoadRun runRoad(const RoadManoeuvre& m, const Setting& s, const std::string& configs) {
+std::vector<Setting> stickSlipSettings(bool quick) {
+  std::vector<Setting> out;
+  for (IntegratorKind k : {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet})
+    for (double dt : quick ? std::vector<double>{1e-3, 4e-3}
+                           : std::vector<double>{2.5e-4, 5e-4, 1e-3, 2e-3, 4e-3, 8e-3, 1.6e-2})
+      out.push_back({k, dt, 1e-6, Fidelity::Circle});
+  return out;
+}
+
+RoadRun runRoad(const RoadManoeuvre& m, const Setting& s, const std::string& configs, bool stick_slip) {
   RoadRun r;
   r.manoeuvre = m.name;
   r.setting = s;
+  r.stick_slip = stick_slip;
   json doc = manoeuvreDoc(m.name, configs, m.duration);
   applySetting(doc, s);
+  if (stick_slip) useStickSlip(doc);
   const scenario::Scene scene = scenario::buildScene(scenario::parseScenario(doc, scenario::FileAccess::local(configs)));
   Simulator sim(scene.built.model, scene.built.initial);
   const int body = sim.model().road_cars.at(0).body;

@@ -27,6 +27,7 @@ const std::vector<RoadManoeuvre>& roadManoeuvres();
 struct RoadRun {
   std::string manoeuvre;
   Setting setting;       // fidelity unused
+  bool stick_slip = false;  // tyres.model "stick_slip" instead of the Magic Formula
   bool healthy = true;
   std::string status = "ok";
   std::vector<Vec3> path;  // centre of mass at t = 16 ms, 32 ms, ...
@@ -41,8 +42,9 @@ struct RoadRun {
   double evalsPerSim() const { return sim_seconds > 0 ? evaluations / sim_seconds : 0.0; }
 };
 
-// Runs one manoeuvre at one setting (configs read from `configs`).
-RoadRun runRoad(const RoadManoeuvre& m, const Setting& s, const std::string& configs);
+// Runs one manoeuvre at one setting (configs read from `configs`), with
+// the sedan's Magic Formula tyres or the stick-slip tyre.
+RoadRun runRoad(const RoadManoeuvre& m, const Setting& s, const std::string& configs, bool stick_slip = false);
 
 // Fills r's errors against ref (path samples compared where both exist; a
 // shorter healthy path cannot happen, a diverged run keeps no errors).
@@ -51,6 +53,12 @@ void compareRoad(RoadRun& r, const RoadRun& ref);
 // The step grid of the sweep (s) and the reference: RK4 at kRoadRefDt, its
 // convergence measured against RK4 at 2 kRoadRefDt.
 std::vector<Setting> roadSettings(bool quick);
+// The stick-slip tyre's grid: the integrators that take it (semi-implicit
+// Euler, velocity Verlet), and its own reference: Verlet (no RK4: it is
+// refused with the stick-slip tyre) at kStickRefDt, its convergence
+// measured against Verlet at 2 kStickRefDt.
+std::vector<Setting> stickSlipSettings(bool quick);
+inline constexpr double kStickRefDt = 6.25e-5;
 inline constexpr double kRoadRefDt = 1.25e-4;
 inline constexpr double kRoadSample = 0.016;
 

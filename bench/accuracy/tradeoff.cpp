@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -132,14 +133,23 @@ int main(int argc, char** argv) {
   {
     const auto road_start = std::chrono::steady_clock::now();
     const auto& ms = roadManoeuvres();
-    struct RoadTask { size_t m; Setting s; };
+    struct RoadTask { size_t m; Setting s; bool stick = false; };
     std::vector<RoadTask> rt;
     for (size_t m = 0; m < ms.size(); ++m) {
       rt.push_back({m, Setting{IntegratorKind::Rk4, kRoadRefDt, 1e-6, Fidelity::Circle}});
       rt.push_back({m, Setting{IntegratorKind::Rk4, 2 * kRoadRefDt, 1e-6, Fidelity::Circle}});
     }
+    // the stick-slip tyre: its own references (Verlet), then its grid
+    const size_t stick_refs = rt.size();
+    for (size_t m = 0; m < ms.size(); ++m) {
+      rt.push_back({m, Setting{IntegratorKind::VelocityVerlet, kStickRefDt, 1e-6, Fidelity::Circle}, true});
+      rt.push_back({m, Setting{IntegratorKind::VelocityVerlet, 2 * kStickRefDt, 1e-6, Fidelity::Circle}, true});
+    }
+    const size_t cells = rt.size();
     for (size_t m = 0; m < ms.size(); ++m)
       for (const Setting& s : roadSettings(quick)) rt.push_back({m, s});
+    for (size_t m = 0; m < ms.size(); ++m)
+      for (const Setting& s : stickSlipSettings(quick)) rt.push_back({m, s, true});
     std::vector<RoadRun> runs(rt.size());
     std::fprintf(stderr, "sedan manoeuvres: %zu runs on %d threads\n", rt.size(), jobs);
     // longest first (hill road, small steps), so the threads end together
@@ -150,16 +160,21 @@ int main(int argc, char** argv) {
     });
     parallelFor(rt.size(), jobs, [&](size_t k) {
       const size_t i = order[k];
-      runs[i] = runRoad(ms[rt[i].m], rt[i].s, configs);
+      runs[i] = runRoad(ms[rt[i].m], rt[i].s, configs, rt[i].stick);
     });
     for (size_t m = 0; m < ms.size(); ++m) {
       RoadReference ref{runs[2 * m], runs[2 * m + 1]};
       compareRoad(ref.half, ref.run);
       rep.road_refs.push_back(ref);
     }
-    for (size_t i = 2 * ms.size(); i < rt.size(); ++i) {
-      compareRoad(runs[i], rep.road_refs[rt[i].m].run);
-      rep.road.push_back(runs[i]);
+    for (size_t m = 0; m < ms.size(); ++m) {
+      RoadReference ref{runs[stick_refs + 2 * m], runs[stick_refs + 2 * m + 1]};
+      compareRoad(ref.half, ref.run);
+      rep.stick_refs.push_back(ref);
+    }
+    for (size_t i = cells; i < rt.size(); ++i) {
+      compareRoad(runs[i], (rt[i].stick ? rep.stick_refs : rep.road_refs)[rt[i].m].run);
+      (rt[i].stick ? rep.stick : rep.road).push_back(runs[i]);
     }
     rep.road_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - road_start).count();
     std::fprintf(stderr, "sedan manoeuvres done in %.0f s\n", rep.road_wall_seconds);
@@ -168,10 +183,18 @@ int main(int argc, char** argv) {
         std::printf("%-12s ref key %.6g length %.1f  2dt-vs-dt path max %.2e rms %.2e key %.2e %s\n",
                     r.run.manoeuvre.c_str(), r.run.key, r.run.length, r.half.path_max, r.half.path_rms,
                     r.half.key_error, r.run.status.c_str());
-      for (const RoadRun& r : rep.road)
-        std::printf("%-12s %-28s %-10s max %.2e rms %.2e key %.6g (%.2e) evals/s %.0f sim/wall %.0f\n",
-                    r.manoeuvre.c_str(), r.setting.label().c_str(), r.status.c_str(), r.path_max, r.path_rms, r.key,
-                    r.key_error, r.evalsPerSim(), r.simPerWall());
+      for (const RoadReference& r : rep.stick_refs)
+        std::printf("%-12s stick_slip ref key %.6g length %.1f  2dt-vs-dt path max %.2e rms %.2e key %.2e %s\n",
+                    r.run.manoeuvre.c_str(), r.run.key, r.run.length, r.half.path_max, r.half.path_rms,
+                    r.half.key_error, r.run.status.c_str());
+      for (const auto* runs_of : {&rep.road, &rep.stick})
+        for (const RoadRun& r : *runs_of)
+          std::printf("%-12s %-13s %-28s %-10s max %.2e rms %.2e key %.6g (%.2e) evals/s %.0f sim/wall %.0f\n",
+                      r.manoeuvre.c_str(), r.stick_slip ? "stick_slip" : "magic_formula", r.setting.label().c_str(),
+                      r.status.c_str(), r.path_max, r.path_rms, r.key, r.key_error, r.evalsPerSim(), r.simPerWall());
+      std::ostringstream md;
+      writeStickSlipMarkdown(rep, md);
+      std::printf("%s", md.str().c_str());
       writeRoadCsv(rep, out + "/road.csv");
       return 0;
     }

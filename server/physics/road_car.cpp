@@ -19,6 +19,7 @@
 #include "road_car_phase.hpp"
 #include "steering.hpp"
 #include "tyre.hpp"
+#include "tyre_stick_slip.hpp"
 
 namespace groundsim {
 namespace {
@@ -52,7 +53,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     const Mat3& R = ws.R[b];
     const Vec3 nb = R.col(2), v = ws.vel[b], om_b = ws.omega[b];
     const Mat3 Iw = R * m.bodies[b].inertia * R.transpose();
-    const double r = p.wheel_radius, I = p.wheel_inertia, mu_ground = m.opt.contact.friction;
+    const double r = p.wheel_radius, I = p.wheel_inertia, mu_scene = m.opt.contact.friction;
 
     // powertrain: one engine for the driven wheels
     const PowertrainParams& pt = p.powertrain;
@@ -86,10 +87,13 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     double Q[4];
     Vec3 rhub[4];
     double drive_power = 0.0;
+    std::array<StickSlipWheel, 4> rigid{};  // stick-slip tyres: solved after the loop
     for (int w = 0; w < 4; ++w) {
       const int ax = w < 2 ? 0 : 1;
       const TyreParams& tp = p.tyre[ax];
       RoadWheelOut& o = out.wheel[w];
+      StickSlipWheel& ss = rigid[w];
+      ss.active = !tp.slip_model;
       const double s = y[A + roadAux(w, 0)], sd = y[A + roadAux(w, 1)], om = y[A + roadAux(w, 2)];
       const double ux = y[A + roadAux(w, 3)], uy = y[A + roadAux(w, 4)];
       const Vec3 r_hub = R * rc.hub[w] + s * nb;
@@ -113,29 +117,38 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
         const Vec3 vc = v + om_b.cross(r_c) + sd * nb;
         const double vx = vc.dot(o.tx), vy = vc.dot(o.ty);
         Fz = std::max(0.0, tp.vertical_stiffness * pen - tp.vertical_damping * v_hub.dot(n));
-        deflectionRates(tp, vx, vy, om * r, ux, uy, &dux, &duy);
-        double Fx, Fy;
-        tyreForces(tp, Fz, rc.nominal_load[w], mu_ground, ux / tp.relaxation_length, uy / tp.relaxation_length,
-                   &Fx, &Fy);
-        // low-speed damping of the deflection springs (they would ring at standstill)
-        const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
-        // near standstill a tread deflected past the peak slides instead of
-        // stretching further: stop its growth (else a sliding stop winds up
-        // a deflection that throws the car back once it halts)
-        const double kxn = ux / (tp.relaxation_length * tp.peak_slip_ratio);
-        const double kyn = uy / (tp.relaxation_length * tp.peak_slip_angle);
-        o.hold = kxn * kxn + kyn * kyn > 1.0 ? fade : 0.0;
-        holdGrowth(o.hold, ux, uy, &dux, &duy);
-        Fx += tp.low_speed_damping * fade * dux;
-        Fy += tp.low_speed_damping * fade * duy;
-        const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
-        if (mag > cap && mag > 0.0) {
-          Fx *= cap / mag;
-          Fy *= cap / mag;
+        // the ground's friction at the patch (patches and maps, surface_friction.hpp)
+        const double mu_ground = m.ground->friction(ws.com[b] + r_c, mu_scene);
+        if (ss.active) {
+          stickSlipPatch(tp, Fz, mu_ground, r_c, o, ss);
+          F = Fz * n;
+          dux = -20.0 * ux;  // unused: the tread has no deflection
+          duy = -20.0 * uy;
+        } else {
+          deflectionRates(tp, vx, vy, om * r, ux, uy, &dux, &duy);
+          double Fx, Fy;
+          tyreForces(tp, Fz, rc.nominal_load[w], mu_ground, ux / tp.relaxation_length, uy / tp.relaxation_length,
+                     &Fx, &Fy);
+          // low-speed damping of the deflection springs (they would ring at standstill)
+          const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
+          // near standstill a tread deflected past the peak slides instead of
+          // stretching further: stop its growth (else a sliding stop winds up
+          // a deflection that throws the car back once it halts)
+          const double kxn = ux / (tp.relaxation_length * tp.peak_slip_ratio);
+          const double kyn = uy / (tp.relaxation_length * tp.peak_slip_angle);
+          o.hold = kxn * kxn + kyn * kyn > 1.0 ? fade : 0.0;
+          holdGrowth(o.hold, ux, uy, &dux, &duy);
+          Fx += tp.low_speed_damping * fade * dux;
+          Fy += tp.low_speed_damping * fade * duy;
+          const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
+          if (mag > cap && mag > 0.0) {
+            Fx *= cap / mag;
+            Fy *= cap / mag;
+          }
+          F = Fx * o.tx + Fy * o.ty + Fz * n;
+          o.fx = Fx;
+          o.fy = Fy;
         }
-        F = Fx * o.tx + Fy * o.ty + Fz * n;
-        o.fx = Fx;
-        o.fy = Fy;
         o.slip_ratio = (om * r - vx) / std::max(std::abs(vx), 0.5);
         o.slip_angle = std::atan2(vy, std::max(std::abs(vx), 0.5));
         o.contact = true;
@@ -157,7 +170,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       double t_d = axle_torque[ax] * 0.5 + in.applied.wheel_torque[w];
       const double vx_c = o.contact ? (v + om_b.cross(r_c)).dot(o.tx) : 0.0;
       const double kp = tp.peak_slip_ratio;
-      if (p.brakes.traction_control && o.contact && t_d > 0.0) {
+      if (!ss.active && p.brakes.traction_control && o.contact && t_d > 0.0) {
         const double w_top = (vx_c + std::max(kp * std::abs(vx_c), 0.3)) / r;
         t_d = std::min(t_d, std::max(0.0, I * (w_top - om) / h - (t_rr + Mha)));
       }
@@ -165,9 +178,10 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       const bool hand = ax == 1 && in.applied.handbrake;
       const double cap = in.applied.brake * bp.max_torque * 0.5 * (ax == 0 ? bp.front_share : 1.0 - bp.front_share) +
                          (hand ? bp.handbrake_torque : 0.0);
+      if (ss.active) stickSlipWheel(p, hand, vx_c, om, sd, r_hub, axle, cap, t_rr, ss, &t_d);
       const double t_other = t_d + t_rr + Mha;
-      double t_b = std::clamp(-(I * om / h + t_other), -cap, cap);  // stops the wheel within h at most
-      if (bp.abs && !hand && o.contact && std::abs(vx_c) > bp.abs_min_speed) {
+      double t_b = ss.active ? 0.0 : std::clamp(-(I * om / h + t_other), -cap, cap);  // stops the wheel within h at most
+      if (!ss.active && bp.abs && !hand && o.contact && std::abs(vx_c) > bp.abs_min_speed) {
         const double lim = I * ((1.0 - kp) * vx_c / r - om) / h - t_other;
         t_b = vx_c > 0.0 ? std::max(t_b, std::min(0.0, lim)) : std::min(t_b, std::max(0.0, lim));
       }
@@ -192,6 +206,9 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       d[3] = dux;
       d[4] = duy;
     }
+    // the stick-slip tyres' friction and brakes need the body's mass matrix
+    const StickSlipBody sb{&M, &G, v, om_b, ws.inv_inertia_world[b] * om_b.cross(Iw * om_b), nb, Q};
+    applyStickSlipTyres(p, sb, h, rigid, out, ws.aux_dot.data() + rc.aux);
     const Eigen::Matrix<double, 6, 1> acc = M.llt().solve(G);  // M is positive definite
     const Vec3 a_lin = acc.head<3>(), alpha = acc.tail<3>();
     ws.body_force[b] = m.bodies[b].mass * a_lin;
@@ -224,7 +241,7 @@ void driftRoadCars(const Model& m, Eigen::VectorXd& y, const Workspace& ws, doub
       const int i = base + rc.aux + 5 * w;
       const RoadWheelOut& o = ws.road[c].wheel[w];
       y[i] += h * y[i + 1];
-      if (!o.contact) {
+      if (!o.contact || !rc.p.tyre[w < 2 ? 0 : 1].slip_model) {  // no deflection model to follow
         y[i + 3] += h * ws.aux_dot[i - base + 3];
         y[i + 4] += h * ws.aux_dot[i - base + 4];
         continue;

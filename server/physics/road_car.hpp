@@ -21,11 +21,12 @@
 namespace groundsim {
 
 // Pacejka Magic Formula, combined slip by normalised slip (Pacejka 2006,
-// 4.3.2), with its shape fitted from physical figures at load.
+// 4.3.2), with its shape fitted from physical figures at load; or the rigid
+// stick-slip contact.
 struct TyreParams {
-  // always true: `tyres.model` accepts "magic_formula" only. A rigid
-  // stick-slip contact has no slip angle, so it could not give the declared
-  // cornering stiffness (docs/accuracy.md, "The sedan's manoeuvres")
+  // true: the Magic Formula below; false (`tyres.model: "stick_slip"`): the
+  // rigid stick-slip contact (tyre_stick_slip.cpp), which reads only the
+  // vertical figures, friction_scale, sliding_ratio and rolling_resistance
   bool slip_model = true;
   double vertical_stiffness = 2e5;  // N/m
   double vertical_damping = 500.0;  // N s/m

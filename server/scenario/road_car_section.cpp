@@ -24,7 +24,7 @@ void readSuspension(ObjectReader r, SuspensionParams& s) {
 
 void readTyre(ObjectReader r, TyreParams& t) {
   const TyreParams d = t;
-  t.slip_model = r.choice("model", d.slip_model ? "magic_formula" : "stick_slip", {"magic_formula"}) == "magic_formula";
+  t.slip_model = r.choice("model", d.slip_model ? "magic_formula" : "stick_slip", {"magic_formula", "stick_slip"}) == "magic_formula";
   t.vertical_stiffness = r.number("vertical_stiffness", d.vertical_stiffness, Range::positive());
   t.vertical_damping = r.number("vertical_damping", d.vertical_damping, Range::nonNegative());
   t.nominal_load = r.number("nominal_load", d.nominal_load, Range::nonNegative());

@@ -113,6 +113,25 @@ void checkOverlaps(const Scenario& s, IssueList& issues) {
   }
 }
 
+// The stick-slip tyre is a velocity-level solve sized by the step, like the
+// ground's stick-slip friction: only the time-stepping integrators own it.
+void checkStickSlipTyres(const Scenario& s, IssueList& issues) {
+  const IntegratorKind k = s.options.integrator;
+  if (k == IntegratorKind::SemiImplicitEuler || k == IntegratorKind::VelocityVerlet) return;
+  for (size_t i = 0; i < s.vehicles.size(); ++i) {
+    const VehicleSpec& v = s.vehicles[i];
+    if (!v.road_car) continue;
+    const bool front = !v.road.tyre[0].slip_model, rear = !v.road.tyre[1].slip_model;
+    if (!front && !rear) continue;
+    const char* where = front && rear ? "/tyres/model" : front ? "/tyres/front/model" : "/tyres/rear/model";
+    issues.add(vehiclePath(s, i) + where,
+               std::string("\"stick_slip\" not with integrator \"") + integratorName(k) +
+                   "\": its friction and brake impulses are sized by the step, which only semi_implicit_euler "
+                   "and velocity_verlet own (an RK4 stage or a trial step would change them); use one of those "
+                   "or \"magic_formula\"");
+  }
+}
+
 void setControls(const VehicleControlSpec& c, const CarHandle& car, std::vector<WheelControl>& controls) {
   for (int k = 0; k < 4; ++k) {
     const bool driven = c.drive_wheels == DriveWheels::All || (c.drive_wheels == DriveWheels::Front && k < 2) ||
@@ -133,6 +152,7 @@ Scene buildScene(const Scenario& s) {
   if (const char* why = integratorFrictionConflict(s.options.integrator, s.options.contact.friction_model))
     issues.add("/contact/friction_model",
                std::string("not with integrator \"") + integratorName(s.options.integrator) + "\": " + why);
+  checkStickSlipTyres(s, issues);
   checkOverlaps(s, issues);
   issues.throwIfAny();
 
