@@ -91,13 +91,36 @@ Vec12 response(const Ctx& c, const Eigen::LLT<Eigen::Matrix<double, 6, 6>>& llt,
   return velocities(c, dv, dw, dsd, dom);
 }
 
+// Sliding at radius R: the impulse on the circle |lambda| = R whose slip
+// after it, w + K lambda, points opposite it (Coulomb's maximal
+// dissipation): lambda = -(K + m I)^-1 w with m >= 0 set by |lambda| = R
+// (Newton on 1 / |lambda(m)| - 1 / R, which converges from m = 0 without
+// overshoot). Opposing the slip before friction instead would be wrong
+// wherever the patch's effective mass is anisotropic: a free wheel's spin
+// gives the longitudinal direction ~10 kg against ~400 kg laterally, and a
+// lateral slide would drag the wheel's spin back and forth every step.
+Eigen::Vector2d slideImpulse(const Eigen::Matrix2d& K, const Eigen::Vector2d& w, double R) {
+  const Eigen::Vector2d stick = -K.inverse() * w;
+  if (stick.norm() <= R) return stick;
+  double m = 0.0;
+  Eigen::Vector2d lam = stick;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Matrix2d A_inv = (K + m * Eigen::Matrix2d::Identity()).inverse();
+    lam = -A_inv * w;
+    const double n = lam.norm();
+    if (std::abs(n - R) <= 1e-12 * R) break;
+    const double dn = lam.dot(-A_inv * lam) / n;  // d|lambda| / dm < 0
+    m = std::max(0.0, m + (1.0 / n - 1.0 / R) * n * n / dn);
+  }
+  return lam * (R / lam.norm());
+}
+
 // Wheel j's block: its impulses x (lambda_x, lambda_y, beta) given u_ex, the
 // velocities with its own impulses removed. Stick if the impulse that stops
 // the patch is within mu_static N h; else slide at mu_sliding N h opposite
-// the slip the patch has without its own friction (with the brake).
+// the slip (slideImpulse), the brake then holding what it can.
 Eigen::Vector3d solveBlock(const StickSlipWheel& w, const Eigen::Matrix3d& K, const Eigen::Matrix3d& K_inv,
-                           const Eigen::Matrix2d& Kxy_inv, const Eigen::Vector3d& u_ex, const Eigen::Vector3d& x_old,
-                           double h, bool* sliding) {
+                           const Eigen::Vector3d& u_ex, const Eigen::Vector3d& x_old, double h, bool* sliding) {
   const double bmax = w.brake_cap * h;
   const bool brake = bmax > 0.0;
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
@@ -109,6 +132,7 @@ Eigen::Vector3d solveBlock(const StickSlipWheel& w, const Eigen::Matrix3d& K, co
     x[2] = brakeFor(Eigen::Vector2d::Zero());
     return x;
   }
+  const Eigen::Matrix2d Kxy = K.topLeftCorner<2, 2>();
   // stick: patch and (if braked) spin stopped
   Eigen::Vector2d lam;
   double beta = 0.0;
@@ -118,25 +142,21 @@ Eigen::Vector3d solveBlock(const StickSlipWheel& w, const Eigen::Matrix3d& K, co
   }
   if (!brake || std::abs(beta) > bmax) {
     beta = brake ? std::clamp(beta, -bmax, bmax) : 0.0;
-    lam = -Kxy_inv * (u_ex.head<2>() + K.topRightCorner<2, 1>() * beta);
+    lam = -Kxy.inverse() * (u_ex.head<2>() + K.topRightCorner<2, 1>() * beta);
   } else {
     lam = x.head<2>();
   }
-  const double stick_limit = w.mu_static * w.normal * h;
-  if (lam.norm() <= stick_limit) return Eigen::Vector3d(lam.x(), lam.y(), beta);
+  if (lam.norm() <= w.mu_static * w.normal * h) return Eigen::Vector3d(lam.x(), lam.y(), beta);
   // slide: the direction depends on the brake and the brake on the force
   *sliding = true;
   const double slide = w.mu_sliding * w.normal * h;
-  const Eigen::Vector2d lam_stick = lam;
   beta = brake ? std::clamp(x_old[2], -bmax, bmax) : 0.0;
   for (int it = 0; it < 20; ++it) {
-    const Eigen::Vector2d free = u_ex.head<2>() + K.topRightCorner<2, 1>() * beta;
-    const double fn = free.norm();
-    lam = fn > 1e-12 ? Eigen::Vector2d(-slide / fn * free) : Eigen::Vector2d(lam_stick * (slide / lam_stick.norm()));
+    lam = slideImpulse(Kxy, u_ex.head<2>() + K.topRightCorner<2, 1>() * beta, slide);
     const double next = brakeFor(lam);
     const bool settled = std::abs(next - beta) <= 1e-12 * (bmax + slide);
     beta = next;
-    if (settled) break;
+    if (settled || !brake) break;
   }
   return Eigen::Vector3d(lam.x(), lam.y(), beta);
 }
@@ -167,15 +187,11 @@ void solveStickSlipTyres(const RoadCarParams& p, const StickSlipBody& body, doub
     if (wheels[col / 3].active) W.col(col) = response(c, llt, col);
 
   std::array<Eigen::Matrix3d, 4> K, K_inv;
-  std::array<Eigen::Matrix2d, 4> Kxy_inv;
   double scale = 0.0;
   for (int j = 0; j < 4; ++j) {
     if (!wheels[j].active) continue;
     K[j] = W.block<3, 3>(3 * j, 3 * j);
-    if (wheels[j].contact) {
-      K_inv[j] = K[j].inverse();
-      Kxy_inv[j] = K[j].topLeftCorner<2, 2>().inverse();
-    }
+    if (wheels[j].contact) K_inv[j] = K[j].inverse();
     scale += (wheels[j].mu_static * wheels[j].normal + wheels[j].brake_cap) * h;
   }
 
@@ -187,7 +203,7 @@ void solveStickSlipTyres(const RoadCarParams& p, const StickSlipBody& body, doub
       if (!wheels[j].active) continue;
       const Eigen::Vector3d x_old = x.segment<3>(3 * j);
       const Eigen::Vector3d u_ex = u.segment<3>(3 * j) - K[j] * x_old;
-      const Eigen::Vector3d x_new = solveBlock(wheels[j], K[j], K_inv[j], Kxy_inv[j], u_ex, x_old, h, &sliding[j]);
+      const Eigen::Vector3d x_new = solveBlock(wheels[j], K[j], K_inv[j], u_ex, x_old, h, &sliding[j]);
       const Eigen::Vector3d d = x_new - x_old;
       total += x_new.lpNorm<1>();
       if (d.isZero(0.0)) continue;
@@ -231,10 +247,17 @@ void stickSlipWheel(const RoadCarParams& p, bool handbrake, double vx, double sp
                     double* t_drive) {
   const BrakeParams& bp = p.brakes;
   const double grip = ss.mu_static * ss.normal * p.wheel_radius;  // N m: the patch's most before sliding
-  if (bp.traction_control && ss.contact && *t_drive > 0.0) *t_drive = std::min(*t_drive, grip);
-  // rolling resistance brakes the wheel too: the two together stay within the grip
+  // a patch that slides (it let go last step) returns only mu_sliding N r:
+  // a wheel braked or driven at the grip would then lock or spin for good,
+  // so ABS releases the brake and traction control cuts the drive until the
+  // wheel rolls with the road again
+  const bool slipping = ss.contact && std::abs(vx - spin * p.wheel_radius) > 0.01 + 1e-3 * std::abs(vx);
+  if (bp.traction_control && ss.contact && *t_drive > 0.0) *t_drive = slipping ? 0.0 : std::min(*t_drive, grip);
+  // ABS holds brake and rolling resistance together at kAbsShare of the
+  // grip: at the grip itself the load's pitch oscillation tips a patch over
+  // the limit every few steps, and each slide costs a release
   if (bp.abs && !handbrake && ss.contact && std::abs(vx) > bp.abs_min_speed)
-    brake_cap = std::min(brake_cap, std::max(0.0, grip - std::abs(t_rr)));
+    brake_cap = slipping ? 0.0 : std::min(brake_cap, std::max(0.0, kAbsShare * grip - std::abs(t_rr)));
   ss.brake_cap = brake_cap;
   ss.spin = spin;
   ss.spin_rate = (*t_drive + t_rr) / p.wheel_inertia;

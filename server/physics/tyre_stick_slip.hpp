@@ -52,9 +52,11 @@ void solveStickSlipTyres(const RoadCarParams& p, const StickSlipBody& body, doub
 // road_car.cpp's steps for a stick-slip wheel. At the patch: the tyre frame
 // and friction (peak = ground mu * friction_scale, sliding = that *
 // sliding_ratio), no force yet. Then its drive and brake: traction control
-// caps the drive torque at mu_static F_z r and ABS the brake torque at the
-// same (the most the patch can return before it slides, so the wheel never
-// spins up or locks); the brake itself is solved with the friction.
+// caps the drive torque at mu_static F_z r (the most the patch can return
+// before it slides) and ABS the brake torque at kAbsShare of it, so the
+// wheel never spins up or locks; while a patch slides, they cut the drive
+// or release the brake. The brake itself is solved with the friction.
+inline constexpr double kAbsShare = 0.95;  // of mu_static N r: ABS's brake limit with the stick-slip tyre
 void stickSlipPatch(const TyreParams& t, double Fz, double mu_ground, const Vec3& r_c, RoadWheelOut& o,
                     StickSlipWheel& ss);
 void stickSlipWheel(const RoadCarParams& p, bool handbrake, double vx, double spin, double strut_rate,

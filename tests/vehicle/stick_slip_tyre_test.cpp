@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "physics/surface_friction.hpp"
+#include "physics/tyre_stick_slip.hpp"
 #include "scenario/scenario.hpp"
 #include "scenario/scenario_error.hpp"
 #include "sedan.hpp"
@@ -68,8 +69,8 @@ TEST_P(StickSlipTyreTest, ParkedOnATwentyPercentGradeDoesNotCreep) {
   }
 }
 
-// ABS off, brake 1 from 100 km/h: every wheel locks within the first step
-// and the car slides at mu_sliding (m g in total whatever the load transfer:
+// ABS off, brake 1 from 100 km/h: every wheel locks (the sedan's rear
+// brakes only once the pitch has moved load forward) and the car slides at mu_sliding (m g in total whatever the load transfer:
 // the friction is linear in N), against drag, straight.
 TEST_P(StickSlipTyreTest, LockedWheelsStopInTheSlidingFrictionDistance) {
   RoadCarParams p = P();
@@ -80,20 +81,20 @@ TEST_P(StickSlipTyreTest, LockedWheelsStopInTheSlidingFrictionDistance) {
   c.brake = 1.0;
   cs.set(c);
   const Vec3 x0 = cs.pos();
-  ASSERT_TRUE(cs.runUntil(0.2));
+  ASSERT_TRUE(cs.runUntil(1.0));  // the sedan's rear locks once the load has moved forward
   for (int w = 0; w < 4; ++w) EXPECT_NEAR(cs.sample().wheels[w].spin, 0.0, 1e-9) << "wheel " << w;
   ASSERT_TRUE(cs.runUntil(20.0, [&] { return cs.speed() < 0.01; }));
   const double d = stopDistance(v0, muSliding() * p.mass * kG, p.mass);
-  // left out: the first step (the wheels stop at up to mu_static) and the
-  // last 0.01 m/s: under 0.5%
+  // left out: the sedan's rear rolling while the load moves (its brakes hold
+  // 900 N m, the patch 1050 at the static load), the last 0.01 m/s: 0.5%
   EXPECT_NEAR((cs.pos() - x0).x(), d, 0.005 * d);
   EXPECT_GT((cs.pos() - x0).x(), 1.1 * v0 * v0 / (2 * muStatic() * kG));  // sliding: longer than at the limit
   EXPECT_NEAR((cs.pos() - x0).y(), 0.0, 0.01);
 }
 
-// ABS on: each brake is capped at mu_static N r (with rolling resistance),
-// the patches keep sticking, and the wheels' spin inertia decelerates with
-// the car: (m + 4 I / r^2) a = mu_static m g + c v^2.
+// ABS on: each brake (with rolling resistance) is capped at kAbsShare
+// mu_static N r, the patches keep sticking, and the wheels' spin inertia
+// decelerates with the car: (m + 4 I / r^2) a = kAbsShare mu_static m g + c v^2.
 TEST_P(StickSlipTyreTest, AbsBrakesAtTheStaticFrictionWithoutLocking) {
   const RoadCarParams p = P();
   const double v0 = 100.0 / 3.6;
@@ -106,19 +107,26 @@ TEST_P(StickSlipTyreTest, AbsBrakesAtTheStaticFrictionWithoutLocking) {
   for (int w = 0; w < 4; ++w) EXPECT_GT(cs.sample().wheels[w].spin, 1.0) << "wheel " << w << " locked";
   ASSERT_TRUE(cs.runUntil(20.0, [&] { return cs.speed() < 0.01; }));
   const double me = p.mass + 4.0 * p.wheel_inertia / (p.wheel_radius * p.wheel_radius);
-  const double d = stopDistance(v0, muStatic() * p.mass * kG, me);
-  // left out: below abs_min_speed (1 m/s) the wheels lock and slide: 1.3 cm
-  EXPECT_NEAR((cs.pos() - x0).x(), d, 0.005 * d);
+  const double d = stopDistance(v0, kAbsShare * muStatic() * p.mass * kG, me);
+  // left out: the first 0.3 s while the load moves forward and rings at
+  // the ride frequency (the brake limits follow N step by step, the sedan's
+  // rear brakes hold less than their patches at first: 900 N m against
+  // 1000), and below abs_min_speed (1 m/s) the wheels lock and slide: 2%
+  EXPECT_NEAR((cs.pos() - x0).x(), d, 0.02 * d);
+  EXPECT_LT((cs.pos() - x0).x(), v0 * v0 / (2 * muSliding() * kG));  // shorter than sliding
   EXPECT_NEAR((cs.pos() - x0).y(), 0.0, 0.01);
 }
 
-// A launch on mu 0.3 with constant drive torques above what the patches
+// A launch on mu 0.3 with constant drive torques T above what the patches
 // hold. Traction control off: the driven wheels spin and push at
 // mu_sliding N; on: the drive is capped at mu_static N r, the wheels roll.
-// m a = mu N_driven - C_rr N_free - drag - spin inertia, with N shifted by
-// m a h / L towards the rear.
+// Forces: m a = sum F_x - drag, F_x = mu N (spinning), mu N - C_rr N -
+// I a / r^2 (driven, rolling), -C_rr N - I a / r^2 (free). Loads: the
+// rear gains (h (m a + drag) + sum I omega' + C_rr m g r) / L, the wheels'
+// spin-up and rolling resistance being moments on the car too (a spinning
+// wheel's I omega' = T - (mu + C_rr) N r is most of it). Solved by fixed point.
 TEST_P(StickSlipTyreTest, LaunchOnLowFrictionIsLimitedByTheDrivenAxle) {
-  const double mu_ground = 0.3, L = P().wheelbase, h = P().cg_height, m = P().mass;
+  const double mu_ground = 0.3, L = P().wheelbase, h = P().cg_height, m = P().mass, T = 400.0;
   const double r = P().wheel_radius, I = P().wheel_inertia, crr = P().tyre[0].rolling_resistance;
   const bool rear = P().powertrain.drive == Drive::Rear;
   const double share = rear ? P().cg_to_front / L : (L - P().cg_to_front) / L;  // driven axle's static share
@@ -130,21 +138,27 @@ TEST_P(StickSlipTyreTest, LaunchOnLowFrictionIsLimitedByTheDrivenAxle) {
     const double mu = tc ? muStatic(mu_ground) : muSliding(mu_ground);
     CarSim cs = makeCar(p, carOptions(2e-3, mu_ground));
     CarControls c;
-    for (int w = rear ? 2 : 0; w < (rear ? 4 : 2); ++w) c.wheel_torque[w] = 400.0;  // > mu_static N r ~ 320 N m
+    for (int w = rear ? 2 : 0; w < (rear ? 4 : 2); ++w) c.wheel_torque[w] = T;  // > mu_static N r ~ 320 N m
     cs.set(c);
     ASSERT_TRUE(cs.runUntil(1.0));
     const double v1 = cs.speed();
     ASSERT_TRUE(cs.runUntil(3.0));
     const double v_mid = 0.5 * (v1 + cs.speed()), drag = dragC() * v_mid * v_mid;
-    // driven: mu N_d (spinning) or mu N_d - I a / r^2 per wheel (rolling);
-    // free: C_rr N_f and I a / r^2 per wheel
-    const double spin_mass = (tc ? 4.0 : 2.0) * I / (r * r);
-    const double ax = (mu * m * kG * share - crr * m * kG * (1 - share) - drag) /
-                      (m + spin_mass - sgn * mu * m * h / L + sgn * crr * m * h / L);
+    double ax = 0.0;
+    for (int it = 0; it < 100; ++it) {
+      double Nd = m * kG * share, spin_moment = 0.0;
+      for (int k = 0; k < 2; ++k) {  // the driven load depends on the spin-up, which depends on it
+        spin_moment = (tc ? 4.0 : 2.0) * I * ax / r + (tc ? 0.0 : 2.0 * T - (mu + crr) * Nd * r);
+        Nd = m * kG * share + sgn * (h * (m * ax + drag) + spin_moment + crr * m * kG * r) / L;
+      }
+      const double Nf = m * kG - Nd;
+      const double Fd = tc ? (mu - crr) * Nd - 2 * I * ax / (r * r) : mu * Nd;
+      ax = (Fd - crr * Nf - 2 * I * ax / (r * r) - drag) / m;
+    }
     const double a_meas = (cs.speed() - v1) / 2.0;
     // left out: the body's pitch settling after 1 s (the load transfer of a
-    // damped rigid body, < 1%) and C_rr on a driven rolling tyre (0.1%)
-    EXPECT_NEAR(a_meas, ax, 0.015 * ax) << (tc ? "traction control" : "spinning");
+    // damped rigid body) and the wheels' masses below the centre of mass: 1%
+    EXPECT_NEAR(a_meas, ax, 0.01 * ax) << (tc ? "traction control" : "spinning");
     if (!tc) {
       EXPECT_GT(cs.sample().wheels[rear ? 2 : 0].spin * r, 2.0 * cs.speed()) << "the driven wheels spin";
     } else {
@@ -177,14 +191,18 @@ TEST_P(StickSlipTyreTest, CorneringIsNeutralUpToTheFrictionLimit) {
     const double u = cs.speed(), ay = u * s.yaw_rate;
     if (K_meas > 1e8 && ay > 0.25 * kG) K_meas = (delta - L * s.yaw_rate / u) / ay;
   }
-  // the bicycle model with C_f = C_r = infinity: K = 0. Left out: tan delta
-  // against delta and the Ackermann angles' mean, < 2e-4 rad at a_y 0.25 g
-  // (0.05 deg/g); the Magic Formula sedan's K is 1.6 deg/g
-  EXPECT_NEAR(K_meas * kG * 180 / kPi, 0.0, 0.1) << "deg/g";
-  // left out: the vertical and roll oscillation of the loads while the
-  // patches let go (a few % of N for a moment)
+  // the bicycle model with C_f = C_r = infinity: K = 0, against the Magic
+  // Formula sedan's 1.6 deg/g. Left out: tan delta against delta and the
+  // Ackermann angles' mean (0.05 deg/g), and the speed ramp's drive force
+  // and roll rate at the patches: a fifth of the Magic Formula's gradient
+  EXPECT_NEAR(K_meas * kG * 180 / kPi, 0.0, 0.3) << "deg/g";
+  // at most mu_static m g over all patches (and the loads' roll
+  // oscillation as the patches let go, 3%); at least the slide's. The
+  // inner and outer tyres of an axle do not share the force in proportion
+  // to their loads (docs/vehicles.md), so the outer ones let go first and
+  // the car slides a little below mu_sliding g: 5%
   EXPECT_LE(ay_max, 1.03 * muStatic() * kG);
-  EXPECT_GE(ay_max, muSliding() * kG);
+  EXPECT_GE(ay_max, 0.95 * muSliding() * kG);
 }
 
 // The ground's friction per place: a locked slide onto an icy patch
