@@ -255,7 +255,8 @@ void writeStickSlipMarkdown(const Report& rep, std::ostream& md) {
      << kStickRefDt
      << " s (RK4 is refused with this tyre), its convergence the same errors of Verlet at dt " << 2 * kStickRefDt
      << " s against it. The paths are not comparable with the Magic Formula's: with no slip angle the car "
-        "steers kinematically (more yaw for the same steer), and ABS brakes at the static friction.\n\n"
+        "steers kinematically (more yaw for the same steer), and ABS brakes at 95% of the static friction. "
+        "The work-precision plot below is the Magic Formula's.\n\n"
      << "| manoeuvre | path length m | reference key | ref: 2 dt vs dt, path max | path rms | key |\n"
      << "|---|---|---|---|---|---|\n";
   for (size_t i = 0; i < ms.size() && i < rep.stick_refs.size(); ++i) {

@@ -100,6 +100,7 @@ Vec12 response(const Ctx& c, const Eigen::LLT<Eigen::Matrix<double, 6, 6>>& llt,
 // gives the longitudinal direction ~10 kg against ~400 kg laterally, and a
 // lateral slide would drag the wheel's spin back and forth every step.
 Eigen::Vector2d slideImpulse(const Eigen::Matrix2d& K, const Eigen::Vector2d& w, double R) {
+  if (!(R > 0.0)) return Eigen::Vector2d::Zero();  // no load: no friction (and no 1 / R)
   const Eigen::Vector2d stick = -K.inverse() * w;
   if (stick.norm() <= R) return stick;
   double m = 0.0;
