@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   bool road_only = false;
   std::string configs = GROUNDSIM_CONFIGS;
   app.add_flag("--quick", quick, "small grids (smoke test, about a minute)");
-  app.add_flag("--road-only", road_only, "only the sedan's manoeuvres (prints their cells; writes no docs)");
+  app.add_flag("--road-only", road_only, "only the sedan's manoeuvres (prints their cells and the stick-slip section; writes no docs)");
   app.add_option("--configs", configs, "directory of sedan.json and sedan_hills.json");
   app.add_option("--jobs", jobs, "worker threads");
   app.add_option("--out", out, "directory for CSV and gnuplot files");
