@@ -285,5 +285,22 @@ TEST(StickSlipTyreScenario, UnknownModelsNameTheField) {
   EXPECT_FALSE(s.vehicles[0].road.tyre[1].slip_model);
 }
 
+// configs/sedan_stick_slip.json is the sedan with the stick-slip tyre on
+// both axles, and it builds with its semi-implicit Euler.
+TEST(StickSlipTyreScenario, ShippedConfigIsTheSedanWithTheCheapTyre) {
+  const scenario::Scenario s =
+      scenario::loadScenarioFile(std::string(GROUNDSIM_CONFIGS) + "/sedan_stick_slip.json");
+  ASSERT_EQ(s.vehicles.size(), 1u);
+  EXPECT_FALSE(s.vehicles[0].road.tyre[0].slip_model);
+  EXPECT_FALSE(s.vehicles[0].road.tyre[1].slip_model);
+  const scenario::Scenario base = scenario::loadScenarioFile(std::string(GROUNDSIM_CONFIGS) + "/sedan.json");
+  EXPECT_EQ(s.vehicles[0].road.mass, base.vehicles[0].road.mass);
+  EXPECT_EQ(s.vehicles[0].road.tyre[1].sliding_ratio, base.vehicles[0].road.tyre[1].sliding_ratio);
+  scenario::Scene scene = scenario::buildScene(s);
+  Simulator sim(scene.built.model, scene.built.initial);
+  ASSERT_TRUE(scenario::stepScene(scene, sim, 500));  // 2 s of its full-throttle launch
+  EXPECT_GT(bodyVel(sim.state().y, sim.model().road_cars[0].body).x(), 5.0);
+}
+
 }  // namespace
 }  // namespace groundsim::test
