@@ -26,6 +26,38 @@ const char* fastCarUnsupported(const Model& m) {
   return nullptr;
 }
 
+namespace {
+
+// Off-diagonal terms below 1e-14 of the largest diagonal one are the
+// round-off of summing a body's point masses about its principal axes (a
+// wheel's come out near 4e-16 of 20): they are dropped, so such a body
+// takes the diagonal or symmetric product. That moves a result by far less
+// than the round-off of one step.
+void classifyInertia(FastCarPlan::BodyC& bc) {
+  double* B = bc.Ib;
+  const double scale = std::max({std::abs(B[0]), std::abs(B[4]), std::abs(B[8])});
+  bc.diagonal = true;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (r != c && !(std::abs(B[3 * r + c]) <= 1e-14 * scale)) bc.diagonal = false;
+  bc.axis = -1;
+  if (!bc.diagonal) return;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (r != c) B[3 * r + c] = 0.0;
+  // symmetric about axis k: the other two diagonal terms are equal
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    if (B[4 * i] != B[4 * j]) continue;
+    bc.axis = k;
+    bc.iso = B[4 * i];
+    bc.along = B[4 * k] - B[4 * i];
+    return;
+  }
+}
+
+}  // namespace
+
 FastCarPlan makeFastCarPlan(const Model& m) {
   FastCarPlan P;
   std::vector<int> used(m.points.size(), 0), index(m.points.size(), -1);
@@ -38,6 +70,7 @@ FastCarPlan makeFastCarPlan(const Model& m) {
     bc.inv_mass = 1.0 / b.mass;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) bc.Ib[3 * r + c] = b.inv_inertia(r, c);
+    classifyInertia(bc);
     bc.first_point = static_cast<int>(P.pts.size());
     for (int k = m.body_point_begin[i]; k < m.body_point_end[i]; ++k) {
       if (!used[k]) continue;
@@ -128,7 +161,13 @@ void exportEvaluation(const Model& m, const FastCarPlan& P, const double* y, dou
   for (size_t i = 0; i < P.bodies.size(); ++i) {
     const fastcar::BodyL<double>& B = S.bodies[i];
     ws.R[i] = mat(B.R);
-    ws.inv_inertia_world[i] = mat(B.Iw);
+    const FastCarPlan::BodyC& bc = P.bodies[i];
+    if (bc.axis >= 0) {  // the kernel works with the world axis, not the matrix
+      const Vec3 c(B.c[0], B.c[1], B.c[2]);
+      ws.inv_inertia_world[i] = bc.iso * Mat3::Identity() + bc.along * c * c.transpose();
+    } else {
+      ws.inv_inertia_world[i] = mat(B.Iw);
+    }
     ws.omega[i] = Vec3(B.w[0], B.w[1], B.w[2]);
     ws.com[i] = Vec3(y[13 * i], y[13 * i + 1], y[13 * i + 2]);
     ws.vel[i] = Vec3(y[13 * i + 7], y[13 * i + 8], y[13 * i + 9]);
@@ -216,7 +255,7 @@ FastCar::FastCar(const Model& m) : impl_(std::make_unique<Impl>(m)) {
 }
 FastCar::~FastCar() = default;
 
-void FastCar::step(const Model& m, State& s, Workspace& ws) {
+bool FastCar::step(const Model& m, State& s, Workspace& ws) {
   const FastCarPlan& P = impl_->plan;
   Scratch<double>& S = impl_->scratch;
   double drive[kMaxWheels], brake[kMaxWheels], steer[kMaxWheels];
@@ -242,6 +281,23 @@ void FastCar::step(const Model& m, State& s, Workspace& ws) {
   for (const fastcar::ContactL<double>& c : S.con)
     if (c.in) depth = std::max(depth, c.depth);
   ws.max_depth = depth;
+  // what checkHealth tests first, without its branches and messages: x - x
+  // is 0 for a finite x and NaN otherwise, so one sum finds any NaN or
+  // infinity; the speed bound is squared and kept a margin inside, so a
+  // speed at the limit goes to checkHealth and its exact test
+  double bad[4] = {0.0, 0.0, 0.0, 0.0}, v2 = 0.0;  // four chains, not one
+  const size_t ny = s.y.size();
+  size_t i = 0;
+  for (; i + 4 <= ny; i += 4)
+    for (int j = 0; j < 4; ++j) bad[j] += y[i + j] - y[i + j];
+  for (; i < ny; ++i) bad[0] += y[i] - y[i];
+  for (size_t b = 0; b < P.bodies.size(); ++b) {
+    const double* yb = y + 13 * b;
+    v2 = std::max(v2, yb[7] * yb[7] + yb[8] * yb[8] + yb[9] * yb[9]);
+  }
+  const Limits& lim = m.opt.limits;
+  return (bad[0] + bad[1]) + (bad[2] + bad[3]) == 0.0 && depth <= lim.max_penetration &&
+         v2 <= 0.99 * lim.max_speed * lim.max_speed;
 }
 
 void FastCar::exportTo(const Model& m, Workspace& ws) const {

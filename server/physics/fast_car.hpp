@@ -28,6 +28,13 @@ namespace groundsim {
 struct FastCarPlan {
   struct BodyC {
     double mass, inv_mass, Ib[9];  // inverse inertia, body frame, row-major
+    // Ib's shape, which picks the cheapest exact product: diagonal (the
+    // principal axes), and of those symmetric about body axis `axis` (a
+    // wheel about its axle: Ib = iso I + along e e^T, e that axis), whose
+    // world inverse inertia is iso I + along c c^T with c = R e: no R Ib R^T.
+    bool diagonal;
+    int axis;                    // -1: not symmetric about a body axis
+    double iso, along;
     int first_point, end_point;  // its points among `pts`
   };
   struct PointC {
@@ -81,7 +88,11 @@ class FastCar {
   // controls already in s.applied: what Simulator::step does between
   // applyControls and checkHealth. Sets what the health check reads
   // (ws.max_depth); the rest of the workspace waits for exportTo.
-  void step(const Model& m, State& s, Workspace& ws);
+  // Returns true when the new state is plainly healthy: every component
+  // finite, the deepest contact and the fastest body clearly inside the
+  // limits, so checkHealth (without its energy test) would pass; false
+  // means only that checkHealth must decide.
+  bool step(const Model& m, State& s, Workspace& ws);
   // Fills the workspace as the general force loop does for this model at
   // the last evaluation (contacts, per-wheel forces, body totals,
   // rotations, depth, broad-phase flags), so telemetry and tests read it

@@ -51,6 +51,7 @@ template <> struct Lane<v4d> {
 // What one evaluation leaves behind, per lane.
 template <class V> struct alignas(32) BodyL {
   V R[9], Iw[9], w[3], F[3], T[3], vp[3], wp[3];
+  V c[3];  // world symmetry axis (BodyC::axis >= 0); Iw is then not filled
 };
 template <class V> struct alignas(32) PointL {
   V r[3], p[3], u[3], f[3];
@@ -61,6 +62,7 @@ template <class V> struct alignas(32) ContactL {
   V p[3], rr[3], depth, N, u[3];
   V a1[3], a2[3], b1[3], b2[3], k00, k01, k11, i00, i01, i10, i11, j0, j1;
   V bi;                   // brake impulse
+  V ia[3], ic[3], bden;   // wheel slots: the axle's inverse inertias times a, and a.(ia + ic)
 };
 template <class V> struct Scratch {
   explicit Scratch(const FastCarPlan& P)
@@ -90,14 +92,32 @@ template <class V> GROUNDSIM_INLINE_BODY void quatToMat(V x, V y, V z, V w, V* R
   R[3] = txy + twz; R[4] = 1.0 - (txx + tzz); R[5] = tyz - twx;
   R[6] = txz - twy; R[7] = tyz + twx; R[8] = 1.0 - (txx + tyy);
 }
-GROUNDSIM_INLINE_BODY bool isDiagonal(const double* B) {
-  return B[1] == 0.0 && B[2] == 0.0 && B[3] == 0.0 && B[5] == 0.0 && B[6] == 0.0 && B[7] == 0.0;
+// Column k of quatToMat's matrix: a symmetric body's world axis.
+template <class V> GROUNDSIM_INLINE_BODY void quatAxis(V x, V y, V z, V w, int k, V* c) {
+  const V tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
+  if (k == 0) {
+    c[0] = 1.0 - (ty * y + tz * z); c[1] = ty * x + tz * w; c[2] = tz * x - ty * w;
+  } else if (k == 1) {
+    c[0] = ty * x - tz * w; c[1] = 1.0 - (tx * x + tz * z); c[2] = tz * y + tx * w;
+  } else {
+    c[0] = tz * x + ty * w; c[1] = tz * y - tx * w; c[2] = 1.0 - (tx * x + ty * y);
+  }
+}
+// out = Iw x: iso x + along (c.x) c for a body symmetric about c, else the matrix.
+template <class V>
+GROUNDSIM_INLINE_BODY void invInertia(const FastCarPlan::BodyC& bc, const BodyL<V>& B, const V* x, V* out) {
+  if (bc.axis >= 0) {
+    const V s = bc.along * dot3(B.c, x);
+    for (int d = 0; d < 3; ++d) out[d] = bc.iso * x[d] + s * B.c[d];
+    return;
+  }
+  mat3vec(B.Iw, x, out);
 }
 // R B R^T for row-major 3x3 R and a constant B. A diagonal B (the
 // principal axes of every body the car builders make) skips the zero
 // terms, which add nothing, and takes the symmetric half.
-template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const double* B, V* out) {
-  if (isDiagonal(B)) {
+template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const double* B, bool diagonal, V* out) {
+  if (diagonal) {
     V M[9];
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) M[3 * i + k] = R[3 * i + k] * B[4 * k];
@@ -115,10 +135,10 @@ template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const do
     for (int j = 0; j < 3; ++j) out[3 * i + j] = M[3 * i] * R[3 * j] + M[3 * i + 1] * R[3 * j + 1] + M[3 * i + 2] * R[3 * j + 2];
 }
 // omega = R B R^T L, as R (B (R^T L)).
-template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B, const V* L, V* w) {
+template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B, bool diagonal, const V* L, V* w) {
   V b[3], c[3];
   for (int j = 0; j < 3; ++j) b[j] = R[j] * L[0] + R[3 + j] * L[1] + R[6 + j] * L[2];
-  if (isDiagonal(B))
+  if (diagonal)
     for (int i = 0; i < 3; ++i) c[i] = B[4 * i] * b[i];
   else
     for (int i = 0; i < 3; ++i) c[i] = B[3 * i] * b[0] + B[3 * i + 1] * b[1] + B[3 * i + 2] * b[2];
@@ -137,8 +157,9 @@ GROUNDSIM_INLINE_BODY void turn(const V* q, const V* omega, double h, V* out, bo
   using L = Lane<V>;
   const V wx = omega[0] * h, wy = omega[1] * h, wz = omega[2] * h;
   const V a2 = wx * wx + wy * wy + wz * wz;
-  V c = 1.0 - a2 / 8.0 + a2 * a2 / 384.0 - a2 * a2 * a2 / 46080.0;
-  V s = 0.5 - a2 / 48.0 + a2 * a2 / 3840.0 - a2 * a2 * a2 / 645120.0;
+  // Horner, multiplying by the coefficients: a division costs several multiplies
+  V c = 1.0 + a2 * (-0.125 + a2 * (1.0 / 384.0 - a2 * (1.0 / 46080.0)));
+  V s = 0.5 + a2 * (-1.0 / 48.0 + a2 * (1.0 / 3840.0 - a2 * (1.0 / 645120.0)));
   if (L::any(a2 >= 1e-3)) {
     for (int l = 0; l < L::n; ++l) {
       const double a2l = L::get(a2, l);
@@ -172,10 +193,14 @@ GROUNDSIM_INLINE_BODY void kinematics(const FastCarPlan& P, const V* Y, const V*
   for (size_t i = 0; i < P.bodies.size(); ++i) {
     BodyL<V>& B = S.bodies[i];
     const V* y = Y + 13 * i;
+    const FastCarPlan::BodyC& bc = P.bodies[i];
     const V inq = 1.0 / L::sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]);
     quatToMat(y[3] * inq, y[4] * inq, y[5] * inq, y[6] * inq, B.R);
-    rotateInertia(B.R, P.bodies[i].Ib, B.Iw);
-    mat3vec(B.Iw, y + 10, B.w);
+    if (bc.axis >= 0)
+      for (int d = 0; d < 3; ++d) B.c[d] = B.R[3 * d + bc.axis];
+    else
+      rotateInertia(B.R, bc.Ib, bc.diagonal, B.Iw);
+    invInertia(bc, B, y + 10, B.w);
   }
   for (size_t k = 0; k < P.pts.size(); ++k) {
     const FastCarPlan::PointC& pc = P.pts[k];
@@ -253,7 +278,8 @@ GROUNDSIM_INLINE_BODY void forces(const FastCarPlan& P, const V* Y, const V* dri
     V d[3] = {-(nx - na * c.a[0]), -(ny - na * c.a[1]), -(nz - na * c.a[2])};
     const V dn = L::sqrt(dot3(d, d));
     const auto flat = dn < 1e-12;
-    for (int k = 0; k < 3; ++k) d[k] = d[k] / dn;
+    const V inv_dn = 1.0 / dn;
+    for (int k = 0; k < 3; ++k) d[k] = d[k] * inv_dn;
     if (L::any(flat)) {  // lying flat: any rim point
       for (int ln = 0; ln < L::n; ++ln) {
         if (!(L::get(dn, ln) < 1e-12)) continue;
@@ -357,7 +383,7 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
       B.vp[d] = y[7 + d] + h * B.F[d] * inv_m;
       Lh[d] = y[10 + d] + h * B.T[d];
     }
-    mat3vec(B.Iw, Lh, B.wp);
+    invInertia(P.bodies[i], B, Lh, B.wp);
   }
   const V t1[3] = {L::all(P.t1[0]), L::all(P.t1[1]), L::all(P.t1[2])};
   const V t2[3] = {L::all(P.t2[0]), L::all(P.t2[1]), L::all(P.t2[2])};
@@ -370,8 +396,8 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
     const double inv_m = P.bodies[bi].inv_mass;
     cross3(c.rr, t1, c.a1);
     cross3(c.rr, t2, c.a2);
-    mat3vec(B.Iw, c.a1, c.b1);
-    mat3vec(B.Iw, c.a2, c.b2);
+    invInertia(P.bodies[bi], B, c.a1, c.b1);
+    invInertia(P.bodies[bi], B, c.a2, c.b2);
     c.k01 = dot3(c.a1, c.b2);
     c.k00 = inv_m + dot3(c.a1, c.b1);
     c.k11 = inv_m + dot3(c.a2, c.b2);
@@ -388,6 +414,15 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
   }
   M active = touching | braking;
   const bool any_brake = L::any(braking);
+  if (any_brake)  // what a brake sweep needs of the axle's inertia: the same every sweep
+    for (size_t w = 0; w < nw; ++w) {
+      const FastCarPlan::WheelC& wc = P.wheels[w];
+      if (wc.carrier < 0) continue;
+      ContactL<V>& c = S.con[pc + w];
+      invInertia(P.bodies[wc.body], S.bodies[wc.body], c.a, c.ia);
+      invInertia(P.bodies[wc.carrier], S.bodies[wc.carrier], c.a, c.ic);
+      c.bden = dot3(c.a, c.ia) + dot3(c.a, c.ic);
+    }
   for (int iter = 0; iter < P.friction_iterations; ++iter) {
     V change = L::all(0.0), total = L::all(0.0);
     if (any_brake) {
@@ -398,12 +433,11 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
         BodyL<V>& B = S.bodies[wc.body];
         BodyL<V>& C = S.bodies[wc.carrier];
         const V Bh = brake[w] * h;
-        V ia[3], ic[3];
-        mat3vec(B.Iw, c.a, ia);
-        mat3vec(C.Iw, c.a, ic);
+        const V* ia = c.ia;
+        const V* ic = c.ic;
         const V rel[3] = {B.wp[0] - C.wp[0], B.wp[1] - C.wp[1], B.wp[2] - C.wp[2]};
         const V spin = dot3(c.a, rel);
-        V acc = c.bi - spin / (dot3(c.a, ia) + dot3(c.a, ic));
+        V acc = c.bi - spin / c.bden;
         acc = acc < -Bh ? -Bh : (Bh < acc ? Bh : acc);
         const M on = active & (brake[w] > 0.0);
         acc = on ? acc : c.bi;
@@ -501,12 +535,20 @@ GROUNDSIM_INLINE_BODY void integrate(const FastCarPlan& P, V* Y, double h, Scrat
       y[10 + d] += h * B.T[d];
       y[d] += h * y[7 + d];
     }
-    V w0[3], Rm[9], w[3], qm[4];
+    V w0[3], w[3], qm[4];
     const V q0[4] = {y[3], y[4], y[5], y[6]};
-    mat3vec(B.Iw, y + 10, w0);
+    invInertia(bc, B, y + 10, w0);
     turn(q0, w0, 0.5 * h, qm, false);
-    quatToMat(qm[0], qm[1], qm[2], qm[3], Rm);
-    spinOf(Rm, bc.Ib, y + 10, w);
+    if (bc.axis >= 0) {  // the midpoint's inertia needs only its axis
+      V cm[3];
+      quatAxis(qm[0], qm[1], qm[2], qm[3], bc.axis, cm);
+      const V s = bc.along * dot3(cm, y + 10);
+      for (int d = 0; d < 3; ++d) w[d] = bc.iso * y[10 + d] + s * cm[d];
+    } else {
+      V Rm[9];
+      quatToMat(qm[0], qm[1], qm[2], qm[3], Rm);
+      spinOf(Rm, bc.Ib, bc.diagonal, y + 10, w);
+    }
     turn(q0, w, h, y + 3);
   }
 }
