@@ -64,12 +64,17 @@ template <class V> struct alignas(32) ContactL {
   V bi;                   // brake impulse
   V ia[3], ic[3], bden;   // wheel slots: the axle's inverse inertias times a, and a.(ia + ic)
 };
+template <class V> struct alignas(32) Held {
+  V v;
+};
 template <class V> struct Scratch {
   explicit Scratch(const FastCarPlan& P)
-      : bodies(P.bodies.size()), pts(P.pts.size()), con(P.contacts.size()) {}
+      : bodies(P.bodies.size()), pts(P.pts.size()), con(P.contacts.size()), steer_c(P.wheels.size()),
+        steer_s(P.wheels.size()) {}
   std::vector<BodyL<V>> bodies;
   std::vector<PointL<V>> pts;
   std::vector<ContactL<V>> con;
+  std::vector<Held<V>> steer_c, steer_s;  // cos, sin of each wheel's steering angle
   alignas(32) V drive_power{};
   int sweeps = 0;
 };
@@ -202,6 +207,20 @@ GROUNDSIM_INLINE_BODY void kinematics(const FastCarPlan& P, const V* Y, const V*
       rotateInertia(B.R, bc.Ib, bc.diagonal, B.Iw);
     invInertia(bc, B, y + 10, B.w);
   }
+  // cos and sin of each wheel's steering angle, once per wheel and lane (not
+  // per point), and not at all for a wheel no lane steers: the points then
+  // take vector arithmetic, not lane-by-lane stores into a vector
+  for (size_t w = 0; w < P.wheels.size(); ++w) {
+    S.steer_c[w].v = L::all(1.0);
+    S.steer_s[w].v = L::all(0.0);
+    if (!L::any(steer[w] != 0.0)) continue;
+    for (int ln = 0; ln < L::n; ++ln) {
+      const double al = L::get(steer[w], ln);
+      if (al == 0.0) continue;
+      L::at(S.steer_c[w].v, ln) = std::cos(al);
+      L::at(S.steer_s[w].v, ln) = std::sin(al);
+    }
+  }
   for (size_t k = 0; k < P.pts.size(); ++k) {
     const FastCarPlan::PointC& pc = P.pts[k];
     PointL<V>& pt = S.pts[k];
@@ -209,13 +228,9 @@ GROUNDSIM_INLINE_BODY void kinematics(const FastCarPlan& P, const V* Y, const V*
     const V* y = Y + 13 * pc.body;
     V l[3] = {L::all(pc.lx), L::all(pc.ly), L::all(pc.lz)};
     if (pc.steer_wheel >= 0) {
-      const V a = steer[pc.steer_wheel];
-      for (int ln = 0; ln < L::n; ++ln) {
-        const double al = L::get(a, ln);
-        const double c = al == 0.0 ? 1.0 : std::cos(al), s = al == 0.0 ? 0.0 : std::sin(al);
-        L::at(l[0], ln) = pc.pivx + c * pc.dx - s * pc.dy;
-        L::at(l[1], ln) = pc.pivy + s * pc.dx + c * pc.dy;
-      }
+      const V c = S.steer_c[pc.steer_wheel].v, s = S.steer_s[pc.steer_wheel].v;
+      l[0] = pc.pivx + c * pc.dx - s * pc.dy;
+      l[1] = pc.pivy + s * pc.dx + c * pc.dy;
     }
     mat3vec(B.R, l, pt.r);
     for (int d = 0; d < 3; ++d) pt.p[d] = y[d] + pt.r[d];
