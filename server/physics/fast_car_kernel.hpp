@@ -97,6 +97,9 @@ template <class V> GROUNDSIM_INLINE_BODY void quatToMat(V x, V y, V z, V w, V* R
   R[3] = txy + twz; R[4] = 1.0 - (txx + tzz); R[5] = tyz - twx;
   R[6] = txz - twy; R[7] = tyz + twx; R[8] = 1.0 - (txx + tyy);
 }
+GROUNDSIM_INLINE_BODY bool isDiagonal(const double* B) {
+  return B[1] == 0.0 && B[2] == 0.0 && B[3] == 0.0 && B[5] == 0.0 && B[6] == 0.0 && B[7] == 0.0;
+}
 // Column k of quatToMat's matrix: a symmetric body's world axis.
 template <class V> GROUNDSIM_INLINE_BODY void quatAxis(V x, V y, V z, V w, int k, V* c) {
   const V tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
@@ -139,6 +142,10 @@ template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const do
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out[3 * i + j] = M[3 * i] * R[3 * j] + M[3 * i + 1] * R[3 * j + 1] + M[3 * i + 2] * R[3 * j + 2];
 }
+// The same, B's shape looked up (for callers without a classified plan: ring_car.cpp).
+template <class V> GROUNDSIM_INLINE_BODY void rotateInertia(const V* R, const double* B, V* out) {
+  rotateInertia(R, B, isDiagonal(B), out);
+}
 // omega = R B R^T L, as R (B (R^T L)).
 template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B, bool diagonal, const V* L, V* w) {
   V b[3], c[3];
@@ -148,6 +155,9 @@ template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B
   else
     for (int i = 0; i < 3; ++i) c[i] = B[3 * i] * b[0] + B[3 * i + 1] * b[1] + B[3 * i + 2] * b[2];
   mat3vec(R, c, w);
+}
+template <class V> GROUNDSIM_INLINE_BODY void spinOf(const V* R, const double* B, const V* L, V* w) {
+  spinOf(R, B, isDiagonal(B), L, w);
 }
 
 // q (x y z w) turned by the rotation vector (wx, wy, wz) * h and
