@@ -20,7 +20,8 @@ nlohmann::json withVehicle(const nlohmann::json& vehicle) {
 void expectEstimateMatchesModel(const nlohmann::json& d) {
   const Scenario s = parseScenario(d);
   const ModelSize e = estimateModelSize(s);
-  const Model& m = *buildScene(s).built.model;
+  const auto scene = buildScene(s);  // kept: the model lives as long as the scene's shared_ptr
+  const Model& m = *scene.built.model;
   const std::string what = d.dump();
   EXPECT_EQ(e.bodies, static_cast<long long>(m.bodies.size())) << what;
   EXPECT_EQ(e.points, static_cast<long long>(m.points.size())) << what;
