@@ -14,15 +14,6 @@
 namespace groundsim::test {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-struct Car {
-  std::string name;
-  RoadCarParams p;
-};
-
-void PrintTo(const Car& c, std::ostream* os) { *os << c.name; }
-
 class RoadCarTest : public ::testing::TestWithParam<Car> {
  protected:
   const RoadCarParams& P() const { return GetParam().p; }

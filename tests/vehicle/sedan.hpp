@@ -5,6 +5,8 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <ostream>
+#include <string>
 
 #include "physics/road_car_builder.hpp"
 #include "physics/steering.hpp"
@@ -14,6 +16,7 @@
 namespace groundsim::test {
 
 inline constexpr double kG = 9.81;
+inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kPiRpm = std::numbers::pi / 30.0;  // rad/s per rpm
 
 inline RoadCarParams sedan() {
@@ -95,5 +98,12 @@ inline CarSim makeCar(const RoadCarParams& p, const Options& o, double speed = 0
   cs.sim = std::make_unique<Simulator>(built.model, built.initial);
   return cs;
 }
+
+// a named car for the suites parameterised over cars (gtest prints the name)
+struct Car {
+  std::string name;
+  RoadCarParams p;
+};
+inline void PrintTo(const Car& c, std::ostream* os) { *os << c.name; }
 
 }  // namespace groundsim::test

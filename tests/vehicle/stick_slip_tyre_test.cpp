@@ -17,15 +17,6 @@
 namespace groundsim::test {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-struct Car {
-  std::string name;
-  RoadCarParams p;
-};
-
-void PrintTo(const Car& c, std::ostream* os) { *os << c.name; }
-
 RoadCarParams stickSlip(RoadCarParams p) {
   for (auto& t : p.tyre) t.slip_model = false;
   return p;
