@@ -82,7 +82,10 @@ void Scheduler::workerLoop() {
     }
     const TimePoint now = Clock::now();
     if (top.due > now) {
-      cv_.wait_until(lk, top.due);
+      // a copy: wait_until reads its deadline again after waking, and a
+      // wake() meanwhile may reallocate the queue's storage under top
+      const TimePoint due = top.due;
+      cv_.wait_until(lk, due);
       continue;
     }
     std::shared_ptr<Task> task = top.task;

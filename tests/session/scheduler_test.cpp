@@ -2,10 +2,13 @@
 // order of slices is fully determined by the queue.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
 #include "session/scheduler.hpp"
 
@@ -127,6 +130,42 @@ TEST(Scheduler, BuildJobsLeaveAWorkerForSessions) {
   EXPECT_TRUE(ran) << "builds held every worker";
   pool.stop();
   EXPECT_EQ(most.load(), 1);
+}
+
+// Runs once per wake, then sleeps until woken.
+class Once final : public Task {
+ public:
+  explicit Once(Counter& c) : c_(c) {}
+  std::optional<TimePoint> run(TimePoint) override {
+    c_.bump(runs);
+    return std::nullopt;
+  }
+  void abandon(const char*) noexcept override {}
+  std::atomic<int> runs{0};
+
+ private:
+  Counter& c_;
+};
+
+TEST(Scheduler, WakesReachAWorkerAsleepUntilALaterTask) {
+  // The worker sleeps until the later task's due time while sessions are
+  // woken. It once slept on a reference into the queue's storage, which a
+  // wake's push reallocates: the worker then read freed memory when it woke
+  // (an ASan report in the ASan suite, undefined behaviour elsewhere).
+  Counter c;
+  auto later = std::make_shared<Repeating>(c, Clock::now() + std::chrono::hours(1));
+  Scheduler pool(1);
+  pool.wake(later);
+  ASSERT_TRUE(c.waitFor([&] { return later->runs >= 1; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));  // let the worker go to sleep
+  std::vector<std::shared_ptr<Once>> woken;
+  for (int i = 0; i < 64; ++i) woken.push_back(std::make_shared<Once>(c));
+  for (const auto& t : woken) pool.wake(t);
+  ASSERT_TRUE(c.waitFor([&] {
+    return std::all_of(woken.begin(), woken.end(), [](const auto& t) { return t->runs >= 1; });
+  }));
+  pool.stop();
+  EXPECT_EQ(later->runs.load(), 1) << "the later task ran before its time";
 }
 
 }  // namespace
