@@ -43,7 +43,8 @@ TEST_P(StepAllocation, ASteadyStepAllocatesNothing) {
                                                  {"control_period", 8}})}) {
     Batch b(doc, 5, GetParam());
     b.reset(1);
-    b.setAll({0.5f, 0.0f, 0.1f, 0.5f});
+    std::vector<float> action(static_cast<size_t>(b.layout().actionSize()), 0.5f);
+    b.setAll(action);
     b.step();  // the first step may fill lazily sized buffers
     const long before = g_allocations.load();
     for (int i = 0; i < 20; ++i) b.step();

@@ -72,7 +72,12 @@ struct Batch {
     return obs[static_cast<size_t>(e * layout().obsSize() + index(name))];
   }
   float* a(int e = 0) { return act.data() + static_cast<size_t>(e * layout().actionSize()); }
+  // the same action for every environment; it must be one whole action
   void setAll(std::vector<float> values) {
+    if (values.size() != static_cast<size_t>(layout().actionSize())) {
+      ADD_FAILURE() << values.size() << " action values for an action of " << layout().actionSize();
+      return;
+    }
     for (int e = 0; e < n; ++e)
       for (size_t k = 0; k < values.size(); ++k) a(e)[k] = values[k];
   }
