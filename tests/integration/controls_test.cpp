@@ -81,6 +81,7 @@ class Controls : public ::testing::Test {
   Result cli(std::vector<std::string> args, const std::string& stdin_text = "") {
     args.insert(args.begin(), kCli);
     args.insert(args.end(), {"--lcm-url", kUrl, "--token-file", token_file_});
+    withReplyTimeout(args);
     return run(args, stdin_text, 60);
   }
   std::string create(const std::string& file) {

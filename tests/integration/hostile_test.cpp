@@ -11,6 +11,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -46,6 +47,7 @@ class Hostile : public ::testing::Test {
     args.insert(args.begin(), kCli);
     if (net) args.insert(args.end(), {"--lcm-url", kUrl});
     if (net && owner) args.insert(args.end(), {"--token-file", token_file_});
+    if (net) withReplyTimeout(args);
     return args;
   }
   Result cli(std::vector<std::string> args, bool net = true, const std::string& in = "") {
@@ -115,6 +117,15 @@ TEST_F(Hostile, LogLearnsAnEndItDidNotHearFromTheHeartbeat) {
   const std::string done = create({"--mode", "fast", "--duration", "0.2"});
   const std::string stopped = create({"--duration", "-1"});
   ASSERT_EQ(cli({"stop", stopped}).status, 0);
+  // 0.2 s of the ring car is quick, not instant (a sanitizer build is 5-15x slower)
+  bool finished = false;
+  for (int i = 0; i < 600 && !finished; ++i) {
+    const Result list = cli({"list"});
+    for (size_t at = list.out.find(done); at != std::string::npos && !finished; at = list.out.find(done, at + 1))
+      finished = list.out.substr(at, list.out.find('\n', at) - at).find("finished") != std::string::npos;
+    if (!finished) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(finished) << "session " << done << " never finished";
   for (const auto& id : {done, stopped}) {
     const Result r = cli({"log", id, "--csv", file(id + ".csv")});
     EXPECT_EQ(r.status, 0) << r.err;

@@ -149,6 +149,7 @@ class Lifecycle : public ::testing::Test {
     args.insert(args.begin(), kCli);
     args.insert(args.end(), {"--lcm-url", kUrl});
     if (with_token) args.insert(args.end(), {"--token-file", token_file_});
+    withReplyTimeout(args);
     return args;
   }
   Result cli(std::vector<std::string> args, bool with_token, const std::string& stdin_text = "") {

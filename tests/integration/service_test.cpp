@@ -73,6 +73,7 @@ class Service : public ::testing::Test {
     args.insert(args.begin(), kCli);
     args.insert(args.end(), {"--lcm-url", kUrl});
     if (with_token) args.insert(args.end(), {"--token-file", token_file_});
+    withReplyTimeout(args);
     return run(args, stdin_text, timeout);
   }
   std::string create(std::vector<std::string> extra = {}) {

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstdlib>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -19,6 +21,13 @@ inline const std::string kUrl = "udpm://239.255.76.67:7667?ttl=0";
 inline std::string tokenFile(const std::string& tag) {
   const char* dir = std::getenv("TMPDIR");
   return std::string(dir && *dir ? dir : "/tmp") + "/gs-itest-" + tag + "-" + std::to_string(getpid()) + ".json";
+}
+
+// --timeout 10 on a client command that does not set its own: the CLI's
+// 2 s default for a reply is missed now and then by a server under ASan or
+// TSan on a loaded machine, and a test would then fail for the machine.
+inline void withReplyTimeout(std::vector<std::string>& args) {
+  if (std::find(args.begin(), args.end(), "--timeout") == args.end()) args.insert(args.end(), {"--timeout", "10"});
 }
 
 // The last line of a command's output (`create` prints the session id there).

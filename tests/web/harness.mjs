@@ -176,6 +176,17 @@ export async function hold(page, key, ms) {
   await page.keyboard.up(key);
 }
 
+// Holds a key until done() holds (a server slower than real time, e.g.
+// under ASan, needs longer than a fixed hold's wall time to respond).
+export async function holdUntil(page, key, what, done, timeoutMs = 30000) {
+  await page.keyboard.down(key);
+  try {
+    await until(what, done, timeoutMs, 50);
+  } finally {
+    await page.keyboard.up(key);
+  }
+}
+
 // Holds the handbrake (space) until every listed car of the page's state is still.
 export async function stopCars(page, cars = [0], timeoutMs = 15000) {
   await page.keyboard.down(' ');

@@ -25,9 +25,11 @@ await Promise.all([h.stopCars(one, [0]), h.stopCars(two, [1])]);
 const speeds = async () => [await h.rolling(watcher, 0), await h.rolling(watcher, 1)];
 await watcher.waitForTimeout(300);
 const rest = await speeds();
-await h.hold(one, 'w', 1000);
+// each holds W until the watcher sees its car 1 m/s faster (at most 30 s)
+const faster = (k) => async () => (await h.rolling(watcher, k)) > rest[k] + 1;
+await h.holdUntil(one, 'w', 'car 0 to speed up', faster(0)).catch(() => {});
 const afterOne = await speeds();
-await h.hold(two, 'w', 1000);
+await h.holdUntil(two, 'w', 'car 1 to speed up', faster(1)).catch(() => {});
 await watcher.waitForTimeout(200);
 const afterTwo = await speeds();
 console.log(`watcher sees: rest ${rest}, after player one ${afterOne}, after player two ${afterTwo}`);
