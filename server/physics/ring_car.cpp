@@ -602,7 +602,7 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       }
     }
     S.sweeps = iter + 1;
-    if (change <= 1e-6 * total + 1e-9 * scale) break;  // converged: what is left cannot add up to creep
+    if (change <= 1e-6 * total + 1e-9 * scale) break;  // converged: a parked car then slides ~1e-6 g sin(slope) h (docs/accuracy.md)
   }
   for (size_t w = 0; braking && w < nw; ++w) {
     const WheelC& wc = P.wheels[w];

@@ -132,7 +132,7 @@ void solveVelocityConstraints(const Model& m, const Eigen::VectorXd& y,
     }
     }
     ws.friction_sweeps = iter + 1;
-    if (change <= 1e-6 * total + 1e-9 * scale) break;  // converged: what is left cannot add up to creep
+    if (change <= 1e-6 * total + 1e-9 * scale) break;  // converged: a parked car then slides ~1e-6 g sin(slope) h (docs/accuracy.md)
   }
 
   // impulses over the step become forces for the integrator and telemetry
