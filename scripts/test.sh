@@ -46,7 +46,8 @@ case "$sanitize" in
     build_dir "$dir" "groundsim-server groundsim service_integration_tests lifecycle_integration_tests
       hostile_integration_tests controls_integration_tests vec_integration_tests session_tests" \
       -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE=thread -DGROUNDSIM_BUILD_BENCH=OFF
-    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+    # the suppressions name uninstrumented libraries only (glib under LCM)
+    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/support/tsan.supp${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
     # TSan's shadow memory needs the classic address layout: no ASLR (a
     # personality flag, inherited by the test processes through unshare and exec)
     # Three tests are left out: two lifecycle tests assert that a real-time

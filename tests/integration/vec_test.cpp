@@ -2,6 +2,7 @@
 // multicast in a private network namespace, driven by RemoteVecEnv, against
 // makeVecEnv in this process. Verdicts are exact (bit-identical results,
 // named fields); waits are generous timeouts only.
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -260,7 +261,7 @@ TEST_F(Vec, ARealtimeSessionBesideAVectorisedOneKeepsPublishing) {
     std::int64_t reply_id = 0;
     groundsim::reply_t reply;
     bool got = false;
-    std::int64_t states = 0;
+    std::atomic<std::int64_t> states{0};  // counted on the listening thread, read on this one
     void onReply(const lcm::ReceiveBuffer* b, const std::string&) {
       groundsim::reply_t m;
       if (net::decodeMessage(b->data, static_cast<int>(b->data_size), m, "reply_t").ok() &&
