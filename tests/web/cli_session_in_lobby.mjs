@@ -16,14 +16,14 @@ const row = await h.until('the session in the lobby', () => page.evaluate((sid) 
   const tr = document.querySelector(`tr[data-session="${sid}"]`);
   // first seen from its states on the bus, then named by the next heartbeat
   return tr && tr.textContent.includes('parabola') && { text: tr.textContent, drive: !!tr.querySelector('button[data-act="drive"]') };
-}, id), 10000);
+}, id));
 console.log(`lobby row: ${row.text.replace(/\s+/g, ' ')}`);
 if (!row.text.includes('parabola')) await h.fail('the lobby row does not name the scenario');
 if (row.drive) await h.fail('the lobby offers to drive a session whose token the bridge does not hold');
 
 const spectator = await h.newPage(`${url}?session=${id}`);
 await h.until('states of the session', () => spectator.evaluate(() => window.groundsim.states > 2));
-await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0), 10000);
+await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0));
 const info = await spectator.evaluate(() => ({ role: window.groundsim.role, ground: window.groundsim.layout && window.groundsim.layout.ground, note: window.groundsim.note }));
 console.log(JSON.stringify(info));
 if (info.role !== 'spectate' || info.ground !== 'parabola') await h.fail(`not spectating its parabola: ${JSON.stringify(info)}`);

@@ -63,7 +63,9 @@ function start(cmd, args, name) {
   return c;
 }
 
-export async function until(what, fn, timeoutMs = 20000, everyMs = 100) {
+// Generous: a page under a slow server (the ASan suite) may take many times
+// its usual second; a timeout is only how long a failure takes to report.
+export async function until(what, fn, timeoutMs = 60000, everyMs = 100) {
   const t0 = Date.now();
   for (;;) {
     const v = await fn();
@@ -188,7 +190,7 @@ export async function holdUntil(page, key, what, done, timeoutMs = 30000) {
 }
 
 // Holds the handbrake (space) until every listed car of the page's state is still.
-export async function stopCars(page, cars = [0], timeoutMs = 15000) {
+export async function stopCars(page, cars = [0], timeoutMs = 60000) {
   await page.keyboard.down(' ');
   try {
     // for half a second: a car rocking on its tyres passes 0

@@ -32,9 +32,9 @@ const page = await h.newPage(url);
 const spectator = await h.newPage(`${url}?session=${id}`);
 // replay only the states and the scenario (not the recorded requests)
 const player = spawn('/usr/bin/lcm-logplayer', [`--lcm-url=${h.LCM_URL}`, '-e', `GROUNDSIM_STATE_.*|GROUNDSIM_SCENARIO`, log], { stdio: 'ignore' });
-await h.until('the replayed session in the lobby', () => page.evaluate((sid) => !!document.querySelector(`tr[data-session="${sid}"]`), id), 10000);
-await h.until('replayed states', () => spectator.evaluate(() => window.groundsim.states > 5), 10000);
-await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0), 10000);
+await h.until('the replayed session in the lobby', () => page.evaluate((sid) => !!document.querySelector(`tr[data-session="${sid}"]`), id));
+await h.until('replayed states', () => spectator.evaluate(() => window.groundsim.states > 5));
+await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0));
 const info = await spectator.evaluate(() => ({ ground: window.groundsim.layout && window.groundsim.layout.ground, t: window.groundsim.lastState.t }));
 player.kill();
 console.log(JSON.stringify(info));

@@ -10,7 +10,7 @@ const { url } = await h.startServices();
 await h.launch();
 const page = await h.newPage(url);
 const session = await h.createAndDrive(page, 'sedan.json');
-await h.until('the road car state to arrive', () => page.evaluate(() => window.groundsim.car !== null), 10000);
+await h.until('the road car state to arrive', () => page.evaluate(() => window.groundsim.car !== null));
 await h.stopCars(page);
 await page.waitForTimeout(300);
 const server0 = h.serverSpeeds(session)[0];
