@@ -14,8 +14,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-
 #include "road_car_phase.hpp"
 #include "steering.hpp"
 #include "tyre.hpp"
@@ -40,6 +38,18 @@ void holdGrowth(double hold, double ux, double uy, double* dux, double* duy) {
 }
 
 }  // namespace
+
+Eigen::Matrix<double, 6, 6> reducedMassBody(const RoadCar& rc, double mass, const Mat3& inertia) {
+  Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+  M.topLeftCorner<3, 3>() = mass * Mat3::Identity();
+  M.bottomRightCorner<3, 3>() = inertia;
+  for (int w = 0; w < 4; ++w) {
+    Eigen::Matrix<double, 6, 1> j;
+    j << Vec3::UnitZ(), rc.hub[w].cross(Vec3::UnitZ());
+    M.noalias() -= rc.p.wheel_mass * j * j.transpose();
+  }
+  return M;
+}
 
 void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
   const int base = m.auxBase();
@@ -78,9 +88,15 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     double delta[4] = {0.0, 0.0, 0.0, 0.0};
     ackermannAngles(p.steering, p.wheelbase, p.track, in.steer_angle, &delta[0], &delta[1]);
 
-    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-    M.topLeftCorner<3, 3>() = m.bodies[b].mass * Mat3::Identity();
-    M.bottomRightCorner<3, 3>() = Iw;
+    // the world-frame mass matrix only for the stick-slip tyres' solve; the
+    // accelerations come from the body-frame inverse built once
+    const bool rigid_tyres = !p.tyre[0].slip_model || !p.tyre[1].slip_model;
+    Eigen::Matrix<double, 6, 6> M;
+    if (rigid_tyres) {
+      M.setZero();
+      M.topLeftCorner<3, 3>() = m.bodies[b].mass * Mat3::Identity();
+      M.bottomRightCorner<3, 3>() = Iw;
+    }
     Eigen::Matrix<double, 6, 1> G;
     G.head<3>() = ws.body_force[b] - 0.5 * p.aero.air_density * p.aero.drag_area * v.norm() * v;
     G.tail<3>() = ws.body_torque[b] - om_b.cross(Iw * om_b);
@@ -99,7 +115,8 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       const Vec3 r_hub = R * rc.hub[w] + s * nb;
       rhub[w] = r_hub;
       const Vec3 p_hub = ws.com[b] + r_hub, v_hub = v + om_b.cross(r_hub) + sd * nb;
-      const double cd = std::cos(delta[w]), sn = std::sin(delta[w]);
+      const double cd = delta[w] == 0.0 ? 1.0 : std::cos(delta[w]);  // straight ahead: no trig
+      const double sn = delta[w] == 0.0 ? 0.0 : std::sin(delta[w]);
       const Vec3 axle = R * Vec3(-sn, cd, 0.0);
       Vec3 grad;
       const double H = m.ground->eval(p_hub, &grad);
@@ -197,9 +214,11 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       Q[w] = F.dot(nb) + p.wheel_mass * g.dot(nb) - springForce(rc, w, s, sd, s_other);
       G.head<3>() += F - Q[w] * nb;
       G.tail<3>() += r_c.cross(F) - (Mgeo + t_d + t_b) * axle - Q[w] * r_hub.cross(nb);
-      Eigen::Matrix<double, 6, 1> j;
-      j << nb, r_hub.cross(nb);
-      M.noalias() -= p.wheel_mass * j * j.transpose();
+      if (rigid_tyres) {
+        Eigen::Matrix<double, 6, 1> j;
+        j << nb, r_hub.cross(nb);
+        M.noalias() -= p.wheel_mass * j * j.transpose();
+      }
       double* d = ws.aux_dot.data() + rc.aux + 5 * w;
       d[0] = sd;
       d[2] = (t_d + t_b + t_rr + Mha) / I;
@@ -208,9 +227,13 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     }
     // the stick-slip tyres' friction and brakes need the body's mass matrix
     const StickSlipBody sb{&M, &G, v, om_b, ws.inv_inertia_world[b] * om_b.cross(Iw * om_b), nb, Q};
-    applyStickSlipTyres(p, sb, h, rigid, out, ws.aux_dot.data() + rc.aux);
-    const Eigen::Matrix<double, 6, 1> acc = M.llt().solve(G);  // M is positive definite
-    const Vec3 a_lin = acc.head<3>(), alpha = acc.tail<3>();
+    if (rigid_tyres) applyStickSlipTyres(p, sb, h, rigid, out, ws.aux_dot.data() + rc.aux);
+    // M = T M_b T^T with T = diag(R, R) and M_b constant (road_car.hpp)
+    Eigen::Matrix<double, 6, 1> Gb;
+    Gb.head<3>().noalias() = R.transpose() * G.head<3>();
+    Gb.tail<3>().noalias() = R.transpose() * G.tail<3>();
+    const Eigen::Matrix<double, 6, 1> acc_b = rc.inv_mass_body * Gb;
+    const Vec3 a_lin = R * acc_b.head<3>(), alpha = R * acc_b.tail<3>();
     ws.body_force[b] = m.bodies[b].mass * a_lin;
     ws.body_torque[b] = Iw * alpha + om_b.cross(Iw * om_b);
     for (int w = 0; w < 4; ++w)

@@ -145,7 +145,18 @@ struct RoadCar {
   std::array<Vec3, 4> hub;          // m      wheel centre at zero travel, body frame (FL, FR, RL, RR)
   std::array<double, 4> spring_rate{}, damper_rate{}, preload{}, static_load{};  // N/m, N s/m, N, N
   std::array<double, 4> nominal_load{};  // N  tyre F_z0
+  // Inverse of the body's reduced mass matrix (road_car.cpp) in the body
+  // frame, (linear, angular) order. It is constant there: the struts are the
+  // body's z axis and a hub moves only along its strut, so r_hub x n has the
+  // same body-frame components at every travel. Set by addRoadCar.
+  Eigen::Matrix<double, 6, 6, Eigen::DontAlign> inv_mass_body =
+      Eigen::Matrix<double, 6, 6, Eigen::DontAlign>::Zero();
 };
+
+// The body-frame reduced mass matrix of a road car whose body has this mass
+// and body-frame inertia: diag(m, m, m, I) - m_u sum_w j_w j_w^T with
+// j_w = (e_z, hub_w x e_z).
+Eigen::Matrix<double, 6, 6> reducedMassBody(const RoadCar& rc, double mass, const Mat3& inertia);
 
 // Per evaluation: what each wheel did (telemetry, tests).
 struct RoadWheelOut {

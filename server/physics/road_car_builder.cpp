@@ -88,6 +88,9 @@ CarHandle addRoadCar(ModelBuilder& b, const std::string& name, const RoadCarPara
   b.setVehicleBody(h.body);
   rc.vehicle = h.vehicle;
   rc.body = h.body;
+  const Body& built = b.model().bodies[static_cast<size_t>(h.body)];
+  // positive definite (the car outweighs its wheels): its inverse exists
+  rc.inv_mass_body = reducedMassBody(rc, built.mass, built.inertia).inverse();
   std::array<double, kRoadCarStates> init{};
   for (int w = 0; w < 4; ++w) init[static_cast<size_t>(roadAux(w, 2))] = at.speed / r + at.wheel_spin;
   b.addRoadCar(rc, init);
