@@ -15,9 +15,11 @@
 #include <cmath>
 
 #include "road_car_phase.hpp"
+#include "simd_path.hpp"
 #include "steering.hpp"
 #include "tyre.hpp"
 #include "tyre_stick_slip.hpp"
+#include "vector_math.hpp"
 
 namespace groundsim {
 namespace {
@@ -64,6 +66,8 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     const Vec3 nb = R.col(2), v = ws.vel[b], om_b = ws.omega[b];
     const Mat3 Iw = R * m.bodies[b].inertia * R.transpose();
     const double r = p.wheel_radius, I = p.wheel_inertia, mu_scene = m.opt.contact.friction;
+    // reciprocals: one division each per evaluation, multiplications per wheel
+    const double inv_r = 1.0 / r, inv_I = 1.0 / I, inv_h = 1.0 / h, inv_mu = 1.0 / p.wheel_mass;
 
     // powertrain: one engine for the driven wheels
     const PowertrainParams& pt = p.powertrain;
@@ -104,77 +108,123 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     Vec3 rhub[4];
     double drive_power = 0.0;
     std::array<StickSlipWheel, 4> rigid{};  // stick-slip tyres: solved after the loop
+    // three passes over the wheels, so that the transcendental functions of
+    // all four run together (vector_math.hpp): the patches, then the tyres'
+    // curves, slip angles and rolling resistance, then forces and torques
+    const bool wide = useWideSimd(m);
+    struct Patch {
+      double s, sd, om, ux, uy, Fz, dux, duy, vx, vy;
+      Vec3 r_hub, v_hub, axle, r_c, F;
+    };
+    std::array<Patch, 4> pw;
+    TyreLanes lanes;
+    alignas(32) double spin_arg[4], slip_y[4], slip_x[4];
     for (int w = 0; w < 4; ++w) {
       const int ax = w < 2 ? 0 : 1;
       const TyreParams& tp = p.tyre[ax];
       RoadWheelOut& o = out.wheel[w];
       StickSlipWheel& ss = rigid[w];
+      Patch& q = pw[w];
       ss.active = !tp.slip_model;
-      const double s = y[A + roadAux(w, 0)], sd = y[A + roadAux(w, 1)], om = y[A + roadAux(w, 2)];
-      const double ux = y[A + roadAux(w, 3)], uy = y[A + roadAux(w, 4)];
-      const Vec3 r_hub = R * rc.hub[w] + s * nb;
-      rhub[w] = r_hub;
-      const Vec3 p_hub = ws.com[b] + r_hub, v_hub = v + om_b.cross(r_hub) + sd * nb;
+      q.s = y[A + roadAux(w, 0)], q.sd = y[A + roadAux(w, 1)], q.om = y[A + roadAux(w, 2)];
+      q.ux = y[A + roadAux(w, 3)], q.uy = y[A + roadAux(w, 4)];
+      const Vec3 r_hub = R * rc.hub[w] + q.s * nb;
+      q.r_hub = rhub[w] = r_hub;
+      const Vec3 p_hub = ws.com[b] + r_hub;
+      q.v_hub = v + om_b.cross(r_hub) + q.sd * nb;
       const double cd = delta[w] == 0.0 ? 1.0 : std::cos(delta[w]);  // straight ahead: no trig
       const double sn = delta[w] == 0.0 ? 0.0 : std::sin(delta[w]);
-      const Vec3 axle = R * Vec3(-sn, cd, 0.0);
+      q.axle = R * Vec3(-sn, cd, 0.0);
       Vec3 grad;
       const double H = m.ground->eval(p_hub, &grad);
-      const double gn = std::max(grad.norm(), 1e-12);
-      const Vec3 n = grad / gn;
-      const double dist = H / gn, pen = r - dist;
-      Vec3 F = Vec3::Zero();
-      double Fz = 0.0, dux, duy;
-      Vec3 r_c = r_hub - r * nb;
-      if (pen > 0.0) {
-        r_c = r_hub - dist * n;
+      const double inv_gn = 1.0 / std::max(grad.norm(), 1e-12);
+      const Vec3 n = grad * inv_gn;
+      const double dist = H * inv_gn, pen = r - dist;
+      q.F = Vec3::Zero();
+      q.Fz = 0.0;
+      q.r_c = r_hub - r * nb;
+      o.contact = pen > 0.0;
+      if (o.contact) {
+        q.r_c = r_hub - dist * n;
         const Vec3 head = R * Vec3(cd, sn, 0.0);
-        o.tx = (head - head.dot(n) * n).normalized();
+        const Vec3 along = head - head.dot(n) * n;
+        const double along2 = along.squaredNorm();
+        o.tx = along2 > 0.0 ? Vec3(along * (1.0 / std::sqrt(along2))) : along;
         o.ty = n.cross(o.tx);
-        const Vec3 vc = v + om_b.cross(r_c) + sd * nb;
-        const double vx = vc.dot(o.tx), vy = vc.dot(o.ty);
-        Fz = std::max(0.0, tp.vertical_stiffness * pen - tp.vertical_damping * v_hub.dot(n));
+        const Vec3 vc = v + om_b.cross(q.r_c) + q.sd * nb;
+        q.vx = vc.dot(o.tx), q.vy = vc.dot(o.ty);
+        q.Fz = std::max(0.0, tp.vertical_stiffness * pen - tp.vertical_damping * q.v_hub.dot(n));
         // the ground's friction at the patch (patches and maps, surface_friction.hpp)
-        const double mu_ground = m.ground->friction(ws.com[b] + r_c, mu_scene);
+        const double mu_ground = m.ground->friction(ws.com[b] + q.r_c, mu_scene);
         if (ss.active) {
-          stickSlipPatch(tp, Fz, mu_ground, r_c, o, ss);
-          F = Fz * n;
-          dux = -20.0 * ux;  // unused: the tread has no deflection
-          duy = -20.0 * uy;
+          stickSlipPatch(tp, q.Fz, mu_ground, q.r_c, o, ss);
+          q.F = q.Fz * n;
+          q.dux = -20.0 * q.ux;  // unused: the tread has no deflection
+          q.duy = -20.0 * q.uy;
         } else {
-          deflectionRates(tp, vx, vy, om * r, ux, uy, &dux, &duy);
-          double Fx, Fy;
-          tyreForces(tp, Fz, rc.nominal_load[w], mu_ground, ux / tp.relaxation_length, uy / tp.relaxation_length,
-                     &Fx, &Fy);
+          deflectionRates(tp, q.vx, q.vy, q.om * r, q.ux, q.uy, &q.dux, &q.duy);
+          lanes.on[w] = true;
+          lanes.t[w] = &tp;
+          lanes.Fz[w] = q.Fz;
+          lanes.Fz0[w] = rc.nominal_load[w];
+          lanes.inv_Fz0[w] = rc.inv_nominal_load[w];
+          lanes.mu[w] = mu_ground;
+          lanes.kx[w] = q.ux * tp.inv_relaxation;
+          lanes.ky[w] = q.uy * tp.inv_relaxation;
+          q.F = q.Fz * n;  // the tread's forces are added below
+        }
+      } else {
+        o.hold = 0.0;
+        q.dux = -20.0 * q.ux;  // off the ground the tread relaxes
+        q.duy = -20.0 * q.uy;
+        q.vx = q.vy = 0.0;
+      }
+      spin_arg[w] = q.om * r / 0.1;
+      slip_y[w] = q.vy;
+      slip_x[w] = std::max(std::abs(q.vx), 0.5);
+    }
+    alignas(32) double tyre_fx[4], tyre_fy[4], slip_angle[4], spin_tanh[4];
+    tyreForces4(lanes, wide, tyre_fx, tyre_fy);
+    atan2_4(slip_y, slip_x, slip_angle, wide);
+    tanh4(spin_arg, spin_tanh, wide);
+    for (int w = 0; w < 4; ++w) {
+      const int ax = w < 2 ? 0 : 1;
+      const TyreParams& tp = p.tyre[ax];
+      RoadWheelOut& o = out.wheel[w];
+      StickSlipWheel& ss = rigid[w];
+      const Patch& q = pw[w];
+      const double s = q.s, sd = q.sd, om = q.om, ux = q.ux, uy = q.uy, Fz = q.Fz;
+      const Vec3 &r_hub = q.r_hub, &axle = q.axle, &r_c = q.r_c;
+      double dux = q.dux, duy = q.duy;
+      Vec3 F = q.F;
+      if (o.contact) {
+        if (!ss.active) {
+          double Fx = tyre_fx[w], Fy = tyre_fy[w];
           // low-speed damping of the deflection springs (they would ring at standstill)
-          const double fade = std::max(0.0, 1.0 - std::abs(vx) / 3.0);
+          const double fade = std::max(0.0, 1.0 - std::abs(q.vx) * (1.0 / 3.0));
           // near standstill a tread deflected past the peak slides instead of
           // stretching further: stop its growth (else a sliding stop winds up
           // a deflection that throws the car back once it halts)
-          const double kxn = ux / (tp.relaxation_length * tp.peak_slip_ratio);
-          const double kyn = uy / (tp.relaxation_length * tp.peak_slip_angle);
+          const double kxn = ux * tp.inv_relaxation * tp.inv_peak_slip_ratio;
+          const double kyn = uy * tp.inv_relaxation * tp.inv_peak_slip_angle;
           o.hold = kxn * kxn + kyn * kyn > 1.0 ? fade : 0.0;
           holdGrowth(o.hold, ux, uy, &dux, &duy);
           Fx += tp.low_speed_damping * fade * dux;
           Fy += tp.low_speed_damping * fade * duy;
-          const double cap = mu_ground * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
+          const double cap = lanes.mu[w] * tp.friction_scale * Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
           if (mag > cap && mag > 0.0) {
-            Fx *= cap / mag;
-            Fy *= cap / mag;
+            const double scale = cap / mag;
+            Fx *= scale;
+            Fy *= scale;
           }
-          F = Fx * o.tx + Fy * o.ty + Fz * n;
+          F = Fx * o.tx + Fy * o.ty + F;
           o.fx = Fx;
           o.fy = Fy;
         }
-        o.slip_ratio = (om * r - vx) / std::max(std::abs(vx), 0.5);
-        o.slip_angle = std::atan2(vy, std::max(std::abs(vx), 0.5));
-        o.contact = true;
+        o.slip_ratio = (om * r - q.vx) / std::max(std::abs(q.vx), 0.5);
+        o.slip_angle = slip_angle[w];
       } else {
-        o.hold = 0.0;
-        dux = -20.0 * ux;  // off the ground the tread relaxes
-        duy = -20.0 * uy;
         o.fx = o.fy = o.slip_ratio = o.slip_angle = 0.0;
-        o.contact = false;
       }
       o.r = r_c;
       // spin: drive, rolling resistance, the tyre's moment about the axle, then
@@ -183,13 +233,13 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       // to the car than the wheel gives it (by 1 - r_loaded / r, ~5%)
       const double Mgeo = (r_c - r_hub).cross(F).dot(axle);  // what the body does not get
       const double Mha = -(o.contact ? o.fx : 0.0) * r;
-      const double t_rr = -tp.rolling_resistance * Fz * r * std::tanh(om * r / 0.1);
+      const double t_rr = -tp.rolling_resistance * Fz * r * spin_tanh[w];
       double t_d = axle_torque[ax] * 0.5 + in.applied.wheel_torque[w];
       const double vx_c = o.contact ? (v + om_b.cross(r_c)).dot(o.tx) : 0.0;
       const double kp = tp.peak_slip_ratio;
       if (!ss.active && p.brakes.traction_control && o.contact && t_d > 0.0) {
-        const double w_top = (vx_c + std::max(kp * std::abs(vx_c), 0.3)) / r;
-        t_d = std::min(t_d, std::max(0.0, I * (w_top - om) / h - (t_rr + Mha)));
+        const double w_top = (vx_c + std::max(kp * std::abs(vx_c), 0.3)) * inv_r;
+        t_d = std::min(t_d, std::max(0.0, I * (w_top - om) * inv_h - (t_rr + Mha)));
       }
       const BrakeParams& bp = p.brakes;
       const bool hand = ax == 1 && in.applied.handbrake;
@@ -197,9 +247,9 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
                          (hand ? bp.handbrake_torque : 0.0);
       if (ss.active) stickSlipWheel(p, hand, vx_c, om, sd, r_hub, axle, cap, t_rr, ss, &t_d);
       const double t_other = t_d + t_rr + Mha;
-      double t_b = ss.active ? 0.0 : std::clamp(-(I * om / h + t_other), -cap, cap);  // stops the wheel within h at most
+      double t_b = ss.active ? 0.0 : std::clamp(-(I * om * inv_h + t_other), -cap, cap);  // stops the wheel within h at most
       if (!ss.active && bp.abs && !hand && o.contact && std::abs(vx_c) > bp.abs_min_speed) {
-        const double lim = I * ((1.0 - kp) * vx_c / r - om) / h - t_other;
+        const double lim = I * ((1.0 - kp) * vx_c * inv_r - om) * inv_h - t_other;
         t_b = vx_c > 0.0 ? std::max(t_b, std::min(0.0, lim)) : std::min(t_b, std::max(0.0, lim));
       }
       o.drive_torque = t_d;
@@ -221,7 +271,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       }
       double* d = ws.aux_dot.data() + rc.aux + 5 * w;
       d[0] = sd;
-      d[2] = (t_d + t_b + t_rr + Mha) / I;
+      d[2] = (t_d + t_b + t_rr + Mha) * inv_I;
       d[3] = dux;
       d[4] = duy;
     }
@@ -237,7 +287,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     ws.body_force[b] = m.bodies[b].mass * a_lin;
     ws.body_torque[b] = Iw * alpha + om_b.cross(Iw * om_b);
     for (int w = 0; w < 4; ++w)
-      ws.aux_dot[rc.aux + 5 * w + 1] = Q[w] / p.wheel_mass - (nb.dot(a_lin) + rhub[w].cross(nb).dot(alpha));
+      ws.aux_dot[rc.aux + 5 * w + 1] = Q[w] * inv_mu - (nb.dot(a_lin) + rhub[w].cross(nb).dot(alpha));
     out.drive_power = drive_power;
     ws.drive_power += drive_power;
   }

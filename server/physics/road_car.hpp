@@ -43,6 +43,9 @@ struct TyreParams {
   double rolling_resistance = 0.012;// -      C_rr
   // derived from sliding_ratio when built (tyre.cpp), 0 = compute per call
   double shape_c = 0.0, shape_tan = 0.0;
+  // reciprocals of relaxation_length, peak_slip_ratio and peak_slip_angle,
+  // set when built so an evaluation multiplies; 0 = divide per call
+  double inv_relaxation = 0.0, inv_peak_slip_ratio = 0.0, inv_peak_slip_angle = 0.0;
 };
 
 struct SuspensionParams {
@@ -145,6 +148,7 @@ struct RoadCar {
   std::array<Vec3, 4> hub;          // m      wheel centre at zero travel, body frame (FL, FR, RL, RR)
   std::array<double, 4> spring_rate{}, damper_rate{}, preload{}, static_load{};  // N/m, N s/m, N, N
   std::array<double, 4> nominal_load{};  // N  tyre F_z0
+  std::array<double, 4> inv_nominal_load{};  // 1/N  its reciprocal
   // Inverse of the body's reduced mass matrix (road_car.cpp) in the body
   // frame, (linear, angular) order. It is constant there: the struts are the
   // body's z axis and a hub moves only along its strut, so r_hub x n has the

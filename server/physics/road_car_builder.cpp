@@ -24,6 +24,9 @@ CarHandle addRoadCar(ModelBuilder& b, const std::string& name, const RoadCarPara
   for (TyreParams& t : rc.p.tyre) {
     t.shape_c = shapeFactor(t.sliding_ratio);
     t.shape_tan = std::tan(std::numbers::pi / (2.0 * t.shape_c));
+    t.inv_relaxation = 1.0 / t.relaxation_length;
+    t.inv_peak_slip_ratio = 1.0 / t.peak_slip_ratio;
+    t.inv_peak_slip_angle = 1.0 / t.peak_slip_angle;
   }
   const double gmag = b.model().opt.gravity.norm();
   const double a = p.cg_to_front, bb = p.wheelbase - a, r = p.wheel_radius;
@@ -35,6 +38,7 @@ CarHandle addRoadCar(ModelBuilder& b, const std::string& name, const RoadCarPara
     const double sprung = corner / gmag - p.wheel_mass;                            // kg
     rc.static_load[w] = corner;
     rc.nominal_load[w] = tp.nominal_load > 0.0 ? tp.nominal_load : corner;
+    rc.inv_nominal_load[w] = 1.0 / rc.nominal_load[w];
     const double kt = tp.vertical_stiffness;
     const double wn = 2.0 * std::numbers::pi * sp.ride_frequency;
     const double k_ride = wn * wn * sprung;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "simd_path.hpp"
+#include "vector_math.hpp"
+
 namespace groundsim {
 
 double MagicFormula::operator()(double x) const {
@@ -66,10 +69,93 @@ void tyreForces(const TyreParams& t, double Fz, double Fz0, double mu, double kx
   *Fy = (sy / rho) * my(rho * ym);
 }
 
+namespace {
+
+// tyreForces' arithmetic for four tyres, with reciprocals where it divides
+// by fixed figures (the nominal load, the peak slips) or twice by one value
+GROUNDSIM_WIDE void tyreForcesWide(const TyreLanes& in, double* Fx, double* Fy) {
+  // lanes 0-3: the wheels' longitudinal curves, 4-7 their lateral ones; a
+  // lane with B = 0 evaluates to 0 (atan 0 = sin 0 = 0)
+  alignas(32) double B[8], C[8], D[8], tp[8], slip_peak[8], x[8], share[8];
+  bool curve[4];
+  for (int i = 0; i < 4; ++i) {
+    Fx[i] = Fy[i] = 0.0;
+    curve[i] = false;
+    for (int d : {i, i + 4}) B[d] = 0.0, C[d] = 1.0, D[d] = 0.0, tp[d] = 0.0, slip_peak[d] = 0.0, x[d] = 0.0,
+                             share[d] = 0.0;
+    const double Fz = in.Fz[i];
+    if (!in.on[i] || !(Fz > 0.0)) continue;
+    const TyreParams& t = *in.t[i];
+    const double peak = in.mu[i] * t.friction_scale * Fz;
+    const double z = Fz * in.inv_Fz0[i], load = z * (1.0 - t.load_sensitivity * (z - 1.0));
+    const double cx = std::max(0.0, t.longitudinal_stiffness * load);
+    const double cy = std::max(0.0, t.cornering_stiffness * load);
+    const double xm = t.peak_slip_ratio, ym = t.peak_slip_angle;
+    const double sx = in.kx[i] * t.inv_peak_slip_ratio, sy = in.ky[i] * t.inv_peak_slip_angle;
+    const double rho = std::sqrt(sx * sx + sy * sy);
+    if (rho < 1e-9) {
+      Fx[i] = cx * in.kx[i];
+      Fy[i] = cy * in.ky[i];
+      continue;
+    }
+    curve[i] = true;
+    const double inv_rho = 1.0 / rho;
+    const double c = t.shape_c, inv_cp = 1.0 / (c * peak);
+    const double stiff[2] = {cx, cy}, m[2] = {xm, ym}, s[2] = {sx, sy};
+    for (int k = 0; k < 2; ++k) {
+      const int d = i + 4 * k;
+      C[d] = c;
+      D[d] = peak;
+      tp[d] = t.shape_tan;
+      slip_peak[d] = m[k];
+      x[d] = rho * m[k];
+      share[d] = s[k] * inv_rho;
+      if (peak > 0.0 && stiff[k] > 0.0) B[d] = stiff[k] * inv_cp;
+    }
+  }
+  // fitMagicFormula's E, then MagicFormula::operator() at x
+  alignas(32) double bp[8], E[8], bx[8], a[8];
+  for (int d = 0; d < 8; ++d) bp[d] = B[d] * slip_peak[d];
+  atan4(bp, a, true);
+  atan4(bp + 4, a + 4, true);
+  for (int d = 0; d < 8; ++d) {
+    const double denom = bp[d] - a[d];
+    E[d] = B[d] != 0.0 && denom > 1e-9 ? std::clamp((bp[d] - tp[d]) / denom, -20.0, 0.95) : 0.0;
+    bx[d] = B[d] * x[d];
+  }
+  atan4(bx, a, true);
+  atan4(bx + 4, a + 4, true);
+  for (int d = 0; d < 8; ++d) a[d] = bx[d] - E[d] * (bx[d] - a[d]);
+  atan4(a, a, true);
+  atan4(a + 4, a + 4, true);
+  for (int d = 0; d < 8; ++d) a[d] = C[d] * a[d];
+  sin4(a, a, true);
+  sin4(a + 4, a + 4, true);
+  for (int i = 0; i < 4; ++i)
+    if (curve[i]) {
+      Fx[i] = share[i] * (D[i] * a[i]);
+      Fy[i] = share[i + 4] * (D[i + 4] * a[i + 4]);
+    }
+}
+
+}  // namespace
+
+void tyreForces4(const TyreLanes& in, bool wide, double* Fx, double* Fy) {
+  // the wide path reads the reciprocals and shape set when the car is built
+  bool built = true;
+  for (int i = 0; i < 4; ++i)
+    if (in.on[i]) built = built && in.t[i]->shape_c > 0.0 && in.t[i]->inv_peak_slip_ratio > 0.0 && in.inv_Fz0[i] > 0.0;
+  if (wide && built && vectorMathAvailable()) return tyreForcesWide(in, Fx, Fy);
+  for (int i = 0; i < 4; ++i) {
+    Fx[i] = Fy[i] = 0.0;
+    if (in.on[i]) tyreForces(*in.t[i], in.Fz[i], in.Fz0[i], in.mu[i], in.kx[i], in.ky[i], &Fx[i], &Fy[i]);
+  }
+}
+
 void deflectionRates(const TyreParams& t, double vx, double vy, double omega_r, double ux, double uy,
                      double* dux, double* duy) {
   const double vsx = vx - omega_r, vsy = vy, avx = std::abs(vx);
-  const double inv_sigma = 1.0 / t.relaxation_length;
+  const double inv_sigma = t.inv_relaxation > 0.0 ? t.inv_relaxation : 1.0 / t.relaxation_length;
   *dux = -vsx - (avx + 0.1 * std::abs(vsx)) * inv_sigma * ux;
   *duy = -vsy - (avx + 0.1 * std::abs(vsy)) * inv_sigma * uy;
 }

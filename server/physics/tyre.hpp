@@ -31,6 +31,17 @@ double loadedStiffness(double c0, double load_sensitivity, double Fz, double Fz0
 void tyreForces(const TyreParams& t, double Fz, double Fz0, double mu, double kx, double ky, double* Fx,
                 double* Fy);
 
+// tyreForces of four tyres at once (a lane not `on` gives 0, 0). Where
+// `wide` the same arithmetic with the eight curves' atan and sin taken four
+// at a time (vector_math.hpp: within a few ulp of libm's) and reciprocals
+// of the fixed figures (rounding); otherwise tyreForces lane by lane.
+struct TyreLanes {
+  const TyreParams* t[4] = {nullptr, nullptr, nullptr, nullptr};
+  double Fz[4] = {}, Fz0[4] = {}, inv_Fz0[4] = {}, mu[4] = {}, kx[4] = {}, ky[4] = {};
+  bool on[4] = {};
+};
+void tyreForces4(const TyreLanes& in, bool wide, double* Fx, double* Fy);
+
 // Deflection rates of the relaxation model (Pacejka 2006, 7.2):
 // du/dt = -V_s - (V_r / sigma) u, V_s = (v_x - omega r, v_y) the slip
 // velocity, V_r = |v_x| + |V_s| / 10. At standstill the deflection is a
