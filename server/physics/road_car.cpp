@@ -64,7 +64,9 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     const int b = rc.body, A = base + rc.aux;
     const Mat3& R = ws.R[b];
     const Vec3 nb = R.col(2), v = ws.vel[b], om_b = ws.omega[b];
-    const Mat3 Iw = R * m.bodies[b].inertia * R.transpose();
+    // I_w om as R (I_b (R^T om)): no R I_b R^T unless the stick-slip solve needs it
+    const Mat3& Ib = m.bodies[b].inertia;
+    const Vec3 Iw_om = R * (Ib * (R.transpose() * om_b)), gyro = om_b.cross(Iw_om);
     const double r = p.wheel_radius, I = p.wheel_inertia, mu_scene = m.opt.contact.friction;
     // reciprocals: one division each per evaluation, multiplications per wheel
     const double inv_r = 1.0 / r, inv_I = 1.0 / I, inv_h = 1.0 / h, inv_mu = 1.0 / p.wheel_mass;
@@ -99,11 +101,11 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     if (rigid_tyres) {
       M.setZero();
       M.topLeftCorner<3, 3>() = m.bodies[b].mass * Mat3::Identity();
-      M.bottomRightCorner<3, 3>() = Iw;
+      M.bottomRightCorner<3, 3>() = R * Ib * R.transpose();
     }
     Eigen::Matrix<double, 6, 1> G;
     G.head<3>() = ws.body_force[b] - 0.5 * p.aero.air_density * p.aero.drag_area * v.norm() * v;
-    G.tail<3>() = ws.body_torque[b] - om_b.cross(Iw * om_b);
+    G.tail<3>() = ws.body_torque[b] - gyro;
     double Q[4];
     Vec3 rhub[4];
     double drive_power = 0.0;
@@ -276,8 +278,10 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
       d[4] = duy;
     }
     // the stick-slip tyres' friction and brakes need the body's mass matrix
-    const StickSlipBody sb{&M, &G, v, om_b, ws.inv_inertia_world[b] * om_b.cross(Iw * om_b), nb, Q};
-    if (rigid_tyres) applyStickSlipTyres(p, sb, h, rigid, out, ws.aux_dot.data() + rc.aux);
+    if (rigid_tyres) {
+      const StickSlipBody sb{&M, &G, v, om_b, ws.inv_inertia_world[b] * gyro, nb, Q};
+      applyStickSlipTyres(p, sb, h, rigid, out, ws.aux_dot.data() + rc.aux);
+    }
     // M = T M_b T^T with T = diag(R, R) and M_b constant (road_car.hpp)
     Eigen::Matrix<double, 6, 1> Gb;
     Gb.head<3>().noalias() = R.transpose() * G.head<3>();
@@ -285,7 +289,7 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     const Eigen::Matrix<double, 6, 1> acc_b = rc.inv_mass_body * Gb;
     const Vec3 a_lin = R * acc_b.head<3>(), alpha = R * acc_b.tail<3>();
     ws.body_force[b] = m.bodies[b].mass * a_lin;
-    ws.body_torque[b] = Iw * alpha + om_b.cross(Iw * om_b);
+    ws.body_torque[b] = R * (Ib * acc_b.tail<3>()) + gyro;  // I_w alpha + om x I_w om
     for (int w = 0; w < 4; ++w)
       ws.aux_dot[rc.aux + 5 * w + 1] = Q[w] * inv_mu - (nb.dot(a_lin) + rhub[w].cross(nb).dot(alpha));
     out.drive_power = drive_power;
