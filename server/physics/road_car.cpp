@@ -53,7 +53,12 @@ Eigen::Matrix<double, 6, 6> reducedMassBody(const RoadCar& rc, double mass, cons
   return M;
 }
 
-void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
+namespace {
+
+// applyRoadCars' body, built twice (simd_path.hpp): for the wide path (AVX2
+// and FMA, with the tyres' functions from libmvec) and the generic one
+GROUNDSIM_INLINE_BODY void roadCarsBody(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws,
+                                        bool wide) {
   const int base = m.auxBase();
   const Vec3& g = m.opt.gravity;
   for (size_t c = 0; c < m.road_cars.size(); ++c) {
@@ -113,7 +118,6 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     // three passes over the wheels, so that the transcendental functions of
     // all four run together (vector_math.hpp): the patches, then the tyres'
     // curves, slip angles and rolling resistance, then forces and torques
-    const bool wide = useWideSimd(m);
     struct Patch {
       double s, sd, om, ux, uy, Fz, dux, duy, vx, vy;
       Vec3 r_hub, v_hub, axle, r_c, F;
@@ -295,6 +299,20 @@ void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace
     out.drive_power = drive_power;
     ws.drive_power += drive_power;
   }
+}
+
+GROUNDSIM_WIDE void roadCarsWide(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
+  roadCarsBody(m, y, h, ws, true);
+}
+void roadCarsGeneric(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
+  roadCarsBody(m, y, h, ws, false);
+}
+
+}  // namespace
+
+void applyRoadCars(const Model& m, const Eigen::VectorXd& y, double h, Workspace& ws) {
+  if (useWideSimd(m)) roadCarsWide(m, y, h, ws);
+  else roadCarsGeneric(m, y, h, ws);
 }
 
 void kickRoadCars(const Model& m, Eigen::VectorXd& y, const Workspace& ws, double k) {

@@ -152,12 +152,4 @@ void tyreForces4(const TyreLanes& in, bool wide, double* Fx, double* Fy) {
   }
 }
 
-void deflectionRates(const TyreParams& t, double vx, double vy, double omega_r, double ux, double uy,
-                     double* dux, double* duy) {
-  const double vsx = vx - omega_r, vsy = vy, avx = std::abs(vx);
-  const double inv_sigma = t.inv_relaxation > 0.0 ? t.inv_relaxation : 1.0 / t.relaxation_length;
-  *dux = -vsx - (avx + 0.1 * std::abs(vsx)) * inv_sigma * ux;
-  *duy = -vsy - (avx + 0.1 * std::abs(vsy)) * inv_sigma * uy;
-}
-
 }  // namespace groundsim

@@ -2,6 +2,8 @@
 // figures, combined slip, and the deflection (relaxation) states.
 #pragma once
 
+#include <cmath>
+
 #include "road_car.hpp"
 
 namespace groundsim {
@@ -48,7 +50,13 @@ void tyreForces4(const TyreLanes& in, bool wide, double* Fx, double* Fy);
 // spring (no creep); rolling, u / sigma relaxes to the slip over sigma of
 // travel; the |V_s| / 10 term bounds u / sigma by 10 when sliding at
 // standstill (so a sliding tyre never winds up an unbounded deflection).
-void deflectionRates(const TyreParams& t, double vx, double vy, double omega_r, double ux, double uy,
-                     double* dux, double* duy);
+// (inline: the road car's wide and generic builds each take it in)
+inline void deflectionRates(const TyreParams& t, double vx, double vy, double omega_r, double ux, double uy,
+                            double* dux, double* duy) {
+  const double vsx = vx - omega_r, vsy = vy, avx = std::abs(vx);
+  const double inv_sigma = t.inv_relaxation > 0.0 ? t.inv_relaxation : 1.0 / t.relaxation_length;
+  *dux = -vsx - (avx + 0.1 * std::abs(vsx)) * inv_sigma * ux;
+  *duy = -vsy - (avx + 0.1 * std::abs(vsy)) * inv_sigma * uy;
+}
 
 }  // namespace groundsim
