@@ -8,12 +8,14 @@
 #include <immintrin.h>
 // libmvec's AVX2 variants (the x86-64 vector function ABI's 'd' ISA: four
 // doubles in a ymm register), declared by their ABI names since glibc's
-// <math.h> declares them only under -ffast-math
+// <math.h> declares them only under -ffast-math. Declared with AVX2
+// enabled: clang refuses a call passing __m256d to a function declared
+// without it (the fuzz build's clang 14)
 extern "C" {
-__m256d _ZGVdN4v_atan(__m256d);
-__m256d _ZGVdN4v_sin(__m256d);
-__m256d _ZGVdN4v_tanh(__m256d);
-__m256d _ZGVdN4vv_atan2(__m256d, __m256d);
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_atan(__m256d);
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_sin(__m256d);
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_tanh(__m256d);
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
 }
 #define GROUNDSIM_VECTOR_MATH 1
 #endif
