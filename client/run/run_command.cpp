@@ -144,8 +144,11 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     }
   };
 
-  writeFrame();
-  for (long long k = 1; k <= last_frame && sim.healthy(); ++k) {
+  // without a CSV nobody reads the frames: step straight to the end and
+  // sample once there (a frame's sample costs as much as a few steps)
+  if (csv) writeFrame();
+  const long long frames = csv ? last_frame : 0;
+  for (long long k = 1; k <= frames && sim.healthy(); ++k) {
     const long long target = std::min(frameTick(k, scene.output_rate, dt), end_tick);
     while (sim.state().tick < target) {
       // progress is checked between chunks: a clock read per step costs more than the step
@@ -156,13 +159,15 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     writeFrame();  // after a divergence: the last finite state, health set
   }
   // a duration that is not a whole number of frames still runs to its end
-  while (sim.healthy() && sim.state().tick < end_tick)
-    scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, 2048));
+  while (sim.healthy() && sim.state().tick < end_tick) {
+    if (!scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, 2048))) break;
+    bar.update(sim.state().t);
+  }
   r.wall = secondsSince(t0);
   bar.done();
   r.steps = sim.state().tick;
   r.energy_end = sim.energy().total();
-  if (!r.final_samples.empty() && r.final_samples.front().t != sim.state().t) {
+  if (r.final_samples.empty() || r.final_samples.front().t != sim.state().t) {
     r.final_samples.clear();
     for (size_t v = 0; v < scene.cars.size(); ++v) r.final_samples.push_back(sampleVehicle(sim, scene.cars[v].vehicle, false));
   }
