@@ -58,18 +58,22 @@ void classifyInertia(FastCarPlan::BodyC& bc) {
 
 }  // namespace
 
+FastCarPlan::BodyC bodyConstants(const Body& b) {
+  FastCarPlan::BodyC bc{};
+  bc.mass = b.mass;
+  bc.inv_mass = 1.0 / b.mass;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) bc.Ib[3 * r + c] = b.inv_inertia(r, c);
+  return bc;
+}
+
 FastCarPlan makeFastCarPlan(const Model& m) {
   FastCarPlan P;
   std::vector<int> used(m.points.size(), 0), index(m.points.size(), -1);
   for (const Spring& s : m.springs) used[s.a] = used[s.b] = 1;
   for (int k : m.contact_points) used[k] = 1;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
-    const Body& b = m.bodies[i];
-    FastCarPlan::BodyC bc{};
-    bc.mass = b.mass;
-    bc.inv_mass = 1.0 / b.mass;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) bc.Ib[3 * r + c] = b.inv_inertia(r, c);
+    FastCarPlan::BodyC bc = bodyConstants(m.bodies[i]);
     classifyInertia(bc);
     bc.first_point = static_cast<int>(P.pts.size());
     for (int k = m.body_point_begin[i]; k < m.body_point_end[i]; ++k) {

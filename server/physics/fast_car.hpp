@@ -75,6 +75,10 @@ struct FastCarPlan {
 
 // nullptr when the model can take the specialised step; otherwise why not.
 const char* fastCarUnsupported(const Model& m);
+// A body's mass, its reciprocal and its body-frame inverse inertia, as the
+// kernels read them (the shape flags and point range left for the caller).
+FastCarPlan::BodyC bodyConstants(const Body& b);
+
 FastCarPlan makeFastCarPlan(const Model& m);  // requires fastCarUnsupported(m) == nullptr
 
 // One car's specialised step, owned by its Simulator.

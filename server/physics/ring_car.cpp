@@ -174,15 +174,7 @@ const char* buildPlan(const Model& m, Plan* P) {
     P->loose.push_back({plain_of[sp.a], plain_of[sp.b], sp.stiffness, sp.damping, sp.rest_length, sp.isotropic});
   }
   for (const Wheel& w : m.wheels) P->wheels.push_back({w.body, w.carrier, w.axis.x(), w.axis.y(), w.axis.z()});
-  for (size_t i = 0; i < nb; ++i) {
-    const Body& b = m.bodies[i];
-    FastCarPlan::BodyC bc{};
-    bc.mass = b.mass;
-    bc.inv_mass = 1.0 / b.mass;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) bc.Ib[3 * r + c] = b.inv_inertia(r, c);
-    P->rigid.bodies.push_back(bc);
-  }
+  for (size_t i = 0; i < nb; ++i) P->rigid.bodies.push_back(bodyConstants(m.bodies[i]));
   P->gn = n.norm();
   const Vec3 cn = n / P->gn, t1 = cn.unitOrthogonal(), t2 = cn.cross(t1);
   for (int k = 0; k < 3; ++k) {
