@@ -93,10 +93,7 @@ TEST_P(RoadCarTest, RideFrequencyAndDampingFromADrop) {
 // d = ln(1 + k v0^2 / (mu g)) / (2 k), k = rho C_d A / (2 m); straight.
 TEST_P(RoadCarTest, AbsBrakingStopsInThePeakFrictionDistanceAndStraight) {
   const double v0 = 100.0 / 3.6;
-  CarSim cs = makeCar(P(), carOptions(), v0);
-  CarControls c;
-  c.brake = 1.0;
-  cs.set(c);
+  CarSim cs = brakingCar(P(), carOptions(), v0);
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(20.0, [&] { return cs.speed() < 0.01; }));
   const double k = dragK(), d = std::log(1.0 + k * v0 * v0 / kG) / (2.0 * k);
@@ -117,10 +114,7 @@ TEST_P(RoadCarTest, LockedWheelsSlideAtTheSlidingFriction) {
   RoadCarParams p = P();
   p.brakes.abs = false;
   const double v0 = 100.0 / 3.6;
-  CarSim cs = makeCar(p, carOptions(), v0);
-  CarControls c;
-  c.brake = 1.0;
-  cs.set(c);
+  CarSim cs = brakingCar(p, carOptions(), v0);
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(0.5));
   // every wheel locked

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <ostream>
 #include <string>
+#include <utility>
 
 #include "physics/road_car_builder.hpp"
 #include "physics/steering.hpp"
@@ -96,6 +97,15 @@ inline CarSim makeCar(const RoadCarParams& p, const Options& o, double speed = 0
   CarSim cs;
   cs.p = p;
   cs.sim = std::make_unique<Simulator>(built.model, built.initial);
+  return cs;
+}
+
+// A car at `speed` (m/s) with the brake pedal fully down from t = 0.
+inline CarSim brakingCar(const RoadCarParams& p, const Options& o, double speed, GroundPtr ground = nullptr) {
+  CarSim cs = makeCar(p, o, speed, std::move(ground));
+  CarControls c;
+  c.brake = 1.0;
+  cs.set(c);
   return cs;
 }
 

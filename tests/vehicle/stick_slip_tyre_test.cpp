@@ -68,10 +68,7 @@ TEST_P(StickSlipTyreTest, LockedWheelsStopInTheSlidingFrictionDistance) {
   RoadCarParams p = P();
   p.brakes.abs = false;
   const double v0 = 100.0 / 3.6;
-  CarSim cs = makeCar(p, carOptions(), v0);
-  CarControls c;
-  c.brake = 1.0;
-  cs.set(c);
+  CarSim cs = brakingCar(p, carOptions(), v0);
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(1.0));  // the sedan's rear locks once the load has moved forward
   for (int w = 0; w < 4; ++w) EXPECT_NEAR(cs.sample().wheels[w].spin, 0.0, 1e-9) << "wheel " << w;
@@ -90,10 +87,7 @@ TEST_P(StickSlipTyreTest, LockedWheelsStopInTheSlidingFrictionDistance) {
 TEST_P(StickSlipTyreTest, AbsBrakesAtTheStaticFrictionWithoutLocking) {
   const RoadCarParams p = P();
   const double v0 = 100.0 / 3.6;
-  CarSim cs = makeCar(p, carOptions(), v0);
-  CarControls c;
-  c.brake = 1.0;
-  cs.set(c);
+  CarSim cs = brakingCar(p, carOptions(), v0);
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(1.0));
   for (int w = 0; w < 4; ++w) EXPECT_GT(cs.sample().wheels[w].spin, 1.0) << "wheel " << w << " locked";
@@ -206,10 +200,7 @@ TEST_P(StickSlipTyreTest, PatchesOfFrictionSetTheSlide) {
   ice.x0 = -1e3, ice.x1 = 1e3, ice.y0 = -1e3, ice.y1 = 1e3, ice.mu = 0.1;
   const GroundPtr g = withSurfaceFriction(makePlane(Vec3::UnitZ(), 0.0), {ice});
   const double v0 = 10.0;
-  CarSim cs = makeCar(p, carOptions(2e-3, 1.0), v0, g);
-  CarControls c;
-  c.brake = 1.0;
-  cs.set(c);
+  CarSim cs = brakingCar(p, carOptions(2e-3, 1.0), v0, g);
   const Vec3 x0 = cs.pos();
   ASSERT_TRUE(cs.runUntil(60.0, [&] { return cs.speed() < 0.01; }));
   const double d = stopDistance(v0, muSliding(0.1) * p.mass * kG, p.mass);
