@@ -75,9 +75,13 @@ export async function until(what, fn, timeoutMs = 60000, everyMs = 100) {
   }
 }
 
-export function startServer() {
+// Resolves once the server listens: a request published before it has
+// subscribed would be lost, and a slow build (the ASan suite) takes seconds.
+export async function startServer() {
   if (!existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM} (apt-get install chromium, or scripts/setup-web.sh)`);
-  return start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
+  const server = start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
+  await until('the server to be ready', () => server.output.includes('groundsim-server ready'));
+  return server;
 }
 
 // groundsim-web on 127.0.0.1, a port chosen by the kernel; returns its URL.
@@ -92,7 +96,7 @@ export async function startBridge(bridgeArgs = []) {
 
 // groundsim-server and groundsim-web; returns the page's URL.
 export async function startServices({ bridgeArgs = [] } = {}) {
-  const server = startServer();
+  const server = await startServer();
   const { url, bridge } = await startBridge(bridgeArgs);
   return { url, bridge, server };
 }

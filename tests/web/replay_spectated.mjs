@@ -12,8 +12,7 @@ import * as h from './harness.mjs';
 if (!existsSync('/usr/bin/lcm-logger') || !existsSync('/usr/bin/lcm-logplayer')) h.skip('no lcm-logger/lcm-logplayer (liblcm-bin)');
 const log = `${mkdtempSync(`${tmpdir()}/groundsim-replay-`)}/session.lcmlog`;
 // the bridge starts only after the recording: what it draws comes from the log
-const server = h.startServer();
-await new Promise((r) => setTimeout(r, 1000));
+const server = await h.startServer();
 const logger = spawn('/usr/bin/lcm-logger', [`--lcm-url=${h.LCM_URL}`, '--quiet', log], { stdio: 'ignore' });
 await new Promise((r) => setTimeout(r, 500));
 const id = h.cli('create', `${h.CONFIGS}/cosine.json`, '--duration', '-1').trim().split('\n').pop().trim();
