@@ -35,6 +35,10 @@ struct Group {
   std::vector<WheelControl> before[kLanes];  // applied controls before the current step
 };
 
+bool sameControl(const WheelControl& a, const WheelControl& b) {
+  return a.drive_torque == b.drive_torque && a.brake_torque == b.brake_torque && a.steer == b.steer;
+}
+
 // What the health check needs, per lane: NaN where any state component is
 // not finite, the deepest contact, the largest squared body speed.
 struct Vitals {
@@ -144,21 +148,30 @@ void BatchStep::step(std::span<State* const> cars, long long n) {
     bool any_alive = false;
     for (int l = 0; l < kLanes; ++l) any_alive |= g.alive[l];
     if (!any_alive) continue;
+    // The commands are held for the call, so once a step's applyControls
+    // leaves every lane's applied controls as they were (the steering has
+    // reached its target), every later one would too: from then on the
+    // group skips them and keeps its packed inputs.
+    bool settled = false;
     for (long long k = 0; k < n; ++k) {
-      // controls, as Simulator::step applies them
-      for (int l = 0; l < kLanes; ++l) {
-        State* s = g.car[l] && g.alive[l] ? g.car[l] : nullptr;
-        if (!s) continue;
-        g.before[l] = s->applied;  // same size each step: no allocation
-        applyControls(m, dt, *s);
-      }
-      for (size_t w = 0; w < nw; ++w)
+      if (!settled) {
+        // controls, as Simulator::step applies them
+        settled = true;
         for (int l = 0; l < kLanes; ++l) {
-          const State* s = g.car[l] ? g.car[l] : g.car[0];
-          L4::at(g.drive()[w], l) = s->applied[w].drive_torque;
-          L4::at(g.brake()[w], l) = s->applied[w].brake_torque;
-          L4::at(g.steer()[w], l) = s->applied[w].steer;
+          State* s = g.car[l] && g.alive[l] ? g.car[l] : nullptr;
+          if (!s) continue;
+          g.before[l] = s->applied;  // same size each step: no allocation
+          applyControls(m, dt, *s);
+          for (size_t w = 0; w < nw; ++w) settled = settled && sameControl(s->applied[w], g.before[l][w]);
         }
+        for (size_t w = 0; w < nw; ++w)
+          for (int l = 0; l < kLanes; ++l) {
+            const State* s = g.car[l] ? g.car[l] : g.car[0];
+            L4::at(g.drive()[w], l) = s->applied[w].drive_torque;
+            L4::at(g.brake()[w], l) = s->applied[w].brake_torque;
+            L4::at(g.steer()[w], l) = s->applied[w].steer;
+          }
+      }
       std::copy(g.y_.begin(), g.y_.end(), g.prev_.begin());
       g.prev_work = g.drive_work;
       Vitals vit;

@@ -58,6 +58,7 @@ template <class V> struct alignas(32) PointL {
 };
 template <class V> struct alignas(32) ContactL {
   typename Lane<V>::M in;
+  bool any_in;            // some lane touches: set once per evaluation (a mask's reduction is ~9 instructions)
   V a[3];                 // wheel axis, world (wheel slots)
   V p[3], rr[3], depth, N, u[3];
   V a1[3], a2[3], b1[3], b2[3], k00, k01, k11, i00, i01, i10, i11, j0, j1;
@@ -324,6 +325,7 @@ GROUNDSIM_INLINE_BODY void forces(const FastCarPlan& P, const V* Y, const V* dri
   for (ContactL<V>& c : S.con) {
     const V H = nx * c.p[0] + ny * c.p[1] + nz * c.p[2] - P.offset;
     c.in = H < 0.0;
+    c.any_in = L::any(c.in);
     c.depth = -H * P.inv_gn;
     const V rate = -(c.u[0] * cn[0] + c.u[1] * cn[1] + c.u[2] * cn[2]);
     V N = P.stiffness * c.depth;
@@ -353,7 +355,7 @@ GROUNDSIM_INLINE_BODY void forces(const FastCarPlan& P, const V* Y, const V* dri
   }
   for (size_t slot = 0; slot < S.con.size(); ++slot) {
     ContactL<V>& c = S.con[slot];
-    if (slot < static_cast<size_t>(P.point_contacts) && !L::any(c.in)) continue;  // adds zero
+    if (slot < static_cast<size_t>(P.point_contacts) && !c.any_in) continue;  // adds zero
     BodyL<V>& B = S.bodies[P.contacts[slot].body];
     const V f[3] = {cn[0] * c.N, cn[1] * c.N, cn[2] * c.N};
     V rf[3];
@@ -415,7 +417,7 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
   V scale = L::all(0.0);
   for (size_t k = 0; k < ns; ++k) {
     ContactL<V>& c = S.con[k];
-    if (static_cast<int>(k) < pc && !L::any(c.in)) continue;  // never touched this step
+    if (static_cast<int>(k) < pc && !c.any_in) continue;  // never touched this step
     const int bi = P.contacts[k].body;
     const BodyL<V>& B = S.bodies[bi];
     const double inv_m = P.bodies[bi].inv_mass;
@@ -478,8 +480,10 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
     }
     for (size_t k = 0; k < ns; ++k) {
       ContactL<V>& c = S.con[k];
+      // a lane not `on` computes a zero change: it does not touch (impulse 0),
+      // or it has converged and its change and total are no longer read
+      if (!c.any_in) continue;
       const M on = active & c.in;
-      if (!L::any(on)) continue;
       const int bi = P.contacts[k].body;
       BodyL<V>& B = S.bodies[bi];
       const V ut0 = dot3(t1, B.vp) + dot3(B.wp, c.a1);
@@ -535,7 +539,7 @@ GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, c
   }
   for (size_t k = 0; k < ns; ++k) {
     const ContactL<V>& c = S.con[k];
-    if (!L::any(c.in)) continue;  // no impulse in any lane
+    if (!c.any_in) continue;  // no impulse in any lane
     BodyL<V>& B = S.bodies[P.contacts[k].body];
     V f[3], rf[3];
     for (int q = 0; q < 3; ++q) f[q] = (c.j0 * t1[q] + c.j1 * t2[q]) * (1.0 / h);
