@@ -23,6 +23,27 @@ scripts/setup.sh
 . scripts/lib/build_dir.sh
 ctest_args=(--output-on-failure -j "${JOBS:-2}" --timeout 600)
 
+# A sanitized suite is 2-15x slower, and tests that wait on the wall clock
+# (a client's start-up, a heartbeat, a page's first frame) can miss on a
+# loaded machine: a failed test is run again, up to REPEAT runs in all, but a
+# sanitizer report (REPORT, a grep -E pattern) in any run, passed or failed,
+# fails the stage. The output of every run is kept in LOG.
+#   sanitized_ctest NAME LOG REPEAT REPORT COMMAND...   (COMMAND: ctest and its arguments)
+sanitized_ctest() {
+  local name=$1 log=$2 repeat=$3 report=$4 rc=0
+  shift 4
+  "$@" -V --repeat "until-pass:$repeat" >"$log" 2>&1 || rc=$?
+  # ctest's verdicts only (the layer probes' expected compile failures print FAILED too)
+  grep -E '^[0-9]+% tests passed|\*\*\*Failed|^The following tests FAILED|^[[:space:]]+[0-9]+ - .*\((Failed|Skipped|Timeout)\)' "$log" || true
+  if grep -qE "$report" "$log"; then
+    echo "test.sh: $name reports (in $log):" >&2
+    grep -E -A30 "$report" "$log" | head -n 120 >&2
+    exit 1
+  fi
+  [ $rc -eq 0 ] || { echo "test.sh: $name run failed (log: $log)" >&2; tail -n 60 "$log" >&2; }
+  exit $rc
+}
+
 case "$sanitize" in
   "")
     scripts/build.sh
@@ -35,23 +56,8 @@ case "$sanitize" in
     # leaks are errors too; a UBSan report stops the process (-fno-sanitize-recover)
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-    # ASan makes everything 2-15x slower, and tests that wait on the wall
-    # clock (a client's start-up, a heartbeat, a page's first frame) can miss
-    # on a loaded machine: a failed test is run again (up to 2 times in all),
-    # but a sanitizer report in any run, passed or failed, fails the stage
-    # (the output of every run is kept).
-    log="$dir/asan-ctest.log"
-    rc=0
-    ctest --test-dir "$dir" "${ctest_args[@]}" -V --repeat until-pass:2 "$@" >"$log" 2>&1 || rc=$?
-    # ctest's verdicts only (the layer probes' expected compile failures print FAILED too)
-    grep -E '^[0-9]+% tests passed|\*\*\*Failed|^The following tests FAILED|^[[:space:]]+[0-9]+ - .*\((Failed|Skipped|Timeout)\)' "$log" || true
-    if grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' "$log"; then
-      echo "test.sh: sanitizer reports (in $log):" >&2
-      grep -E -A30 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' "$log" | head -n 120 >&2
-      exit 1
-    fi
-    [ $rc -eq 0 ] || { echo "test.sh: ASan run failed (log: $log)" >&2; tail -n 60 "$log" >&2; }
-    exit $rc
+    sanitized_ctest ASan "$dir/asan-ctest.log" 2 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' \
+      ctest --test-dir "$dir" "${ctest_args[@]}" "$@"
     ;;
   thread)
     dir=build-tsan
@@ -70,25 +76,12 @@ case "$sanitize" in
     # pace with the wall clock (torque in force for 0.5 s of wall time,
     # 0.5 s simulated within a wall-time window), which TSan's 5-15x
     # slowdown breaks on 2 cores. They run in the plain and ASan suites.
-    # Other integration tests wait on the wall clock too (a client's start-up,
-    # a heartbeat) and can miss under TSan on a loaded machine: a failed test
-    # is run again (up to 3 times), but a ThreadSanitizer report in any run,
-    # passed or failed, fails the stage (the output of every run is kept).
-    log="$dir/tsan-ctest.log"
-    rc=0
-    setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" -V --repeat until-pass:3 \
+    # The other integration tests run, up to 3 times each (sanitized_ctest).
+    sanitized_ctest ThreadSanitizer "$dir/tsan-ctest.log" 3 'WARNING: ThreadSanitizer' \
+      setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" \
       -R '^(integration|session)\.' \
       -E '^integration\.lifecycle\.(CommandTimeoutReleasesTheTorque|PauseFreezesSimulatedTime)$' \
-      "$@" \
-      >"$log" 2>&1 || rc=$?
-    grep -E 'tests passed|FAILED|Failed' "$log" || true
-    if grep -q 'WARNING: ThreadSanitizer' "$log"; then
-      echo "test.sh: ThreadSanitizer reports (in $log):" >&2
-      grep -A30 'WARNING: ThreadSanitizer' "$log" | head -n 120 >&2
-      exit 1
-    fi
-    [ $rc -eq 0 ] || { echo "test.sh: TSan run failed (log: $log)" >&2; tail -n 60 "$log" >&2; }
-    exit $rc
+      "$@"
     ;;
   *)
     echo "test.sh: --sanitize takes address,undefined or thread, got '$sanitize'" >&2

@@ -44,7 +44,9 @@ struct TyreParams {
   // derived from sliding_ratio when built (tyre.cpp), 0 = compute per call
   double shape_c = 0.0, shape_tan = 0.0;
   // reciprocals of relaxation_length, peak_slip_ratio and peak_slip_angle,
-  // set when built so an evaluation multiplies; 0 = divide per call
+  // set by addRoadCar so an evaluation multiplies (the road car's step reads
+  // them as set); 0: deflectionRates divides and tyreForces4 takes
+  // tyreForces lane by lane (a TyreParams used outside a built car)
   double inv_relaxation = 0.0, inv_peak_slip_ratio = 0.0, inv_peak_slip_angle = 0.0;
 };
 

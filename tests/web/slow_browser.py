@@ -146,13 +146,13 @@ def main():
     env = os.environ
     server = start([env["GROUNDSIM_SERVER"], "--lcm-url", LCM_URL, "--workers", "1"])
     procs = [server]
-    # a create published before the server has subscribed would be lost
-    line = server.stdout.readline()
-    if "groundsim-server ready" not in line:
-        fail(f"the server printed no ready line: {line!r}")
-    bridge = start([env["GROUNDSIM_WEB"], "--lcm-url", LCM_URL, "--bind", "127.0.0.1", "--port", "0"])
-    procs.append(bridge)
     try:
+        # a create published before the server has subscribed would be lost
+        line = server.stdout.readline()
+        if "groundsim-server ready" not in line:
+            fail(f"the server printed no ready line: {line!r}")
+        bridge = start([env["GROUNDSIM_WEB"], "--lcm-url", LCM_URL, "--bind", "127.0.0.1", "--port", "0"])
+        procs.append(bridge)
         line = bridge.stdout.readline()
         m = re.search(r"open http://127\.0\.0\.1:(\d+)/", line)
         if not m:
