@@ -8,6 +8,8 @@ set -euo pipefail
 
 build=(
   build-essential cmake ninja-build pkg-config   # C++20 toolchain and build
+  ccache                                         # compiler cache (scripts/lib/build_dir.sh): a fresh clone (CI's)
+                                                 # reuses what a build of the same sources compiled before
   libeigen3-dev                                  # physics core: vectors, rotations, small solves
   liblcm-dev liblcm-bin                          # LCM transport and lcm-gen for the message types
   nlohmann-json3-dev                             # scenario files
