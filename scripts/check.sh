@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Every gate CI runs: the test suite (Release), the whole suite under ASan +
-# UBSan, the integration and session tests under TSan, and a short fuzz run
-# of each libFuzzer target. Stops at the first failure. Each stage prints
-# its wall time.
+# Every gate CI runs: the test suite (Release), the in-process and CLI tests
+# under ASan + UBSan, the integration and session tests under TSan, and a
+# short fuzz run of each libFuzzer target (docs/reliability.md, CI, has what
+# each covers). Stops at the first failure. Each stage prints its wall time.
 #   scripts/check.sh                 all four stages
 #   scripts/check.sh --gates-only    the last three (.ci/run runs scripts/test.sh first)
 #   FUZZ_SECONDS=60 (default) seconds per fuzz target

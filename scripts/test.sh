@@ -3,11 +3,15 @@
 # integration tests, each in its own network namespace). Extra arguments go
 # to ctest (e.g. -R physics).
 #   scripts/test.sh                             every test, Release build in build/
-#   scripts/test.sh --sanitize=address,undefined  every test under ASan + UBSan, in build-asan/
-#                                               (clang; the build scripts/fuzz.sh uses too)
+#   scripts/test.sh --sanitize=address,undefined  the in-process suites and the CLI tests
+#                                               (ctest -L 'unit|cli') under ASan + UBSan, in
+#                                               build-asan/ (clang; the build scripts/fuzz.sh
+#                                               uses too, so its targets are built here too)
 #   scripts/test.sh --sanitize=thread           the integration tests (the multi-threaded
 #                                               server and clients) and the session tests
 #                                               under TSan, in build-tsan/
+# The browser (web), Python and layer tests run in the plain build only; the
+# integration tests in the plain build and under TSan (docs/reliability.md, CI).
 # A sanitizer report makes the process exit non-zero, so the test fails;
 # the report is in the test's output.
 set -euo pipefail
@@ -51,13 +55,18 @@ case "$sanitize" in
     ;;
   address,undefined | undefined,address)
     . scripts/lib/asan_build.sh
-    asan_build ""
+    # only what its tests run, and the fuzz targets (the next gate) in the same ninja run
+    asan_build "$asan_test_targets $asan_fuzz_targets"
+    asan_check_built
     dir=$asan_build_dir
     # leaks are errors too; a UBSan report stops the process (-fno-sanitize-recover)
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1:strict_string_checks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+    # the one-process tests: unit (the GoogleTest suites) and cli (groundsim run
+    # on files); not web, python, integration (multi-process; TSan's) or layers
+    # (build probes, nothing runs)
     sanitized_ctest ASan "$dir/asan-ctest.log" 2 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' \
-      ctest --test-dir "$dir" "${ctest_args[@]}" "$@"
+      ctest --test-dir "$dir" "${ctest_args[@]}" -L '^(unit|cli)$' "$@"
     ;;
   thread)
     dir=build-tsan
@@ -75,7 +84,7 @@ case "$sanitize" in
     # Two tests are left out: they assert that a real-time session keeps
     # pace with the wall clock (torque in force for 0.5 s of wall time,
     # 0.5 s simulated within a wall-time window), which TSan's 5-15x
-    # slowdown breaks on 2 cores. They run in the plain and ASan suites.
+    # slowdown breaks on 2 cores. They run in the plain suite.
     # The other integration tests run, up to 3 times each (sanitized_ctest).
     sanitized_ctest ThreadSanitizer "$dir/tsan-ctest.log" 3 'WARNING: ThreadSanitizer' \
       setarch "$(uname -m)" -R ctest --test-dir "$dir" "${ctest_args[@]}" \
