@@ -27,9 +27,39 @@ NetClient::NetClient(const std::string& url, bool deep_receive)
   char buf[64];
   std::snprintf(buf, sizeof buf, "cli-%d-%08x", static_cast<int>(getpid()), rd());
   client_id_ = buf;
+  wants_.setClientId(client_id_);
   // replies and events of every client share one channel: keep ours only
   lcm_.subscribe(net::kReplyChannel, &NetClient::onReply, this)->setQueueCapacity(net::kDeepQueue);
   lcm_.subscribe(net::kEventChannel, &NetClient::onEvent, this)->setQueueCapacity(net::kDeepQueue);
+  lcm_.subscribe(net::kAssetWantChannel, &NetClient::onAssetWant, this)->setQueueCapacity(net::kDeepQueue);
+}
+
+void NetClient::onAssetWant(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  wants_.addDatagram(rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
+groundsim::reply_t NetClient::create(const groundsim::request_t& req, const std::vector<scenario::Asset>& assets,
+                                     double timeout_s) {
+  groundsim::reply_t r;
+  for (int round = 0; round < net::kAssetRounds; ++round) {
+    r = call(req, timeout_s);
+    // a part the server refused (hash, size) is reported before this reply
+    for (const groundsim::event_t& e : takeEvents())
+      if (e.channel == net::kAssetChannel) {
+        r.ok = false;
+        r.error_code = groundsim::event_t::ERR_BAD_REQUEST;
+        r.error = e.reason;
+        return r;
+      }
+    if (r.ok || r.error_code != groundsim::asset_want_t::ERR_MISSING_ASSETS || assets.empty()) return r;
+    try {
+      net::sendWantedParts(lcm_, client_id_, assets, wants_.take(r.request_id));
+    } catch (const std::exception& e) {
+      throw NetError(std::string("sending the scenario's files: ") + e.what());
+    }
+  }
+  r.error += " (still missing after " + std::to_string(net::kAssetRounds) + " rounds of sending)";
+  return r;
 }
 
 void NetClient::onReply(const lcm::ReceiveBuffer* rbuf, const std::string&) {

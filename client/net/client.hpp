@@ -19,6 +19,7 @@
 #include <groundsim/reply_t.hpp>
 #include <groundsim/request_t.hpp>
 
+#include "protocol/assets_client.hpp"
 #include "protocol/server_watch.hpp"
 
 namespace groundsim::cli {
@@ -42,6 +43,12 @@ class NetClient {
   // of millions of steps waits as long as the server lives, up to
   // timeout_s). A refused request returns ok = false.
   groundsim::reply_t call(groundsim::request_t req, double timeout_s);
+  // An OP_CREATE whose scenario names `assets` (its "assets" manifest):
+  // when the server lacks some, sends the parts it asks for and creates
+  // again, up to net::kAssetRounds times. A file the server refuses (its
+  // hash does not match, it is too large) ends it with that reason.
+  groundsim::reply_t create(const groundsim::request_t& req, const std::vector<scenario::Asset>& assets,
+                            double timeout_s);
   // Handles messages for up to ms milliseconds; throws NetError when the
   // server's heartbeat has stopped.
   void pump(int ms);
@@ -55,6 +62,7 @@ class NetClient {
  private:
   void onReply(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onEvent(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onAssetWant(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
 
   std::string url_;
   lcm::LCM lcm_;
@@ -63,6 +71,7 @@ class NetClient {
   std::int64_t waiting_for_ = -1;
   std::optional<groundsim::reply_t> reply_;
   std::vector<groundsim::event_t> events_;
+  net::AssetWants wants_;  // client_id_'s
   net::ServerWatch watch_;  // after lcm_
 };
 

@@ -1,12 +1,14 @@
 #include "create.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "common.hpp"
+#include "protocol/assets_client.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/names.hpp"
 #include "protocol/text.hpp"
@@ -69,7 +71,7 @@ void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional) {
   cmd->add_option("--set", o.overrides, "override a scenario value, e.g. --set vehicle.placement.speed=2");
 }
 
-groundsim::request_t createRequest(const CreateOptions& o) {
+CreateRequest createRequest(const CreateOptions& o) {
   std::string text = readFile(o.file);
   if (!o.overrides.empty() || !o.preset.empty()) {
     // local changes need a parseable document; the server reports anything else
@@ -91,6 +93,14 @@ groundsim::request_t createRequest(const CreateOptions& o) {
     }
     text = doc.dump();
   }
+  // the files it names travel with it, as hashes in its "assets" manifest
+  net::ScenarioWithAssets sent;
+  try {
+    sent = net::withAssets(text, std::filesystem::path(o.file).parent_path().string());
+  } catch (const scenario::ScenarioError& e) {
+    fail(kExitRefused, net::quoted(o.file) + ": " + e.lines("; "));
+  }
+  text = std::move(sent.json);
   if (text.size() > net::kMaxScenarioBytes)
     fail(kExitRefused, net::quoted(o.file) + ": " + std::to_string(text.size()) +
                            " bytes, larger than the " + std::to_string(net::kMaxScenarioBytes) +
@@ -102,7 +112,7 @@ groundsim::request_t createRequest(const CreateOptions& o) {
   req.rate = o.rate;
   req.publish_rate = o.publish_rate;
   req.duration = o.duration;
-  return req;
+  return {std::move(req), std::move(sent.assets)};
 }
 
 }  // namespace groundsim::cli

@@ -11,6 +11,8 @@
 
 #include <groundsim/request_t.hpp>
 
+#include "scenario/assets.hpp"
+
 namespace groundsim::cli {
 
 struct CreateOptions {
@@ -22,8 +24,14 @@ struct CreateOptions {
 // SCENARIO is positional when `positional`, else the option --create (and
 // the simulated duration is --session-duration).
 void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional);
-// The OP_CREATE request; ends the command (kExitRefused) when the file
-// cannot be read or prepared, or is too large for the transport.
-groundsim::request_t createRequest(const CreateOptions& o);
+// The OP_CREATE request and the files the scenario names (read next to it,
+// as `groundsim run` reads them; sent when the server asks: NetClient::create).
+struct CreateRequest {
+  groundsim::request_t req;
+  std::vector<scenario::Asset> assets;
+};
+// Ends the command (kExitRefused) when the file or a file it names cannot
+// be read or prepared, or the scenario is too large for the transport.
+CreateRequest createRequest(const CreateOptions& o);
 
 }  // namespace groundsim::cli

@@ -72,7 +72,7 @@ void registerLogCommand(CLI::App& app) {
       throw CLI::ValidationError("log", "give SESSION ids or --create SCENARIO (one of the two)");
     guarded([&] {
       installStopSignals();
-      std::optional<groundsim::request_t> create;
+      std::optional<CreateRequest> create;
       if (!o->create.file.empty()) create = createRequest(o->create);  // refused before anything is opened
 
       NetClient client(o->net.url, /*deep_receive=*/true);
@@ -132,7 +132,7 @@ void registerLogCommand(CLI::App& app) {
             ->setQueueCapacity(net::kDeepQueue);
 
       if (create) {
-        const groundsim::reply_t r = client.call(*create, std::max(o->net.timeout, 10.0));
+        const groundsim::reply_t r = client.create(create->req, create->assets, std::max(o->net.timeout, 10.0));
         if (!r.ok) fail(kExitRefused, r.error);
         TokenStore(o->net.token_file).put(r.session_id, r.token, client.url());
         streams[r.session_id].expect_from = 0;

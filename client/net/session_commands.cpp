@@ -63,9 +63,10 @@ void addCreate(CLI::App& app) {
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     guarded([&] {
-      const request_t req = createRequest(o->create);
+      const CreateRequest req = createRequest(o->create);
       NetClient client(o->net.url);
-      const groundsim::reply_t r = client.call(req, std::max(o->net.timeout, 10.0));  // building may take a while
+      // building may take a while
+      const groundsim::reply_t r = client.create(req.req, req.assets, std::max(o->net.timeout, 10.0));
       expectOk(r);
       TokenStore store(o->net.token_file);
       store.put(r.session_id, r.token, client.url());

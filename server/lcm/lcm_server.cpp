@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <groundsim/asset_part_t.hpp>
+#include <groundsim/asset_want_t.hpp>
 #include <groundsim/scenario_t.hpp>
 
 #include "convert.hpp"
@@ -53,6 +55,8 @@ LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, 
   lcm_.subscribe(kDriveChannel, &LcmServer::onDrive, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kControlsChannel, &LcmServer::onControls, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kVecRequestChannel, &LcmServer::onVecRequest, this)->setQueueCapacity(kDeepQueue);
+  // parts come in bursts of up to 2 MiB (protocol/assets_client.cpp)
+  lcm_.subscribe(kAssetChannel, &LcmServer::onAsset, this)->setQueueCapacity(kDeepQueue);
 }
 
 LcmServer::~LcmServer() { service_.reset(); }
@@ -120,6 +124,26 @@ void LcmServer::publishVecReply(const session::VecReply& r) {
   }
 }
 
+void LcmServer::publishAssetWant(const session::AssetWant& w) {
+  try {
+    groundsim::asset_want_t m{};
+    m.utime = wallMicros();
+    m.seq = want_seq_++;
+    m.request_id = w.request_id;
+    m.client_id = w.client_id;
+    m.name = w.missing.ref.name;
+    m.sha256 = w.missing.ref.sha256;
+    m.size = static_cast<std::int64_t>(w.missing.ref.size);
+    m.nparts = w.missing.nparts;
+    m.missing = w.missing.parts;
+    m.nmissing = static_cast<std::int32_t>(m.missing.size());
+    publish(kAssetWantChannel, m);
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish an asset want: %s\n", e.what());
+  }
+}
+
 void LcmServer::publishEvent(const session::Event& e) try {
   publish(kEventChannel, toMessage(e, event_seq_++));
   if (e.severity == session::Severity::Info) {
@@ -155,6 +179,10 @@ void LcmServer::onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& 
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 
+void LcmServer::onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
 // Handlers run inside lcm_handle(), which is C: an exception must stop here
 // (as Drake's DrakeLcm stores it) and become an event, never unwind.
 void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
@@ -164,6 +192,7 @@ void LcmServer::handleDatagram(const std::string& channel, const void* data, int
     else if (channel == kDriveChannel) handleDrive(channel, data, size);
     else if (channel == kControlsChannel) handleControls(channel, data, size);
     else if (channel == kVecRequestChannel) handleVecRequest(channel, data, size);
+    else if (channel == kAssetChannel) handleAsset(channel, data, size);
   } catch (const std::exception& e) {
     try {
       service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
@@ -252,6 +281,26 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
     return;
   }
   service_->handleVecRequest(std::move(r));
+}
+
+void LcmServer::handleAsset(const std::string& channel, const void* data, int size) {
+  groundsim::asset_part_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.asset_part_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "asset: " + why);
+  if (msg.size < 0)
+    return service_->reportBadInput(session::ErrorCode::BadRequest, channel,
+                                    "asset: size must be >= 0, got " + std::to_string(msg.size));
+  session::AssetPart p;
+  p.client_id = std::move(msg.client_id);
+  p.name = printable(msg.name, 200);
+  p.sha256 = printable(msg.sha256, 80);
+  p.size = static_cast<std::uint64_t>(msg.size);
+  p.part = msg.part;
+  p.nparts = msg.nparts;
+  p.data.assign(msg.data.begin(), msg.data.end());
+  service_->handleAssetPart(p, channel);
 }
 
 void LcmServer::heartbeat() {

@@ -31,6 +31,7 @@ class LcmServer final : public session::Output {
   void publishEvent(const session::Event& e) override;
   // Split into parts of at most net::kMaxVecPartBytes, each published on its own.
   void publishVecReply(const session::VecReply& r) override;
+  void publishAssetWant(const session::AssetWant& w) override;
 
   // One received datagram, as LCM's handler gets it (also the entry of the
   // datagram fuzz target). Never throws: LCM's C code must not unwind.
@@ -49,6 +50,8 @@ class LcmServer final : public session::Output {
   void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void handleAsset(const std::string& channel, const void* data, int size);
   void handleVecRequest(const std::string& channel, const void* data, int size);
   void handleRequest(const std::string& channel, const void* data, int size);
   void handleDrive(const std::string& channel, const void* data, int size);
@@ -61,7 +64,8 @@ class LcmServer final : public session::Output {
   lcm::LCM lcm_;
   std::mutex publish_mutex_;
   std::string server_id_;
-  std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0};
+  std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
+      want_seq_{0};
   std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0};
   std::unique_ptr<session::SessionService> service_;  // after lcm_: it publishes through it
 };

@@ -21,6 +21,10 @@ inline constexpr int8_t kOpScenario = 9;
 // vectorised sessions (experiments API): vec_request_t in, vec_reply_t parts out
 inline constexpr const char* kVecRequestChannel = "GROUNDSIM_VEC_REQUEST";
 inline constexpr const char* kVecReplyChannel = "GROUNDSIM_VEC_REPLY";
+// files sent with a scenario (docs/protocol.md, Assets): asset_part_t in,
+// asset_want_t out (what a refused create still lacks)
+inline constexpr const char* kAssetChannel = "GROUNDSIM_ASSET";
+inline constexpr const char* kAssetWantChannel = "GROUNDSIM_ASSET_WANT";
 inline constexpr const char* kCarStatePrefix = "GROUNDSIM_CAR_STATE_";  // + session id: car_state_t (road cars)
 
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }

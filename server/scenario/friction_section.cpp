@@ -82,7 +82,7 @@ void readFrictionMap(ObjectReader m, GroundSpec& g, const FileAccess& files) {
   const auto cell = m.requiredNumber("cell_size", Range::closed(1e-3, 1e4));
   const Eigen::VectorXd origin = m.vector("origin", Eigen::Vector2d(0.0, 0.0), Range::closed(-1e7, 1e7));
   double scale = 1.0;  // PNG: mu per full-scale value
-  if (grid && grid->bit_depth > 0) {
+  if (scaledGrid(m, grid, "file")) {
     scale = m.number("mu_scale", 1.0, Range::closed(0.0, 10.0));
   } else if (m.has("mu_scale")) {
     m.allow("mu_scale");

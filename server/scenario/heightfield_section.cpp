@@ -26,8 +26,13 @@ std::optional<Grid> readGridSource(ObjectReader& r, const std::string& file_key,
   if (has_file) {
     const auto name = r.requiredString(file_key);
     if (!name) return std::nullopt;
+    if (files.mode == FileAccess::Mode::Collect) {
+      // a client finding the files to send: nothing is read
+      if (files.collected) files.collected->push_back(*name);
+      return std::nullopt;
+    }
     try {
-      return readGridFile(resolveTerrainPath(files, *name));
+      return loadGrid(files, *name);
     } catch (const TerrainError& e) {
       r.issue(file_key, e.what());
       return std::nullopt;
@@ -85,6 +90,14 @@ std::optional<Grid> readGridSource(ObjectReader& r, const std::string& file_key,
   return g;
 }
 
+bool scaledGrid(ObjectReader& r, const std::optional<Grid>& grid, const std::string& file_key) {
+  if (grid) return grid->bit_depth > 0;
+  // the file could not be read (its own issue says why): judge by its name,
+  // so that a scale given for a PNG is not reported as a second problem
+  const nlohmann::json* name = r.peek(file_key);
+  return name && name->is_string() && gridTypeOf(name->get<std::string>()) == GridType::Png;
+}
+
 void readHeightfield(ObjectReader& r, GroundSpec& g, const FileAccess& files) {
   std::optional<Grid> grid = readGridSource(r, "file", "heights", files, 1e6);
   const auto cell = r.requiredNumber("cell_size", Range::closed(1e-3, 1e4));
@@ -93,7 +106,7 @@ void readHeightfield(ObjectReader& r, GroundSpec& g, const FileAccess& files) {
   // PNG values are fractions of full scale: height_scale turns them into
   // metres; CSV and inline heights are metres already
   double scale = 1.0;
-  if (grid && grid->bit_depth > 0) {
+  if (scaledGrid(r, grid, "file")) {
     scale = r.number("height_scale", 1.0, Range::positive(1e5));
   } else if (r.has("height_scale")) {
     r.allow("height_scale");

@@ -160,6 +160,12 @@ bool ObjectReader::boolean(const std::string& key, bool def) {
   return v->get<bool>();
 }
 
+const nlohmann::json* ObjectReader::peek(const std::string& key) const {
+  if (!valid_ || !obj_) return nullptr;
+  const auto it = obj_->find(key);
+  return it == obj_->end() ? nullptr : &*it;
+}
+
 std::string ObjectReader::string(const std::string& key, const std::string& def) {
   const bool present = has(key);
   nlohmann::json* v = get(key, &nlohmann::json::is_string, "a string");

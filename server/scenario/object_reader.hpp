@@ -61,6 +61,8 @@ class ObjectReader {
   std::string pathOf(const std::string& key) const { return path_ + "/" + pointerToken(key); }
   IssueList& issues() { return *issues_; }
   bool has(const std::string& key) const;
+  // The value at key as it is, without reading it (nullptr when absent).
+  const nlohmann::json* peek(const std::string& key) const;
   // Marks a key as known without reading it (read elsewhere).
   void allow(const std::string& key);
   void issue(const std::string& key, std::string message) { issues_->add(pathOf(key), std::move(message)); }

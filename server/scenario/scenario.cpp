@@ -147,6 +147,10 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
     s.ground = readGround(top.object("ground"), budget, files);
   }
   readVehicles(top, doc, issues, s, budget);
+  // written by clients that send the files with the scenario (assets.hpp);
+  // the files themselves are read through `files`
+  top.allow("assets");
+  s.assets = readAssetManifest(doc, issues);
   // the task reads the vehicles' names and kinds: only once they are valid
   if (top.has("task") && issues.empty()) s.task = readTask(top.object("task"), s.vehicles);
   else top.allow("task");

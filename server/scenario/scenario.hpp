@@ -22,6 +22,7 @@
 #include "physics/state.hpp"
 #include "physics/vehicle.hpp"
 #include "scenario/budget.hpp"
+#include "scenario/assets.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/task_spec.hpp"
@@ -80,6 +81,7 @@ struct Scenario {
   GroundSpec ground;
   std::vector<VehicleSpec> vehicles;  // document order (`vehicle` is one)
   std::optional<TaskSpec> task;   // the `task` section (experiments), when present
+  std::vector<AssetRef> assets;   // the `assets` manifest (files sent with the scenario), when present
 };
 
 // Parses and validates against the budget; throws ScenarioError listing

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <csetjmp>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -49,8 +50,14 @@ fs::path resolveTerrainPath(const FileAccess& access, const std::string& name) {
   std::error_code ec;
   switch (access.mode) {
     case FileAccess::Mode::None:
-      throw TerrainError("files cannot be read here (a server reads terrain files only from its --terrain-dir, "
-                         "which this one was not given); give the samples inline instead");
+    case FileAccess::Mode::Collect:
+      throw TerrainError("no file can be read here: this scenario came without its files (clients send them "
+                         "with it; in process, name the scenario by its path or give the folder of its files)");
+    case FileAccess::Mode::Assets:
+      if (access.dir.empty())
+        throw TerrainError(quoted(name) + " was not sent with the scenario (it is not in /assets; clients send "
+                           "the files a scenario names with it: docs/protocol.md, Assets)");
+      return resolveTerrainPath(FileAccess::confined(access.dir), name);
     case FileAccess::Mode::Local:
       full = p.is_absolute() ? p : fs::path(access.dir) / p;
       break;
@@ -76,12 +83,54 @@ fs::path resolveTerrainPath(const FileAccess& access, const std::string& name) {
   return full;
 }
 
-Grid readGridFile(const fs::path& path, std::size_t max_samples) {
-  std::string ext = path.extension().string();
+GridType gridTypeOf(const std::string& name) {
+  std::string ext = fs::path(name).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".png") return readPng(path, max_samples);
-  if (ext == ".csv" || ext == ".txt") return readCsv(path, max_samples);
+  if (ext == ".png") return GridType::Png;
+  if (ext == ".csv" || ext == ".txt") return GridType::Csv;
+  return GridType::Unknown;
+}
+
+Grid readGridBytes(const std::string& name, const std::string& bytes, std::size_t max_samples) {
+  switch (gridTypeOf(name)) {
+    case GridType::Png: return readPngBytes(name, bytes, max_samples);
+    case GridType::Csv: return readCsvBytes(name, bytes, max_samples);
+    case GridType::Unknown: break;
+  }
+  throw TerrainError(quoted(fs::path(name).filename().string()) + ": unknown file type (expected .png or .csv)");
+}
+
+Grid readGridFile(const fs::path& path, std::size_t max_samples) {
+  switch (gridTypeOf(path.string())) {
+    case GridType::Png: return readPng(path, max_samples);
+    case GridType::Csv: return readCsv(path, max_samples);
+    case GridType::Unknown: break;
+  }
   throw TerrainError(quoted(path.filename().string()) + ": unknown file type (expected .png or .csv)");
+}
+
+Grid loadGrid(const FileAccess& access, const std::string& name, std::size_t max_samples) {
+  if (access.mode == FileAccess::Mode::Assets && access.assets) {
+    const auto it = access.assets->find(name);
+    if (it != access.assets->end() && it->second) return readGridBytes(name, *it->second, max_samples);
+  }
+  return readGridFile(resolveTerrainPath(access, name), max_samples);
+}
+
+std::string readFileBytes(const fs::path& path, std::size_t max_bytes) {
+  const std::string who = quoted(path.filename().string());
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw TerrainError(who + ": cannot read its size");
+  // refused before reading: a huge file is not read into memory to be refused
+  if (size > max_bytes)
+    throw TerrainError(who + ": " + countText(size) + " bytes, more than the limit of " + countText(max_bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw TerrainError(who + ": cannot open for reading");
+  std::string bytes(size, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (static_cast<std::size_t>(in.gcount()) != size) throw TerrainError(who + ": read error");
+  return bytes;
 }
 
 // --- PNG (libpng) ---
@@ -89,7 +138,8 @@ Grid readGridFile(const fs::path& path, std::size_t max_samples) {
 namespace {
 
 struct PngRead {
-  std::FILE* file = nullptr;
+  const unsigned char* data = nullptr;  // the whole file, signature included
+  std::size_t size = 0, at = 0;         // read position
   std::size_t max_samples = 0;
   Grid* out = nullptr;
   std::vector<unsigned char>* row = nullptr;
@@ -104,6 +154,14 @@ void pngError(png_structp png, png_const_charp msg) {
 }
 void pngWarning(png_structp, png_const_charp) {}
 
+// libpng's input from memory: a read past the end is a truncated file.
+void pngReadBytes(png_structp png, png_bytep out, png_size_t n) {
+  auto* r = static_cast<PngRead*>(png_get_io_ptr(png));
+  if (n > r->size - r->at) png_error(png, "truncated (the file ends inside its data)");
+  std::memcpy(out, r->data + r->at, n);
+  r->at += n;
+}
+
 // The libpng part: only plain data (and data reached through `r`) lives
 // across setjmp, so the longjmp of an error skips no destructor.
 bool decodePng(PngRead* r) {
@@ -114,8 +172,9 @@ bool decodePng(PngRead* r) {
     png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
     return false;
   }
-  png_init_io(png, r->file);
-  png_set_sig_bytes(png, 8);  // the caller read and checked the signature
+  png_set_read_fn(png, r, pngReadBytes);
+  r->at = 8;
+  png_set_sig_bytes(png, 8);  // the caller checked the signature
   png_read_info(png, info);
   png_uint_32 w = 0, h = 0;
   int depth = 0, colour = 0, interlace = 0;
@@ -165,17 +224,15 @@ bool decodePng(PngRead* r) {
 
 }  // namespace
 
-Grid readPng(const fs::path& path, std::size_t max_samples) {
-  const std::string who = quoted(path.filename().string());
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw TerrainError(who + ": cannot open for reading");
-  unsigned char sig[8] = {};
-  if (std::fread(sig, 1, 8, f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
-    throw TerrainError(who + ": not a PNG file");
+Grid readPngBytes(const std::string& name, const std::string& bytes, std::size_t max_samples) {
+  const std::string who = quoted(fs::path(name).filename().string());
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  if (bytes.size() < 8 || png_sig_cmp(data, 0, 8) != 0) throw TerrainError(who + ": not a PNG file");
   Grid g;
   std::vector<unsigned char> row;
   PngRead r;
-  r.file = f.get();
+  r.data = data;
+  r.size = bytes.size();
   r.max_samples = max_samples;
   r.out = &g;
   r.row = &row;
@@ -186,21 +243,22 @@ Grid readPng(const fs::path& path, std::size_t max_samples) {
   return g;
 }
 
+Grid readPng(const fs::path& path, std::size_t max_samples) {
+  return readPngBytes(path.filename().string(), readFileBytes(path, kMaxGridFileBytes), max_samples);
+}
+
 // --- CSV ---
 
 Grid readCsv(const fs::path& path, std::size_t max_samples) {
-  const std::string who = quoted(path.filename().string());
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
   // generous: 40 characters per sample
-  if (!ec && size > max_samples * 40)
-    throw TerrainError(who + ": " + countText(size) + " bytes is too large for " + countText(max_samples) +
+  return readCsvBytes(path.filename().string(), readFileBytes(path, max_samples * 40), max_samples);
+}
+
+Grid readCsvBytes(const std::string& name, const std::string& s, std::size_t max_samples) {
+  const std::string who = quoted(fs::path(name).filename().string());
+  if (s.size() > max_samples * 40)
+    throw TerrainError(who + ": " + countText(s.size()) + " bytes is too large for " + countText(max_samples) +
                        " samples");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw TerrainError(who + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string s = text.str();
   Grid g;
   std::size_t pos = 0, line_no = 0;
   int first_line = 0;

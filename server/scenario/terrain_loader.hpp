@@ -33,6 +33,18 @@ struct Grid {
   int bit_depth = 0;  // 8 or 16 for PNG, 0 for CSV
 };
 
+// Largest file read for a grid: a 4097 x 4097 16-bit PNG stored without
+// compression is 34 MB; a CSV is bounded by its samples (40 bytes each).
+inline constexpr std::size_t kMaxGridFileBytes = 64u << 20;
+
+enum class GridType { Png, Csv, Unknown };
+// By the name's extension (.png; .csv or .txt).
+GridType gridTypeOf(const std::string& name);
+
+// The grid a scenario names `name`, wherever `access` finds it: among the
+// assets sent with the scenario, or as a file (resolveTerrainPath).
+Grid loadGrid(const FileAccess& access, const std::string& name, std::size_t max_samples = kMaxTerrainSamples);
+
 // The file `name` under the access rules (see file_access.hpp); throws
 // TerrainError naming the rule it breaks or that the file does not exist.
 std::filesystem::path resolveTerrainPath(const FileAccess& access, const std::string& name);
@@ -41,5 +53,13 @@ std::filesystem::path resolveTerrainPath(const FileAccess& access, const std::st
 Grid readGridFile(const std::filesystem::path& path, std::size_t max_samples = kMaxTerrainSamples);
 Grid readPng(const std::filesystem::path& path, std::size_t max_samples = kMaxTerrainSamples);
 Grid readCsv(const std::filesystem::path& path, std::size_t max_samples = kMaxTerrainSamples);
+// The same from a file's bytes; `name` (its extension, its file name in
+// messages) as the scenario names it. A PNG's size is checked from its
+// header, before any pixel is decoded.
+Grid readGridBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
+Grid readPngBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
+Grid readCsvBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
+// A whole file, refused unread when larger than max_bytes.
+std::string readFileBytes(const std::filesystem::path& path, std::size_t max_bytes);
 
 }  // namespace groundsim::scenario

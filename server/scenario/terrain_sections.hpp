@@ -29,4 +29,8 @@ void readSurfaceFriction(ObjectReader& r, GroundSpec& g, const FileAccess& files
 std::optional<Grid> readGridSource(ObjectReader& r, const std::string& file_key, const std::string& inline_key,
                                    const FileAccess& files, double bound);
 
+// Whether a PNG's scale key applies: the grid is a PNG, or (when it could
+// not be read) the file named under file_key is called *.png.
+bool scaledGrid(ObjectReader& r, const std::optional<Grid>& grid, const std::string& file_key);
+
 }  // namespace groundsim::scenario

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "asset_store.hpp"
 #include "scenario/budget.hpp"
 
 namespace groundsim::session {
@@ -39,6 +40,10 @@ struct ServiceConfig {
   // relative paths inside this folder only (no absolute path, no "..", no
   // symlink leading out), since scenarios come from remote clients; "": none.
   std::string terrain_dir;
+  // The files clients send with their scenarios (asset_store.hpp): a create
+  // builds from these, checked by hash, never from this server's disk
+  // (except a name not among them, under terrain_dir).
+  AssetLimits assets;
 
   static scenario::Budget serverBudget() {
     scenario::Budget b;

@@ -27,6 +27,19 @@ std::string joinIssues(const scenario::ScenarioError& e) {
   return out.empty() ? std::string(e.what()) : out;
 }
 
+// A create whose assets are not all here yet (the wants are published).
+struct MissingAssetsError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string sizeText(std::uint64_t n) {
+  char buf[32];
+  if (n >= 10'000'000) std::snprintf(buf, sizeof buf, "%.0f MB", n / 1e6);
+  else if (n >= 10'000) std::snprintf(buf, sizeof buf, "%.0f kB", n / 1e3);
+  else std::snprintf(buf, sizeof buf, "%llu bytes", static_cast<unsigned long long>(n));
+  return buf;
+}
+
 std::string num(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", x);
@@ -42,7 +55,7 @@ std::string outside(const char* field, double x, double lo, double hi, const cha
 }  // namespace
 
 SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
-    : cfg_(cfg), out_(out), clock_(clock), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
+    : cfg_(cfg), out_(out), clock_(clock), assets_(cfg.assets), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
   cfg_.workers = pool_.workers();
   cfg_.budget.max_vehicles = std::min(cfg_.budget.max_vehicles, cfg_.max_vehicles);
   cfg_.budget.max_document_bytes = std::min(cfg_.budget.max_document_bytes, cfg_.max_scenario_bytes);
@@ -76,6 +89,49 @@ void SessionService::reportBadInput(ErrorCode code, const std::string& channel, 
   Event e = sessionEvent("", Severity::Error, code, reason);
   e.channel = channel;
   out_.publishEvent(e);
+}
+
+// ---- assets -----------------------------------------------------------------
+
+void SessionService::handleAssetPart(const AssetPart& p, const std::string& channel) {
+  const std::string why = assets_.addPart(p, clock_.now());
+  if (why.empty()) return;
+  Event e = sessionEvent("", Severity::Error, ErrorCode::BadRequest, why);
+  e.client_id = p.client_id;
+  e.channel = channel;
+  out_.publishEvent(e);
+}
+
+scenario::FileAccess SessionService::filesFor(const nlohmann::json& doc, std::int64_t request_id,
+                                              const std::string& client_id,
+                                              std::shared_ptr<const scenario::AssetBytes>* held) {
+  const std::vector<scenario::AssetRef> refs = scenario::assetManifest(doc);
+  std::string why;
+  const std::vector<MissingAsset> missing = assets_.missing(refs, &why);
+  if (!why.empty()) {
+    const auto colon = why.find(": ");
+    throw scenario::ScenarioError({{why.substr(0, colon), why.substr(colon + 2)}});
+  }
+  if (!missing.empty()) {
+    std::string list;
+    for (const MissingAsset& m : missing) {
+      out_.publishAssetWant(AssetWant{request_id, client_id, m});
+      list += (list.empty() ? "" : ", ") + std::string("\"") + m.ref.name + "\" (sha256 " + m.ref.sha256.substr(0, 12) +
+              "..., " + sizeText(m.ref.size) + ", " + std::to_string(m.parts.size()) + " of " +
+              std::to_string(m.nparts) + " parts)";
+    }
+    throw MissingAssetsError("this server does not hold the scenario's files yet: " + list +
+                             "; a client sends them on GROUNDSIM_ASSET and creates again (docs/protocol.md, Assets)");
+  }
+  auto bytes = std::make_shared<scenario::AssetBytes>();
+  for (const auto& r : refs) {
+    auto b = assets_.find(r.sha256);
+    // evicted between the two looks: only assets no session holds are, and this create is asking again
+    if (!b) throw MissingAssetsError("\"" + r.name + "\" left the server's asset store while the create was built; create again");
+    (*bytes)[r.name] = std::move(b);
+  }
+  *held = bytes;
+  return scenario::FileAccess::fromAssets(std::move(bytes), cfg_.terrain_dir);
 }
 
 // ---- lookup -----------------------------------------------------------------
@@ -219,9 +275,10 @@ void SessionService::build(const Request& r) {
   std::shared_ptr<Session> session;
   try {
     // the budget is checked in validation, before anything is built
-    const scenario::Scenario sc = scenario::parseScenario(
-        r.scenario_json, cfg_.budget,
-        cfg_.terrain_dir.empty() ? scenario::FileAccess::none() : scenario::FileAccess::confined(cfg_.terrain_dir));
+    nlohmann::json doc = scenario::parseScenarioDocument(r.scenario_json, cfg_.budget);
+    std::shared_ptr<const scenario::AssetBytes> assets;
+    const scenario::FileAccess files = filesFor(doc, r.request_id, r.client_id, &assets);
+    const scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
     const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
@@ -240,6 +297,7 @@ void SessionService::build(const Request& r) {
     setup.rate = r.rate > 0 ? r.rate : 1.0;
     setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
     setup.control_tables = scene.control_tables;
+    setup.assets = std::move(assets);
     {
       std::lock_guard<std::mutex> lk(mutex_);
       setup.id = uniqueId();
@@ -265,6 +323,8 @@ void SessionService::build(const Request& r) {
     return;
   } catch (const scenario::ScenarioError& e) {
     fail(r, ErrorCode::BadScenario, "invalid scenario: " + joinIssues(e));
+  } catch (const MissingAssetsError& e) {
+    fail(r, ErrorCode::MissingAssets, e.what());
   } catch (const std::bad_alloc&) {
     fail(r, ErrorCode::BadScenario, "invalid scenario: building it needs more memory than the server has");
   } catch (const std::exception& e) {
@@ -380,6 +440,7 @@ void SessionService::handleControls(CarDrive d) {
 
 void SessionService::housekeeping() {
   const TimePoint now = clock_.now();
+  assets_.expire(now);
   std::vector<std::shared_ptr<Session>> idle;
   std::vector<std::shared_ptr<VecSession>> idle_vecs;
   {
@@ -574,7 +635,9 @@ void SessionService::buildVec(const VecRequest& r) {
     experiments::VecEnvOptions opt;
     opt.num_threads = 1;  // on this worker only: the pool shares the cores among sessions
     opt.budget = cfg_.budget;
-    opt.files = cfg_.terrain_dir.empty() ? scenario::FileAccess::none() : scenario::FileAccess::confined(cfg_.terrain_dir);
+    std::shared_ptr<const scenario::AssetBytes> assets;
+    opt.files = filesFor(scenario::parseScenarioDocument(r.scenario_json, cfg_.budget), r.request_id, r.client_id,
+                         &assets);
     opt.max_envs = cfg_.max_envs;
     std::unique_ptr<experiments::BatchEnv> env = experiments::makeVecEnv(r.scenario_json, r.num_envs, opt);
     // the name and vehicle names for listings (the scenario was just validated by makeVecEnv)
@@ -584,6 +647,7 @@ void SessionService::buildVec(const VecRequest& r) {
     setup.name = sc.name;
     setup.scenario_json = r.scenario_json;
     for (const auto& v : sc.vehicles) setup.vehicle_names.push_back(v.name);
+    setup.assets = std::move(assets);
     {
       std::lock_guard<std::mutex> lk(mutex_);
       setup.id = uniqueId();
@@ -604,6 +668,8 @@ void SessionService::buildVec(const VecRequest& r) {
     return;
   } catch (const scenario::ScenarioError& e) {
     failVec(r, ErrorCode::BadScenario, "scenario_json", "invalid scenario: " + joinIssues(e));
+  } catch (const MissingAssetsError& e) {
+    failVec(r, ErrorCode::MissingAssets, "assets", e.what());
   } catch (const experiments::ExperimentError& e) {
     failVec(r, ErrorCode::BadRequest, e.field(), reasonOf(e));
   } catch (const std::bad_alloc&) {

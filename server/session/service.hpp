@@ -46,6 +46,10 @@ class SessionService {
   // A request to a vectorised session (or the create of one): answered
   // with a VecReply (publishVecReply), refusals naming the field.
   void handleVecRequest(VecRequest r);
+  // One part of a file sent with a scenario (asset_part_t on `channel`); a
+  // part refused, or an asset whose bytes do not match its hash, is
+  // answered with an error event to its client naming the file.
+  void handleAssetPart(const AssetPart& p, const std::string& channel);
   // Input the transport could not decode (names the channel and why).
   void reportBadInput(ErrorCode code, const std::string& channel, const std::string& reason);
   // Reclaims idle sessions; call about once a second.
@@ -57,6 +61,12 @@ class SessionService {
   const ServiceConfig& config() const { return cfg_; }
 
  private:
+  // The files a create's document names, from the store: every asset of its
+  // manifest must be here (pinned into *held for the session's life). When
+  // some are missing, publishes an AssetWant for each and throws
+  // MissingAssetsError; a manifest beyond the limits throws ScenarioError.
+  scenario::FileAccess filesFor(const nlohmann::json& doc, std::int64_t request_id, const std::string& client_id,
+                                std::shared_ptr<const scenario::AssetBytes>* held);
   void create(const Request& r);
   void build(const Request& r);  // on a worker
   void createVec(const VecRequest& r);
@@ -88,6 +98,7 @@ class SessionService {
   std::vector<Ended> ended_;
   int reserved_ = 0;  // creates accepted but still building
   bool shut_down_ = false;
+  AssetStore assets_;
   Scheduler pool_;    // last member: its workers stop before the registry goes
 };
 

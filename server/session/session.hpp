@@ -35,6 +35,9 @@ struct SessionSetup {
   // car): followed as simulated time passes, like `groundsim run`, until a
   // client sends controls_t for that car; a reset hands it back to the table.
   std::vector<scenario::ControlTable> control_tables;
+  // The files its scenario named (sent with the create), kept with the
+  // session: they stay in the server's asset store while it runs.
+  std::shared_ptr<const scenario::AssetBytes> assets;
 };
 
 // Per vehicle: its wheels' global indices (telemetry order) and steering limits.

@@ -30,7 +30,10 @@ enum class ErrorCode : int {
   None = 0, Decode = 1, Fingerprint = 2, UnknownSession = 3, BadScenario = 4,
   BadControl = 5, TooManySessions = 6, Unauthorized = 7, BadRequest = 8,
   WrongMode = 9, Diverged = 10, CommandTimeout = 11, Overrun = 12,
-  Internal = 13, Shutdown = 14
+  Internal = 13, Shutdown = 14,
+  // a create names assets (files) the server does not hold yet: the client
+  // sends them (asset_part_t) and creates again (asset_want_t.ERR_MISSING_ASSETS)
+  MissingAssets = 15
 };
 
 const char* modeName(Mode m);
@@ -200,6 +203,8 @@ struct ReplyTo {
 // Implemented by the transport. Called from worker threads and the receive
 // thread at once: implementations must be thread-safe and must not block for
 // long (they are on the stepping path).
+struct AssetWant;  // asset_store.hpp
+
 class Output {
  public:
   virtual ~Output() = default;
@@ -207,6 +212,9 @@ class Output {
   virtual void publishReply(const Reply& r) = 0;
   virtual void publishEvent(const Event& e) = 0;
   virtual void publishVecReply(const VecReply& r) = 0;
+  // What a refused create still lacks of one asset, published just before
+  // the refusal (ErrorCode::MissingAssets) so that its client can send it.
+  virtual void publishAssetWant(const AssetWant& w) = 0;
 };
 
 }  // namespace groundsim::session

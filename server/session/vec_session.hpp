@@ -30,6 +30,7 @@ struct VecSetup {
   std::string name;                   // scenario name
   std::string scenario_json;
   std::vector<std::string> vehicle_names;
+  std::shared_ptr<const scenario::AssetBytes> assets;  // as SessionSetup::assets
 };
 
 class VecSession : public Task {

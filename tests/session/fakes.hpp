@@ -14,6 +14,7 @@
 
 #include "scenario/scenario.hpp"
 #include "session/clock.hpp"
+#include "session/asset_store.hpp"
 #include "session/types.hpp"
 
 namespace groundsim::session::test {
@@ -64,6 +65,10 @@ class RecordingOutput final : public Output {
     std::lock_guard<std::mutex> lk(m_);
     events.push_back(e);
   }
+  void publishAssetWant(const AssetWant& w) override {
+    std::lock_guard<std::mutex> lk(m_);
+    asset_wants.push_back(w);
+  }
   void publishVecReply(const VecReply& r) override {
     {
       std::lock_guard<std::mutex> lk(m_);
@@ -108,6 +113,7 @@ class RecordingOutput final : public Output {
   std::vector<Frame> frames;
   std::vector<Reply> replies;
   std::vector<VecReply> vec_replies;
+  std::vector<AssetWant> asset_wants;
   std::vector<Event> events;
 
  private:
