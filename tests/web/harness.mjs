@@ -176,6 +176,65 @@ export const rolling = (page, i) => page.evaluate((k) => {
   return (fx * v.v[0] + fy * v.v[1]) / n;
 }, i);
 export const pageSpeed = (page, i) => page.evaluate((k) => window.groundsim.lastState.vehicles[k].speed, i);
+
+// Mean speed (m/s) of each listed car along its heading, horizontally, over
+// the next `span` s of simulated time in the page's states: the slope of a
+// least-squares line through its positions. A car released from the
+// handbrake rocks on its undamped contacts for good (on plain.json up to
+// +-0.3 m/s, +-9 cm, a period of about 2.2 s); one sample of its speed holds
+// that whole swing, and over a window near one period so do a displacement
+// over the time and a fitted slope (0.1 m/s). Over 4 s the slope's share of
+// a +-10 cm swing is at most 0.03 m/s for periods of 1.2 to 3.5 s.
+export const meanRolling = (page, cars, span = 4.0, timeoutMs = 60000) => page.evaluate(([ks, span, timeoutMs]) =>
+  new Promise((resolve, reject) => {
+    const g = window.groundsim;
+    let first = null;
+    const rows = [];  // [t, distance along each car's first heading]
+    const fn = (m) => {
+      if (!first) first = m;
+      rows.push([m.t - first.t, ks.map((k) => {
+        const a = first.vehicles[k], b = m.vehicles[k], [w, x, y, z] = a.q;
+        const fx = 1 - 2 * (y * y + z * z), fy = 2 * (x * y + w * z), n = Math.hypot(fx, fy) || 1;
+        return (fx * (b.p[0] - a.p[0]) + fy * (b.p[1] - a.p[1])) / n;
+      })]);
+      if (m.t - first.t < span || rows.length < 3) return;
+      done();
+      const mt = rows.reduce((a, r) => a + r[0], 0) / rows.length;
+      resolve(ks.map((_, j) => {
+        const ms = rows.reduce((a, r) => a + r[1][j], 0) / rows.length;
+        let num = 0, den = 0;
+        for (const [t, d] of rows) { num += (t - mt) * (d[j] - ms); den += (t - mt) * (t - mt); }
+        return num / den;
+      }));
+    };
+    const timer = setTimeout(() => { done(); reject(new Error(`no ${span} s of states in ${timeoutMs} ms`)); }, timeoutMs);
+    const done = () => { clearTimeout(timer); g.stateListeners = g.stateListeners.filter((f) => f !== fn); };
+    g.stateListeners.push(fn);
+  }), [cars, span, timeoutMs]);
+
+// Simulated time of the session's next state on the bus (groundsim watch).
+export function serverTime(session) {
+  const m = cli('watch', session, '--count', '1').match(/t=(-?[0-9.]+)/);
+  if (!m) throw new Error(`no state of session ${session} on the bus`);
+  return parseFloat(m[1]);
+}
+
+// Waits until the page's newest state is within `margin` s of the server's.
+// A page that just joined compiles its shaders in its first frames; under
+// software WebGL on a busy machine that blocks its main thread for seconds
+// (10-20 s seen with three pages and a parallel build), while the states
+// queue in the socket, and the page then shows, and the test would read,
+// seconds-old states until it has caught up.
+export async function caughtUp(page, session, margin = 0.5) {
+  let behind = null;
+  await until('the page to catch up with the server\'s states', async () => {
+    const server = serverTime(session);
+    const t = await page.evaluate(() => (window.groundsim.lastState ? window.groundsim.lastState.t : null));
+    behind = t === null ? null : server - t;
+    return behind !== null && behind < margin;
+  }, 120000, 200);
+  return behind;
+}
 export async function hold(page, key, ms) {
   await page.keyboard.down(key);
   await page.waitForTimeout(ms);

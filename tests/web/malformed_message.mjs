@@ -24,7 +24,10 @@ const answers = await page.evaluate(async (wsUrl) => {
   for (const b of bad) ws.send(b);
   ws.send(new Uint8Array([1, 2, 3]));
   ws.send('{"op":"ping","t":42}');
-  await new Promise((r) => setTimeout(r, 1500));
+  // the bridge answers in order: the pong comes after every refusal
+  const t0 = performance.now();
+  while (!got.some((m) => m.op === 'pong' && m.t === 42) && performance.now() - t0 < 60000)
+    await new Promise((r) => setTimeout(r, 50));
   return got;
 }, url.replace('http', 'ws') + 'ws');
 for (const a of answers) console.log(JSON.stringify(a));
