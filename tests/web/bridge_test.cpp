@@ -2,6 +2,9 @@
 // mapping, ground grids against the grounds' closed forms, the car layout
 // of the report's figure 1, and the state re-encoding.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -11,6 +14,7 @@
 #include "bridge/browser_message.hpp"
 #include "bridge/controls.hpp"
 #include "bridge/scene_view.hpp"
+#include "bridge/shipped_scenarios.hpp"
 #include "bridge/state_json.hpp"
 
 using namespace groundsim::web;
@@ -55,6 +59,19 @@ TEST(BrowserMessage, RefusalsNameTheField) {
   EXPECT_EQ(refusal(R"({"op":"warp"})").field, "/op");
   EXPECT_EQ(refusal(R"({"op":null})").field, "/op");
   EXPECT_EQ(refusal(R"({"throttle":1})").field, "/op");
+}
+
+TEST(BrowserMessage, CreateNamesAScenarioByItsPathUnderConfigs) {
+  for (const char* ok : {"plain.json", "tasks/goal.json", "a/b/c-d_e.1.json"}) {
+    ParsedMessage m = parseBrowserMessage(std::string(R"({"op":"create","config":")") + ok + "\"}");
+    ASSERT_TRUE(m.message) << ok << ": " << m.error.reason;
+    EXPECT_EQ(std::get<CreateMsg>(*m.message).config, ok);
+  }
+  for (const char* bad : {"/etc/x.json", "../x.json", "tasks/../x.json", "./x.json", "a//b.json", "tasks/",
+                          "a\\b.json", "a b.json", "x.jso", ".json", "tasks/goal.json/"})
+    EXPECT_EQ(refusal(std::string(R"({"op":"create","config":")") + bad + "\"}").field, "/config") << bad;
+  EXPECT_FALSE(validConfigId(std::string(124, 'a') + ".json"));
+  EXPECT_TRUE(validConfigId(std::string(123, 'a') + ".json"));
 }
 
 TEST(BrowserMessage, TextSizeAndDepthAreBounded) {
@@ -176,6 +193,89 @@ TEST(Layout, CopiesOfACarMakeAValidScenario) {
   auto view = makeSceneView(doc);
   EXPECT_EQ(view->layout["vehicles"].size(), 3u);
   EXPECT_EQ(view->layout["vehicles"][2]["name"], "car-3");
+}
+
+TEST(ShippedScenarios, EveryConfigIsListedWithItsDescriptionAndCapacity) {
+  namespace fs = std::filesystem;
+  const ShippedList list = listShippedScenarios(GROUNDSIM_CONFIG_DIR, 1.0, kMaxCreateVehicles);
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(GROUNDSIM_CONFIG_DIR))
+    if (e.path().extension() == ".json")
+      files.push_back(e.path().lexically_relative(GROUNDSIM_CONFIG_DIR).generic_string());
+  EXPECT_EQ(list.scenarios.size(), files.size());
+  for (const std::string& s : list.skipped) ADD_FAILURE() << "not offered: " << s;
+  std::map<std::string, ShippedScenario> by_id;
+  for (const auto& s : list.scenarios) by_id[s.id] = s;
+  for (const std::string& f : files) {
+    ASSERT_TRUE(by_id.count(f)) << f;
+    const ShippedScenario& s = by_id[f];
+    std::ifstream in(fs::path(GROUNDSIM_CONFIG_DIR) / f);
+    const json doc = json::parse(in);
+    EXPECT_EQ(s.description, doc.value("description", "")) << f;
+    EXPECT_EQ(s.name, doc.value("name", "")) << f;
+    EXPECT_GE(s.min_cars, 1) << f;
+    EXPECT_GE(s.max_cars, s.min_cars) << f;
+    EXPECT_LE(s.max_cars, kMaxCreateVehicles) << f;
+  }
+  // the report's car on a plane: one per player, up to the create's limit
+  EXPECT_EQ(by_id["plain.json"].min_cars, 1);
+  EXPECT_EQ(by_id["plain.json"].max_cars, kMaxCreateVehicles);
+  EXPECT_EQ(by_id["plain.json"].vehicles, 1);
+  // the top level first, then the folders'
+  EXPECT_EQ(list.scenarios.front().id.find('/'), std::string::npos);
+  EXPECT_NE(list.scenarios.back().id.find('/'), std::string::npos);
+  // the server's --max-vehicles bounds it too
+  const ShippedList three = listShippedScenarios(GROUNDSIM_CONFIG_DIR, 1.0, 3);
+  for (const auto& s : three.scenarios) EXPECT_LE(s.max_cars, 3) << s.id;
+}
+
+TEST(ShippedScenarios, ACarThatCannotBeCopiedHostsOnePlayerAndABrokenFileIsNotOffered) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("groundsim-shipped-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "sub");
+  std::ofstream(dir / "plane.json") << scenarioWithGround(R"({"type":"plane"})");
+  // a task naming its car: copies are renamed (car-1, car-2 ...), so it hosts only its own
+  std::ofstream(dir / "sub" / "task.json")
+      << R"({"name": "t", "description": "a task", "duration": 1, "ground": {"type": "plane"},)"
+         R"( "vehicle": {"name": "car", "initial": {"position": [0, 0, 0]}},)"
+         R"( "task": {"vehicle": "car", "observation": ["speed"], "action": {"type": "wheel_torques", "max_torque": 1.0}}})";
+  std::ofstream(dir / "broken.json") << R"({"name": "b", "ground": {"type": "nowhere"}})";
+  std::ofstream(dir / "notes.txt") << "not a scenario";
+  const ShippedList list = listShippedScenarios(dir.string(), 1.0, 8);
+  ASSERT_EQ(list.scenarios.size(), 2u);
+  EXPECT_EQ(list.scenarios[0].id, "plane.json");
+  EXPECT_EQ(list.scenarios[0].max_cars, 8);
+  EXPECT_EQ(list.scenarios[1].id, "sub/task.json");
+  EXPECT_EQ(list.scenarios[1].description, "a task");
+  EXPECT_EQ(list.scenarios[1].min_cars, 1);
+  EXPECT_EQ(list.scenarios[1].max_cars, 1) << list.scenarios[1].limit;
+  ASSERT_EQ(list.skipped.size(), 1u);
+  EXPECT_EQ(list.skipped[0].rfind("broken.json: ", 0), 0u) << list.skipped[0];
+  fs::remove_all(dir);
+}
+
+TEST(ShippedScenarios, TheMostCarsWithinTheBudgetAreFoundByBisection) {
+  namespace fs = std::filesystem;
+  // a run long enough that 2 cars' work is within the budget (max_work) and 3 cars' is not
+  json doc = json::parse(scenarioWithGround(R"({"type":"plane"})"));
+  doc["physics"] = {{"integrator", "rk4"}};  // 4 evaluations a step: fewer steps than max_steps
+  groundsim::scenario::Budget budget;
+  const auto one = groundsim::scenario::parseScenario(doc.dump());
+  const double steps_per_s = 1.0 / one.options.dt;
+  const double work1 = groundsim::scenario::estimateModelSize(one).work_per_step;
+  doc["duration"] = budget.max_work / (2.5 * work1 * steps_per_s);
+  ASSERT_LT(doc["duration"].get<double>() * steps_per_s, budget.max_steps);
+  const fs::path dir = fs::temp_directory_path() / ("groundsim-budget-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "long.json") << doc.dump();
+  const ShippedList list = listShippedScenarios(dir.string(), 1.0, 8);
+  fs::remove_all(dir);
+  ASSERT_EQ(list.scenarios.size(), 1u);
+  EXPECT_EQ(list.scenarios[0].min_cars, 1);
+  EXPECT_EQ(list.scenarios[0].max_cars, 2);
+  EXPECT_EQ(list.scenarios[0].limit.rfind("3 cars refused: /duration", 0), 0u) << list.scenarios[0].limit;
 }
 
 TEST(StateJson, ReEncodesEveryField) {

@@ -29,7 +29,13 @@ int main(int argc, char** argv) {
   app.add_option("--port", port, "TCP port (0: any free one, printed)")->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--lcm-url", lcm_url, "LCM URL of the server's bus")->capture_default_str();
   app.add_option("--static", static_dir, "folder of the bundled page (index.html, bundle.js)")->capture_default_str();
-  app.add_option("--configs", cfg.configs_dir, "scenarios a browser may create sessions from")->capture_default_str();
+  app.add_option("--configs", cfg.configs_dir, "scenarios a browser may create sessions from (*.json, subfolders too)")
+      ->capture_default_str();
+  app.add_option("--max-vehicles", cfg.max_vehicles,
+                 "the server's --max-vehicles: the lobby offers at most this many cars (and at most " +
+                     std::to_string(kMaxCreateVehicles) + ")")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   app.add_option("--drive-torque", cfg.scale.drive_torque, "N m per wheel at full throttle")->capture_default_str();
   app.add_option("--brake-torque", cfg.scale.brake_torque, "N m per wheel at full brake")->capture_default_str();
   app.add_option("--steer", cfg.scale.steer, "rad of front-wheel steering at full lock")->capture_default_str();

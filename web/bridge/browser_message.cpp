@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bridge/shipped_scenarios.hpp"
+
 namespace groundsim::web {
 namespace {
 
@@ -88,14 +90,14 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
   if (op == "create") {
     CreateMsg m;
     m.config = f.string("config", 128, std::nullopt);
-    if (m.config.empty() || m.config.find('/') != std::string::npos || m.config.find("..") != std::string::npos ||
-        m.config.size() < 6 || m.config.compare(m.config.size() - 5, 5, ".json") != 0)
-      refuse("/config", "must be the file name of a shipped scenario (*.json), got \"" + m.config + "\"");
+    if (!validConfigId(m.config))
+      refuse("/config", "must be a shipped scenario's path under the configs folder (*.json, no \"..\"), got \"" +
+                            m.config + "\"");
     m.mode = f.string("mode", 16, std::string("realtime"));
     if (m.mode != "realtime" && m.mode != "fast" && m.mode != "lockstep")
       refuse("/mode", "must be realtime, fast or lockstep, got \"" + m.mode + "\"");
     m.publish_rate = f.number("publish_rate", 0, 1000, 0.0);
-    m.vehicles = f.integer("vehicles", 0, 8, 0);
+    m.vehicles = f.integer("vehicles", 0, kMaxCreateVehicles, 0);
     m.drive = f.boolean("drive", true);
     return m;
   }

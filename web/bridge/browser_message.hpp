@@ -16,11 +16,13 @@ namespace groundsim::web {
 
 inline constexpr std::size_t kMaxMessageBytes = 4096;
 inline constexpr int kMaxMessageDepth = 4;
+// the most cars a create may ask for ("vehicles"); the lobby offers no more
+inline constexpr int kMaxCreateVehicles = 8;
 
 enum class Role { Drive, Spectate };
 
 struct CreateMsg {
-  std::string config;          // a file name from the bridge's config folder
+  std::string config;          // a scenario of the bridge's config folder: its path there ("tasks/goal.json")
   std::string mode = "realtime";
   double publish_rate = 0.0;   // Hz, 0: the scenario's
   int vehicles = 0;            // 0: the scenario's; n > 0 puts n copies of its car side by side

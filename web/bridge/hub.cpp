@@ -37,10 +37,23 @@ std::int8_t modeValue(const std::string& m) {
 }  // namespace
 
 Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move(cfg)), bus_(std::move(bus)), ticker_(io) {
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(cfg_.configs_dir, ec))
-    if (e.path().extension() == ".json") configs_.push_back(e.path().filename().string());
-  std::sort(configs_.begin(), configs_.end());
+  // every scenario under configs_dir, with its description and how many
+  // cars it hosts (shipped_scenarios.hpp), sent to each browser as it connects
+  const ShippedList list =
+      listShippedScenarios(cfg_.configs_dir, cfg_.vehicle_margin, std::min(kMaxCreateVehicles, cfg_.max_vehicles));
+  json offered = json::array();
+  for (const ShippedScenario& sc : list.scenarios) {
+    configs_.push_back(sc.id);
+    scenarios_[sc.id] = sc;
+    offered.push_back({{"id", sc.id}, {"name", sc.name}, {"description", sc.description}, {"vehicles", sc.vehicles},
+                       {"min_cars", sc.min_cars}, {"max_cars", sc.max_cars}, {"limit", sc.limit}});
+  }
+  if (cfg_.log) {
+    std::fprintf(stderr, "groundsim-web: %zu scenarios from %s\n", configs_.size(), cfg_.configs_dir.c_str());
+    for (const std::string& why : list.skipped) std::fprintf(stderr, "groundsim-web: not offered: %s\n", why.c_str());
+  }
+  welcome_ = shared(json{{"op", "welcome"}, {"configs", configs_}, {"scenarios", offered},
+                         {"max_message_bytes", kMaxMessageBytes}}.dump());
   tick();
 }
 
@@ -101,8 +114,7 @@ LcmHandlers Hub::lcmHandlers() {
 
 void Hub::attach(Peer* p) {
   peers_[p] = PeerState{};
-  json configs = configs_;
-  sendJson(p, json{{"op", "welcome"}, {"configs", configs}, {"max_message_bytes", kMaxMessageBytes}}.dump());
+  p->send(welcome_);
   publishLobby();
   if (cfg_.log) std::fprintf(stderr, "groundsim-web: browser %s connected\n", p->describe().c_str());
 }
@@ -149,7 +161,18 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
   if (auto* c = std::get_if<ControlsMsg>(&m)) return controls(p, ps, *c);
   if (auto* g = std::get_if<GroundMsg>(&m)) return ground(p, ps, *g);
   if (auto* j = std::get_if<JoinMsg>(&m)) return join(p, *j);
-  if (auto* c = std::get_if<CreateMsg>(&m)) return create(p, *c);
+  if (auto* c = std::get_if<CreateMsg>(&m)) {
+    // a listed scenario, with as many cars as it hosts
+    auto sc = scenarios_.find(c->config);
+    if (sc == scenarios_.end()) return refuse(p, "create", "/config", "no shipped scenario named \"" + c->config + "\"");
+    const ShippedScenario& s = sc->second;
+    if (c->vehicles > 0 && (c->vehicles < s.min_cars || c->vehicles > s.max_cars))
+      return refuse(p, "create", "/vehicles",
+                    c->config + " hosts " + std::to_string(s.min_cars) +
+                        (s.max_cars > s.min_cars ? "-" + std::to_string(s.max_cars) : std::string()) + " cars (" +
+                        s.limit + "), got " + std::to_string(c->vehicles));
+    return create(p, *c);
+  }
   if (auto* o = std::get_if<SessionOpMsg>(&m)) return sessionOp(p, ps, *o);
   if (std::get_if<LeaveMsg>(&m)) {
     leave(p);

@@ -25,12 +25,14 @@
 #include "bridge/lcm_link.hpp"
 #include "bridge/peer.hpp"
 #include "bridge/scene_view.hpp"
+#include "bridge/shipped_scenarios.hpp"
 #include "bridge/worker.hpp"
 
 namespace groundsim::web {
 
 struct HubConfig {
-  std::string configs_dir;        // the shipped scenarios a browser may create sessions from
+  std::string configs_dir;        // the shipped scenarios a browser may create sessions from (subfolders too)
+  int max_vehicles = 32;          // the server's --max-vehicles: no create asks for more cars
   ControlScale scale;
   int grid_n = 81;                // ground grid nodes per side
   double grid_step = 0.5;         // m between nodes
@@ -64,6 +66,7 @@ class Hub {
   // Stops the sessions this bridge created (at shutdown).
   void stopOwnedSessions();
   const std::vector<std::string>& configs() const { return configs_; }
+  const std::map<std::string, ShippedScenario>& scenarios() const { return scenarios_; }
 
   // Counters, for logs and tests.
   std::int64_t refused() const { return refused_; }
@@ -133,7 +136,9 @@ class Hub {
   boost::asio::io_context& io_;
   HubConfig cfg_;
   Bus bus_;
-  std::vector<std::string> configs_;
+  std::vector<std::string> configs_;                  // ids of scenarios_, in the lobby's order
+  std::map<std::string, ShippedScenario> scenarios_;  // by id
+  std::shared_ptr<const std::string> welcome_;        // the same for every browser
   std::map<Peer*, PeerState> peers_;
   std::map<std::string, SessionEntry> sessions_;
   std::map<std::string, std::string> scenario_texts_;  // session -> scenario document seen on the bus

@@ -54,7 +54,7 @@ const wsUrl = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.hos
 const net = new Connection(wsUrl);
 const app = {
   session: null, role: null, vehicle: -1, layout: null, note: '',
-  vehicles: [], events: [], lobby: null, configs: [], cameraMode: 'chase',
+  vehicles: [], events: [], lobby: null, configs: [], scenarios: [], cameraMode: 'chase',
   frames: 0, fps: 0, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
   car: null,  // the newest {"op":"car"} of the session: its road cars' gear, rpm, applied controls
@@ -90,7 +90,9 @@ net.on('open', () => {
 net.on('close', () => addEvent('connection to the bridge lost, reconnecting...', 'e'));
 net.on('welcome', (m) => {
   app.configs = m.configs;
-  $('create-config').innerHTML = m.configs.map((c) => `<option>${c}</option>`).join('');
+  // a bridge before the scenario list sent file names only
+  app.scenarios = m.scenarios || m.configs.map((id) => ({ id, name: '', description: '', vehicles: 1, min_cars: 1, max_cars: 1 }));
+  renderScenarios();
 });
 net.on('lobby', (m) => { app.lobby = m; renderLobby(); });
 net.on('created', (m) => addEvent(`created session ${m.session}`, 'i'));
@@ -144,6 +146,50 @@ function buildVehicles(state) {
 }
 
 // ---- lobby -----------------------------------------------------------------------
+const carsText = (s) => (s.max_cars > s.min_cars ? `${s.min_cars}-${s.max_cars} cars` : `${s.min_cars} car${s.min_cars === 1 ? '' : 's'}`);
+const scenarioById = (id) => app.scenarios.find((s) => s.id === id);
+
+// The shipped scenarios: a row each (id, cars it hosts, description) and
+// the same in the drop-down; a click on a row picks it.
+function renderScenarios() {
+  const sel = $('create-config'), body = $('lobby-scenarios'), keep = sel.value;
+  sel.replaceChildren(...app.scenarios.map((s) => {
+    const o = document.createElement('option');
+    o.value = s.id;
+    o.textContent = `${s.id} (${carsText(s)})`;
+    return o;
+  }));
+  body.replaceChildren(...app.scenarios.map((s) => {
+    const tr = document.createElement('tr');
+    tr.dataset.config = s.id;
+    for (const text of [s.id, carsText(s), s.description]) tr.appendChild(document.createElement('td')).textContent = text;
+    tr.firstChild.className = 'id';
+    tr.children[1].className = 'cars';
+    tr.children[2].className = 'desc';
+    if (s.limit) tr.children[1].title = s.limit;
+    return tr;
+  }));
+  if (scenarioById(keep)) sel.value = keep;
+  pickScenario(sel.value);
+}
+function pickScenario(id) {
+  const s = scenarioById(id);
+  if (!s) return;
+  $('create-config').value = id;
+  for (const tr of $('lobby-scenarios').children) tr.classList.toggle('picked', tr.dataset.config === id);
+  const n = $('create-vehicles');
+  n.min = s.min_cars;
+  n.max = s.max_cars;
+  const v = parseInt(n.value, 10) || 1;
+  n.value = String(Math.max(s.min_cars, Math.min(s.max_cars, v)));
+  $('create-about').textContent = `${carsText(s)}: ${s.description || '(no description)'}`;
+}
+$('create-config').addEventListener('change', () => pickScenario($('create-config').value));
+$('lobby-scenarios').addEventListener('click', (e) => {
+  const row = e.target.closest('tr');
+  if (row) pickScenario(row.dataset.config);
+});
+
 function renderLobby() {
   const m = app.lobby;
   $('lobby-server').textContent = m.server
@@ -181,8 +227,11 @@ $('lobby-sessions').addEventListener('click', (e) => {
   net.send({ op: 'join', session: row.dataset.session, role: act });
 });
 $('create-drive').addEventListener('click', () => {
-  const n = Math.max(1, Math.min(8, parseInt($('create-vehicles').value, 10) || 1));
-  net.send({ op: 'create', config: $('create-config').value, vehicles: n > 1 ? n : 0, drive: true });
+  const s = scenarioById($('create-config').value);
+  if (!s) return;
+  const n = Math.max(s.min_cars, Math.min(s.max_cars, parseInt($('create-vehicles').value, 10) || 1));
+  // vehicles 0: the scenario as it is; n: n copies of its car
+  net.send({ op: 'create', config: s.id, vehicles: n === s.vehicles ? 0 : n, drive: true });
 });
 $('btn-lobby').addEventListener('click', () => { net.send({ op: 'leave' }); history.replaceState(null, '', '/'); });
 $('btn-camera').addEventListener('click', () => toggleCamera());

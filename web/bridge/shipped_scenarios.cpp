@@ -1,0 +1,142 @@
+#include "bridge/shipped_scenarios.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bridge/scene_view.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::web {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::size_t kMaxIdLength = 128;
+constexpr std::size_t kMaxScenarios = 1000;  // a folder of thousands is not a lobby
+constexpr int kMaxDepth = 4;                 // folders below the configs folder
+
+bool idChar(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+         c == '-';
+}
+
+// The first line of a refusal, short enough for a lobby.
+std::string firstLine(const std::string& s) {
+  std::string line = s.substr(0, s.find('\n'));
+  if (line.size() > 200) line = line.substr(0, 197) + "...";
+  return line;
+}
+
+// Validates `doc` (a scenario's text) with files read from `dir`; "" when it
+// passes, else the first problem.
+std::string refusal(const std::string& doc, const scenario::Budget& budget, const std::string& dir) {
+  try {
+    scenario::parseScenario(doc, budget, scenario::FileAccess::local(dir));
+    return "";
+  } catch (const std::exception& e) {
+    return firstLine(e.what());
+  }
+}
+
+std::string plural(int n) { return std::to_string(n) + (n == 1 ? " car" : " cars"); }
+
+}  // namespace
+
+bool validConfigId(const std::string& id) {
+  if (id.empty() || id.size() > kMaxIdLength || id.size() < 6 || id.compare(id.size() - 5, 5, ".json") != 0)
+    return false;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t end = std::min(id.find('/', start), id.size());
+    const std::string part = id.substr(start, end - start);
+    if (part.empty() || part == "." || part == ".." || !std::all_of(part.begin(), part.end(), idChar)) return false;
+    if (end == id.size()) return true;
+    start = end + 1;
+  }
+}
+
+ShippedList listShippedScenarios(const std::string& dir, double margin, int max_cars) {
+  ShippedList out;
+  std::error_code ec;
+  std::vector<std::string> ids;
+  fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    if (it.depth() >= kMaxDepth) it.disable_recursion_pending();
+    std::error_code fe;
+    if (it->path().extension() != ".json" || !it->is_regular_file(fe)) continue;
+    const std::string id = it->path().lexically_relative(dir).generic_string();
+    if (!validConfigId(id)) {
+      out.skipped.push_back(id + ": its path is not a valid id (at most 128 characters of [A-Za-z0-9._-/])");
+      continue;
+    }
+    ids.push_back(id);
+    if (ids.size() >= kMaxScenarios) break;
+  }
+  // the top level first (the familiar ones), then each folder's
+  auto depth = [](const std::string& s) { return std::count(s.begin(), s.end(), '/'); };
+  std::sort(ids.begin(), ids.end(),
+            [&](const std::string& a, const std::string& b) { return std::pair(depth(a), a) < std::pair(depth(b), b); });
+
+  scenario::Budget budget;
+  budget.source = "server";
+  budget.max_vehicles = max_cars;
+  for (const std::string& id : ids) {
+    const fs::path path = fs::path(dir) / id;
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream text;
+    text << f.rdbuf();
+    const std::string doc = text.str();
+    const std::string folder = path.parent_path().string();
+    ShippedScenario s;
+    s.id = id;
+    try {
+      const scenario::Scenario sc = scenario::parseScenario(doc, scenario::Budget{}, scenario::FileAccess::local(folder));
+      s.name = sc.name;
+      s.description = sc.description;
+      s.vehicles = static_cast<int>(sc.vehicles.size());
+    } catch (const std::exception& e) {
+      out.skipped.push_back(id + ": " + firstLine(e.what()));
+      continue;
+    }
+    // n copies of its car, as a create with "vehicles": n makes them. More
+    // copies never validate where fewer did not (they stand side by side,
+    // apart: only the budget and the ground's extent grow with n, and a
+    // task naming its car fails from n = 1), so the most that validate are
+    // found by bisection: two or three parses, not max_cars.
+    auto copiesRefused = [&](int n) {
+      try {
+        return refusal(withVehicles(doc, n, margin), budget, folder);
+      } catch (const std::exception& e) {
+        return firstLine(e.what());
+      }
+    };
+    int copies = 0;  // the most known to validate
+    s.limit = "at most " + plural(max_cars) + " in a browser's session";
+    std::string why = copiesRefused(max_cars);
+    if (why.empty()) {
+      copies = max_cars;
+    } else {
+      int refused = max_cars;  // the fewest known to be refused, and why
+      while (refused - copies > 1) {
+        const int n = (copies + refused) / 2;
+        std::string w = copiesRefused(n);
+        if (w.empty()) {
+          copies = n;
+        } else {
+          refused = n;
+          why = std::move(w);
+        }
+      }
+      s.limit = plural(refused) + " refused: " + why;
+    }
+    s.min_cars = copies >= 1 ? 1 : s.vehicles;
+    s.max_cars = std::max(copies, s.vehicles);
+    out.scenarios.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace groundsim::web

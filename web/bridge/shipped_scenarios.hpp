@@ -1,0 +1,41 @@
+// The shipped scenarios a browser may create sessions from: every *.json
+// under the bridge's configs folder, subfolders included, named by its path
+// relative to that folder ("plain.json", "tasks/goal.json"), with what the
+// lobby shows of each: its description and how many cars a session of it
+// can host.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace groundsim::web {
+
+struct ShippedScenario {
+  std::string id;           // path under the configs folder, '/'-separated: what a create names
+  std::string name;         // the scenario's "name"
+  std::string description;  // its "description" ("" when it has none)
+  int vehicles = 1;         // its own vehicles (a create with "vehicles": 0)
+  int min_cars = 1;         // the cars a create may ask for (vehicles 0 or n copies of its car)
+  int max_cars = 1;
+  std::string limit;        // why no more than max_cars: the first refusal, or the cap
+};
+
+struct ShippedList {
+  std::vector<ShippedScenario> scenarios;  // top-level files first, then by id
+  std::vector<std::string> skipped;        // "id: reason" for files not offered
+};
+
+// Capacity: a session holds the scenario's own vehicles, or n copies of its
+// first car side by side (withVehicles, `margin` m apart), n = 1 ... max_cars,
+// as far as the copies pass the scenario layer's validation (budget, overlap,
+// a task's vehicle, with max_cars as the budget's vehicle limit); heightfield
+// files are read from the scenario's folder. A file that does not validate
+// as it is is not offered. Ids are at most 128 characters of
+// [A-Za-z0-9._-/] (what a create's "config" may hold: validConfigId).
+ShippedList listShippedScenarios(const std::string& dir, double margin, int max_cars);
+
+// A create's "config": a relative path of [A-Za-z0-9._-] parts joined by
+// '/', ending in .json, without "." or ".." parts; at most 128 characters.
+bool validConfigId(const std::string& id);
+
+}  // namespace groundsim::web
