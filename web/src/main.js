@@ -184,7 +184,11 @@ function pickScenario(id) {
   n.value = String(Math.max(s.min_cars, Math.min(s.max_cars, v)));
   $('create-about').textContent = `${carsText(s)}: ${s.description || '(no description)'}`;
 }
-$('create-config').addEventListener('change', () => pickScenario($('create-config').value));
+$('create-config').addEventListener('change', () => {
+  pickScenario($('create-config').value);
+  const row = $('lobby-scenarios').querySelector('tr.picked');
+  if (row) row.scrollIntoView({ block: 'nearest' });
+});
 $('lobby-scenarios').addEventListener('click', (e) => {
   const row = e.target.closest('tr');
   if (row) pickScenario(row.dataset.config);
