@@ -14,6 +14,7 @@
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/text.hpp"
+#include "scenario/scenario.hpp"
 
 namespace groundsim::experiments {
 namespace {
@@ -80,12 +81,11 @@ RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, Remot
   client_id_ = buf;
   lcm_.subscribe(net::kVecReplyChannel, &RemoteVecEnv::onVecReply, this)->setQueueCapacity(net::kDeepQueue);
   lcm_.subscribe(net::kReplyChannel, &RemoteVecEnv::onReply, this)->setQueueCapacity(net::kDeepQueue);
+  wants_.setClientId(client_id_);
+  lcm_.subscribe(net::kAssetWantChannel, &RemoteVecEnv::onAssetWant, this)->setQueueCapacity(net::kDeepQueue);
+  lcm_.subscribe(net::kEventChannel, &RemoteVecEnv::onEvent, this)->setQueueCapacity(net::kDeepQueue);
 
-  groundsim::vec_request_t req{};
-  req.op = groundsim::vec_request_t::OP_CREATE;
-  req.scenario_json = scenario_text;
-  req.num_envs = num_envs;
-  const groundsim::vec_reply_t r = call(req, options_.create_timeout_s, "create");
+  const groundsim::vec_reply_t r = create(scenario_text, num_envs);
   if (r.nsessions < 1 || r.sessions[0].nlayout < 1)
     throw RemoteError("create: the server's reply carries no layout (an older groundsim-server?)");
   session_id_ = r.session_id;
@@ -95,6 +95,50 @@ RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, Remot
     throw RemoteError("create: asked for " + std::to_string(num_envs) + " environments, the server made " +
                       std::to_string(layout_.num_envs));
   infos_.assign(num_envs, EnvInfo{});
+}
+
+groundsim::vec_reply_t RemoteVecEnv::create(const std::string& scenario_text, int num_envs) {
+  net::ScenarioWithAssets sent{scenario_text, {}};
+  if (options_.send_files) {
+    try {
+      sent = net::withAssets(scenario_text, options_.files_dir);
+    } catch (const scenario::ScenarioError& e) {
+      throw ExperimentError("scenario_json", e.lines("; "));
+    }
+  }
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_CREATE;
+  req.scenario_json = sent.json;
+  req.num_envs = num_envs;
+  for (int round = 0;; ++round) {
+    bool missing = false;
+    asset_error_.clear();
+    groundsim::vec_reply_t r = call(req, options_.create_timeout_s, "create", &missing);
+    drain();  // an event about a refused part comes before the reply
+    if (!asset_error_.empty()) throw ExperimentError("assets", asset_error_);
+    if (!missing) return r;
+    if (sent.assets.empty() || round + 1 >= net::kAssetRounds)
+      throw ExperimentError(r.field.empty() ? "assets" : r.field,
+                            r.error + (sent.assets.empty() ? std::string(" (no files were sent: give the scenario as a "
+                                                                         "path, or files_dir)")
+                                                           : " (still missing after " +
+                                                                 std::to_string(net::kAssetRounds) + " rounds)"));
+    try {
+      net::sendWantedParts(lcm_, client_id_, sent.assets, wants_.take(r.request_id));
+    } catch (const std::exception& e) {
+      throw RemoteError(std::string("create: sending the scenario's files: ") + e.what());
+    }
+  }
+}
+
+void RemoteVecEnv::onAssetWant(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  wants_.addDatagram(rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
+void RemoteVecEnv::onEvent(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  groundsim::event_t m;
+  if (!net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.event_t").ok()) return;
+  if (m.client_id == client_id_ && m.channel == net::kAssetChannel && asset_error_.empty()) asset_error_ = m.reason;
 }
 
 RemoteVecEnv::~RemoteVecEnv() {
@@ -119,7 +163,8 @@ void RemoteVecEnv::onReply(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   if (m.client_id == client_id_ && m.request_id == stop_waiting_) stop_reply_ = std::move(m);
 }
 
-groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double timeout_s, const char* what) const {
+groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double timeout_s, const char* what,
+                                          bool* missing_assets) const {
   req.utime = wallMicros();
   req.seq = next_id_;
   req.request_id = next_id_++;
@@ -159,6 +204,10 @@ groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double t
   }
   groundsim::vec_reply_t r = assembler_.take();
   assembler_ = net::VecAssembler(0);
+  if (!r.ok && missing_assets && r.error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS) {
+    *missing_assets = true;
+    return r;
+  }
   if (!r.ok) throwRefusal(r);
   return r;
 }

@@ -20,6 +20,7 @@
 #include <groundsim/vec_request_t.hpp>
 
 #include "experiments/batch_env.hpp"
+#include "protocol/assets_client.hpp"
 #include "protocol/server_watch.hpp"
 #include "protocol/vec_parts.hpp"
 
@@ -37,6 +38,12 @@ struct RemoteVecOptions {
   double create_timeout_s = 60;  // building N environments takes a while
   double timeout_s = 30;         // any other request, until its first part
   double part_gap_s = 1.0;       // after a part, the next one must come within this
+  // Where the files the scenario names (heightfields, friction maps) are
+  // read, as makeVecEnvFromFile reads them (the scenario file's folder);
+  // they are sent with the create (docs/protocol.md, Assets). "": none are
+  // sent (the server may still have them under its --terrain-dir).
+  std::string files_dir;
+  bool send_files = false;  // files_dir is set (it may be "" for the working directory)
 };
 
 class RemoteVecEnv final : public BatchEnv {
@@ -64,9 +71,15 @@ class RemoteVecEnv final : public BatchEnv {
   const std::string& url() const { return url_; }
 
  private:
-  groundsim::vec_reply_t call(groundsim::vec_request_t req, double timeout_s, const char* what) const;
+  // A refusal throws, except one for missing assets when *missing_assets
+  // is given: it is set and the reply returned.
+  groundsim::vec_reply_t call(groundsim::vec_request_t req, double timeout_s, const char* what,
+                              bool* missing_assets = nullptr) const;
+  groundsim::vec_reply_t create(const std::string& scenario_text, int num_envs);
   void onVecReply(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onReply(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onAssetWant(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onEvent(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void takeEnvs(const groundsim::vec_reply_t& r, float* obs, double* rewards, std::uint8_t* terminated,
                 std::uint8_t* truncated);
   void checkEnv(int env) const;
@@ -81,6 +94,8 @@ class RemoteVecEnv final : public BatchEnv {
   mutable std::int64_t next_id_ = 1;
   mutable net::VecAssembler assembler_{0};
   mutable std::string part_error_;   // an inconsistent part of the reply waited for
+  mutable net::AssetWants wants_;
+  mutable std::string asset_error_;  // a file part the server refused (event on GROUNDSIM_ASSET)
   mutable std::optional<groundsim::reply_t> stop_reply_;
   mutable std::int64_t stop_waiting_ = -1;
   std::string session_id_, token_;

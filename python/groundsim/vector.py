@@ -259,13 +259,15 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
     return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name)
 
 
-def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0):
+def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None):
     """num_envs environments of a scenario with a ``task`` section, run in a
     vectorised session of groundsim-server over LCM (docs/protocol.md),
     with the same API and the same results, bit for bit, as make_vec.
 
-    scenario: a path to a JSON file, a JSON string, or a dict; the server
-    reads the files it names from its --terrain-dir. lcm_url: the server's
+    scenario: a path to a JSON file (the heightfields it names are read
+    next to it and sent with it, as make_vec reads them), a JSON string, or
+    a dict (files read relative to files_dir and sent; none without it,
+    unless the server has them under its --terrain-dir). lcm_url: the server's
     (None: LCM_DEFAULT_URL or LCM's default). timeout: seconds to wait for
     a reply. Raises ScenarioError or ExperimentError as make_vec does (the
     server names the field: num_envs above its --max-envs is "num_envs"),
@@ -280,4 +282,7 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0):
     if path is not None:
         with open(path, encoding="utf-8", errors="replace") as f:
             text = f.read()
-    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout)), name)
+        files_dir = os.path.dirname(os.path.abspath(path))
+    elif files_dir is not None:
+        files_dir = os.fspath(files_dir)
+    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir), name)

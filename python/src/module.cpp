@@ -63,12 +63,19 @@ PYBIND11_MODULE(_core, m) {
       py::arg("path"), py::arg("num_envs"), py::arg("num_threads") = 0);
 
   // A vectorised session of groundsim-server over LCM (RemoteVecEnv); the
-  // scenario's files are read by the server (its --terrain-dir).
+  // files the scenario names are read relative to files_dir and sent with
+  // the create (none without it; the server may have them under its
+  // --terrain-dir).
   m.def(
       "make_remote_vec_env",
-      [](const std::string& text, int num_envs, const std::string& lcm_url, double timeout) {
+      [](const std::string& text, int num_envs, const std::string& lcm_url, double timeout,
+         std::optional<std::string> files_dir) {
         experiments::RemoteVecOptions o;
         o.lcm_url = lcm_url;
+        if (files_dir) {
+          o.files_dir = *files_dir;
+          o.send_files = true;
+        }
         o.timeout_s = timeout;
         o.create_timeout_s = std::max(timeout, o.create_timeout_s);
         std::unique_ptr<experiments::BatchEnv> env;
@@ -78,7 +85,8 @@ PYBIND11_MODULE(_core, m) {
         }
         return std::make_unique<python::EnvHandle>(std::move(env));
       },
-      py::arg("text"), py::arg("num_envs"), py::arg("lcm_url") = "", py::arg("timeout") = 30.0);
+      py::arg("text"), py::arg("num_envs"), py::arg("lcm_url") = "", py::arg("timeout") = 30.0,
+      py::arg("files_dir") = py::none());
 
   // For tests of the binding (tests/python/test_gil.py): an env whose step
   // waits until the returned gate is opened from another thread.

@@ -40,8 +40,17 @@ int main(int argc, char** argv) {
   app.add_option("--max-envs", cfg.max_envs, "environments of one vectorised session (checked before building)")
       ->capture_default_str()->check(CLI::Range(1, 65536));
   app.add_flag("--quiet", quiet, "do not log events on stderr");
-  app.add_option("--terrain-dir", cfg.terrain_dir, "folder a scenario's heightfield and friction-map files are read from (none: inline only)")
+  app.add_option("--terrain-dir", cfg.terrain_dir,
+                 "folder of server-side terrain files, for names a create does not send with its scenario (none: only sent files)")
       ->check(CLI::ExistingDirectory);
+  // the files clients send with their scenarios (session/asset_store.hpp, docs/protocol.md Assets)
+  app.add_option("--max-asset-bytes", cfg.assets.max_asset_bytes, "largest file a scenario may send with it")
+      ->capture_default_str()->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 32));
+  app.add_option("--max-session-asset-bytes", cfg.assets.max_session_bytes, "all files of one scenario")
+      ->capture_default_str()->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 34));
+  app.add_option("--asset-cache-bytes", cfg.assets.cache_bytes,
+                 "files held in memory in all (sessions' files stay; others are evicted, least recently used first)")
+      ->capture_default_str()->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 36));
   app.add_option("--max-scenario-bytes", cfg.max_scenario_bytes, "largest scenario a create may carry")
       ->capture_default_str()->check(CLI::Range(std::size_t{1}, groundsim::net::kMaxScenarioBytes));
   app.add_option("--max-build-jobs", cfg.max_build_jobs, "scene builds at once (0: workers - 1, at least 1)")
@@ -91,10 +100,14 @@ int main(int argc, char** argv) {
                 server.workers(), cfg.max_sessions);
     const auto& lim = server.config().budget;
     std::printf("limits: scenario %zu bytes, depth %d, %d vehicles, %lld points, %lld springs, %lld particles, "
-                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz; %d envs per vectorised session\n",
+                "state %lld, implicit state %lld, %g steps, %g work; rate [%g, %g], publish rate [%g, %g] Hz; %d envs per vectorised session; "
+                "assets %llu bytes per file, %llu per scenario, %llu held\n",
                 lim.max_document_bytes, lim.max_depth, lim.max_vehicles, lim.max_points, lim.max_springs,
                 lim.max_particles, lim.max_state, lim.max_implicit_state, lim.max_steps, lim.max_work, cfg.min_rate,
-                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate, cfg.max_envs);
+                cfg.max_rate, cfg.min_publish_rate, cfg.max_publish_rate, cfg.max_envs,
+                static_cast<unsigned long long>(cfg.assets.max_asset_bytes),
+                static_cast<unsigned long long>(cfg.assets.max_session_bytes),
+                static_cast<unsigned long long>(cfg.assets.cache_bytes));
     std::fflush(stdout);
     server.run(g_stop);
     std::printf("groundsim-server stopped\n");

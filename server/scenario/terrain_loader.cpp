@@ -26,11 +26,12 @@ std::string countText(std::size_t n) {
 }
 
 void checkBudget(std::size_t nx, std::size_t ny, std::size_t max_samples) {
-  if (nx < 2 || ny < 2)
-    throw TerrainError("is " + countText(nx) + " x " + countText(ny) + " samples; a grid needs at least 2 x 2");
-  if (nx > max_samples / ny)
+  // the limit first: a 1 x 10^9 header is too large before it is too thin
+  if (ny > 0 && nx > max_samples / ny)
     throw TerrainError("is " + countText(nx) + " x " + countText(ny) + " = " + countText(nx * ny) +
                        " samples, more than the limit of " + countText(max_samples) + " (4097 x 4097)");
+  if (nx < 2 || ny < 2)
+    throw TerrainError("is " + countText(nx) + " x " + countText(ny) + " samples; a grid needs at least 2 x 2");
 }
 
 // True when `inner` is `outer` or lies below it (both canonical).
@@ -228,6 +229,19 @@ Grid readPngBytes(const std::string& name, const std::string& bytes, std::size_t
   const std::string who = quoted(fs::path(name).filename().string());
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   if (bytes.size() < 8 || png_sig_cmp(data, 0, 8) != 0) throw TerrainError(who + ": not a PNG file");
+  // the size from the IHDR chunk (always first: width and height at bytes
+  // 16 and 20, big-endian), refused before libpng reads further
+  if (bytes.size() >= 24 && std::memcmp(data + 12, "IHDR", 4) == 0) {
+    auto be32 = [&](std::size_t at) {
+      return (std::size_t{data[at]} << 24) | (std::size_t{data[at + 1]} << 16) | (std::size_t{data[at + 2]} << 8) |
+             std::size_t{data[at + 3]};
+    };
+    try {
+      checkBudget(be32(16), be32(20), max_samples);
+    } catch (const TerrainError& e) {
+      throw TerrainError(who + ": " + e.what());
+    }
+  }
   Grid g;
   std::vector<unsigned char> row;
   PngRead r;

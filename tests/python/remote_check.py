@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import groundsim
-from conftest import TASKS, actions
+from conftest import GOAL, TASKS, actions
 
 URL = "udpm://239.255.76.67:7667?ttl=0"
 SPEED = TASKS / "speed.json"
@@ -19,8 +19,9 @@ SPEED = TASKS / "speed.json"
 
 @pytest.fixture()
 def server():
-    p = subprocess.Popen([os.environ["GROUNDSIM_SERVER"], "--lcm-url", URL, "--workers", "2", "--quiet",
-                          "--terrain-dir", str(TASKS)], stdout=subprocess.PIPE, text=True)
+    # as the README starts it: no --terrain-dir; the files a task names travel with it
+    p = subprocess.Popen([os.environ["GROUNDSIM_SERVER"], "--lcm-url", URL, "--workers", "2", "--quiet"],
+                         stdout=subprocess.PIPE, text=True)
     line = p.stdout.readline()  # the ready line comes first
     assert "groundsim-server ready" in line, line
     yield p
@@ -50,6 +51,40 @@ def test_remote_is_bit_identical_to_in_process(server):
             assert u.tobytes() == v.tobytes()
     remote.close()
     local.close()
+
+
+def test_goal_on_its_heightfield_is_the_same_remote_and_in_process(server):
+    """configs/tasks/goal.json names ../terrain/hills.png: sent with the create."""
+    local = groundsim.make_vec(GOAL, 16, num_threads=2)
+    remote = groundsim.make_remote_vec(GOAL, 16, lcm_url=URL)
+    seq = actions(local, 40)
+    a, b = steps(local, seq, 3), steps(remote, seq, 3)
+    for x, y in zip(a, b):
+        for u, v in zip(x, y):
+            assert u.tobytes() == v.tobytes()
+    remote.close()
+    local.close()
+
+
+@pytest.mark.parametrize("task", sorted(p.name for p in TASKS.glob("*.json")))
+def test_every_shipped_task_runs_remotely(server, task):
+    remote = groundsim.make_remote_vec(TASKS / task, 4, lcm_url=URL)
+    obs, _ = remote.reset(seed=1)
+    assert np.all(np.isfinite(obs))
+    for a in actions(remote, 5):
+        obs, rew, *_ = remote.step(a)
+        assert np.all(np.isfinite(obs)) and np.all(np.isfinite(rew))
+    remote.close()
+
+
+def test_a_dict_sends_its_files_from_files_dir(server, goal_doc):
+    remote = groundsim.make_remote_vec(goal_doc, 2, lcm_url=URL, files_dir=TASKS)
+    remote.reset(seed=0)
+    remote.close()
+    # without files_dir the file cannot go: the error says which and why
+    with pytest.raises(groundsim.ExperimentError) as e:
+        groundsim.make_remote_vec(goal_doc, 2, lcm_url=URL)
+    assert "../terrain/hills.png" in str(e.value) and "not sent" in str(e.value)
 
 
 def test_remote_errors_name_the_field_and_a_dead_server_is_reported(server):

@@ -210,7 +210,7 @@ TEST(TerrainPaths, AServerReadsOnlyInsideItsTerrainDirectory) {
     EXPECT_TRUE(hasIssue(issuesOf(docWithGround(hf({{"file", name}})), server), "/ground/file", why)) << name;
   // parsed from text, with no directory at all, no file is read
   EXPECT_TRUE(hasIssue(issuesOf(docWithGround(hf({{"file", (dir / "secret.png").string()}})), FileAccess::none()),
-                       "/ground/file", "--terrain-dir"));
+                       "/ground/file", "this scenario came without its files"));
 }
 
 TEST(TerrainScenes, TheReportCarAndTheLoneWheelRunOnAHeightfield) {

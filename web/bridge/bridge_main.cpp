@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   bus.request = [&](const groundsim::request_t& r) { link_ptr->publish(r); };
   bus.drive = [&](const groundsim::drive_t& d) { link_ptr->publish(d); };
   bus.controls = [&](const groundsim::controls_t& c) { link_ptr->publish(c); };
+  bus.assets = [&](const std::vector<groundsim::scenario::Asset>& assets, const std::vector<groundsim::asset_want_t>& wants) {
+    link_ptr->publishAssets(assets, wants);
+  };
   // the hub needs the client id before the link exists: the link picks it
   std::unique_ptr<Hub> hub;
   LcmHandlers forward;

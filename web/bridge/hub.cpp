@@ -10,6 +10,7 @@
 
 #include "bridge/state_json.hpp"
 #include "lcm/latency_trace.hpp"
+#include "protocol/assets_client.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::web {
@@ -104,6 +105,13 @@ LcmHandlers Hub::lcmHandlers() {
     asio::post(io_, [this, r] { onReply(r); });
   };
   h.scenario = [this](const groundsim::scenario_t& s) { asio::post(io_, [this, s] { onScenario(s); }); };
+  h.asset_want = [this](const groundsim::asset_want_t& w) {
+    if (w.client_id != bus_.client_id) return;
+    asio::post(io_, [this, w] {
+      if (wants_.size() > 64) wants_.erase(wants_.begin());  // creates long answered
+      wants_[w.request_id].push_back(w);
+    });
+  };
   h.bad = [this](const std::string& channel, const std::string& reason) {
     if (cfg_.log) std::fprintf(stderr, "groundsim-web: undecodable message on %s: %s\n", channel.c_str(), reason.c_str());
   };
@@ -223,7 +231,8 @@ void Hub::onReply(const groundsim::reply_t& r) {
 void Hub::create(Peer* p, const CreateMsg& m) {
   if (std::find(configs_.begin(), configs_.end(), m.config) == configs_.end())
     return refuse(p, "create", "/config", "no shipped scenario named \"" + m.config + "\"");
-  std::ifstream f(std::filesystem::path(cfg_.configs_dir) / m.config);
+  const std::filesystem::path file = std::filesystem::path(cfg_.configs_dir) / m.config;
+  std::ifstream f(file);
   std::stringstream text;
   text << f.rdbuf();
   std::string doc = text.str();
@@ -234,16 +243,53 @@ void Hub::create(Peer* p, const CreateMsg& m) {
       return refuse(p, "create", "/vehicles", std::string("cannot copy this scenario's vehicle: ") + e.what());
     }
   }
+  // the files it names go with it, read next to it (docs/protocol.md, Assets)
+  net::ScenarioWithAssets sent;
+  try {
+    sent = net::withAssets(doc, file.parent_path().string());
+  } catch (const scenario::ScenarioError& e) {
+    return refuse(p, "create", "/config", m.config + ": " + e.lines("; "));
+  }
+  for (const scenario::Asset& a : sent.assets) asset_bytes_[a.ref.sha256] = a.bytes;
   groundsim::request_t r{};
   r.op = groundsim::request_t::OP_CREATE;
-  r.scenario_json = doc;
+  r.scenario_json = std::move(sent.json);
   r.mode = modeValue(m.mode);
   r.publish_rate = m.publish_rate;
   r.duration = -1;  // a game runs until its players leave
-  const bool drive = m.drive;
-  request(r, [this, p, drive, doc](const groundsim::reply_t* rep) {
+  createRound(p, std::move(r), std::make_shared<const std::vector<scenario::Asset>>(std::move(sent.assets)), m.drive,
+              0);
+}
+
+void Hub::createRound(Peer* p, groundsim::request_t r, std::shared_ptr<const std::vector<scenario::Asset>> assets,
+                      bool drive, int round) {
+  const std::string doc = r.scenario_json;
+  request(r, [this, p, drive, doc, r, assets, round](const groundsim::reply_t* rep) {
     if (!peers_.count(p)) return;
     if (!rep) return refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
+    if (!rep->ok && rep->error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS && !assets->empty() &&
+        round + 1 < net::kAssetRounds) {
+      std::vector<groundsim::asset_want_t> wants;
+      if (auto w = wants_.find(rep->request_id); w != wants_.end()) {
+        wants = std::move(w->second);
+        wants_.erase(w);
+      }
+      // a large file takes a while to send: not on the I/O thread
+      worker_.post([this, p, r, assets, drive, round, wants] {
+        std::string error;
+        try {
+          if (bus_.assets) bus_.assets(*assets, wants);
+        } catch (const std::exception& e) {
+          error = std::string("sending the scenario's files: ") + e.what();
+        }
+        asio::post(io_, [this, p, r, assets, drive, round, error] {
+          if (!peers_.count(p)) return;
+          if (!error.empty()) return refuse(p, "create", "", error);
+          createRound(p, r, assets, drive, round + 1);
+        });
+      });
+      return;
+    }
     if (!rep->ok) return refuse(p, "create", "", rep->error);
     SessionEntry& s = sessions_[rep->session_id];
     s.token = rep->token;  // kept here: never sent to a browser
@@ -254,6 +300,18 @@ void Hub::create(Peer* p, const CreateMsg& m) {
     j.role = drive ? Role::Drive : Role::Spectate;
     join(p, j);
   });
+}
+
+scenario::FileAccess Hub::knownAssets(const std::string& scenario_json) const {
+  auto bytes = std::make_shared<scenario::AssetBytes>();
+  try {
+    const json doc = scenario::parseScenarioDocument(scenario_json);
+    for (const scenario::AssetRef& ref : scenario::assetManifest(doc))
+      if (auto it = asset_bytes_.find(ref.sha256); it != asset_bytes_.end()) (*bytes)[ref.name] = it->second;
+  } catch (const std::exception&) {
+    // the view's own parse reports what is wrong with the document
+  }
+  return scenario::FileAccess::fromAssets(std::move(bytes));
 }
 
 // ---- joining a session -------------------------------------------------------
@@ -289,11 +347,12 @@ void Hub::ensureView(const std::string& id) {
   if (text != scenario_texts_.end()) {
     s.building = true;
     std::string doc = text->second;
-    worker_.post([this, id, doc] {
+    const scenario::FileAccess files = knownAssets(doc);
+    worker_.post([this, id, doc, files] {
       std::shared_ptr<SceneView> view;
       std::string error;
       try {
-        view = makeSceneView(doc);
+        view = makeSceneView(doc, files);
       } catch (const std::exception& e) {
         error = e.what();
       }

@@ -48,6 +48,8 @@ struct Bus {
   std::function<void(const groundsim::request_t&)> request;
   std::function<void(const groundsim::drive_t&)> drive;
   std::function<void(const groundsim::controls_t&)> controls;  // road cars
+  // the parts of a create's files the server asked for (any thread: the hub's worker calls it)
+  std::function<void(const std::vector<scenario::Asset>&, const std::vector<groundsim::asset_want_t>&)> assets;
 };
 
 class Hub {
@@ -107,6 +109,12 @@ class Hub {
 
   void handle(Peer* p, PeerState& ps, const BrowserMessage& m);
   void create(Peer* p, const CreateMsg& m);
+  // One round of a create: a refusal for missing files sends the parts the
+  // server asked for (on the worker) and creates again, up to net::kAssetRounds.
+  void createRound(Peer* p, groundsim::request_t r, std::shared_ptr<const std::vector<scenario::Asset>> assets,
+                   bool drive, int round);
+  // The files a session's scenario names, from those this bridge sent (by hash).
+  scenario::FileAccess knownAssets(const std::string& scenario_json) const;
   void join(Peer* p, const JoinMsg& m);
   void finishJoin(Peer* p, const JoinMsg& m);
   void leave(Peer* p);
@@ -148,6 +156,8 @@ class Hub {
     std::shared_ptr<boost::asio::steady_timer> timer;
   };
   std::map<std::int64_t, Pending> pending_;
+  std::map<std::int64_t, std::vector<groundsim::asset_want_t>> wants_;  // by request id (ours only)
+  std::map<std::string, std::shared_ptr<const std::string>> asset_bytes_;  // files sent, by sha256
   groundsim::server_status_t status_{};
   std::chrono::steady_clock::time_point status_time_{};
   bool have_status_ = false;

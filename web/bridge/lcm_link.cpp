@@ -23,6 +23,7 @@ LcmLink::LcmLink(const std::string& url, LcmHandlers handlers)
   lcm_.subscribe(kEventChannel, &LcmLink::onEvent, this)->setQueueCapacity(1024);
   lcm_.subscribe(kReplyChannel, &LcmLink::onReply, this)->setQueueCapacity(1024);
   lcm_.subscribe(kScenarioChannel, &LcmLink::onScenario, this)->setQueueCapacity(64);
+  lcm_.subscribe(kAssetWantChannel, &LcmLink::onAssetWant, this)->setQueueCapacity(1024);
 }
 
 LcmLink::~LcmLink() { stop(); }
@@ -42,6 +43,10 @@ void LcmLink::stop() {
 void LcmLink::publish(const groundsim::request_t& r) { lcm_.publish(kRequestChannel, &r); }
 void LcmLink::publish(const groundsim::drive_t& d) { lcm_.publish(kDriveChannel, &d); }
 void LcmLink::publish(const groundsim::controls_t& c) { lcm_.publish(kControlsChannel, &c); }
+void LcmLink::publishAssets(const std::vector<scenario::Asset>& assets,
+                            const std::vector<groundsim::asset_want_t>& wants) {
+  sendWantedParts(lcm_, client_id_, assets, wants);
+}
 
 namespace {
 template <class T, class F>
@@ -74,6 +79,9 @@ void LcmLink::onReply(const lcm::ReceiveBuffer* b, const std::string& c) {
 }
 void LcmLink::onScenario(const lcm::ReceiveBuffer* b, const std::string& c) {
   dispatch<groundsim::scenario_t>(b, c, "groundsim.scenario_t", h_.scenario, h_);
+}
+void LcmLink::onAssetWant(const lcm::ReceiveBuffer* b, const std::string& c) {
+  dispatch<groundsim::asset_want_t>(b, c, "groundsim.asset_want_t", h_.asset_want, h_);
 }
 
 }  // namespace groundsim::web

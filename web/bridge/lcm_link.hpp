@@ -12,6 +12,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include <groundsim/asset_want_t.hpp>
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
@@ -22,6 +23,7 @@
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
 
+#include "protocol/assets_client.hpp"
 #include "protocol/channels.hpp"
 
 namespace groundsim::web {
@@ -37,6 +39,7 @@ struct LcmHandlers {
   std::function<void(const groundsim::scenario_t&)> scenario;
   std::function<void(const std::string& channel, const std::string& reason)> bad;
   std::function<void(const groundsim::car_state_t&)> car_state;  // road cars (last: positional initializers)
+  std::function<void(const groundsim::asset_want_t&)> asset_want;  // what a create of ours lacks
 };
 
 class LcmLink {
@@ -52,6 +55,8 @@ class LcmLink {
   void publish(const groundsim::request_t& r);
   void publish(const groundsim::drive_t& d);
   void publish(const groundsim::controls_t& c);
+  // The parts of `assets` the wants ask for (net::sendWantedParts).
+  void publishAssets(const std::vector<scenario::Asset>& assets, const std::vector<groundsim::asset_want_t>& wants);
 
  private:
   void onStatus(const lcm::ReceiveBuffer* b, const std::string& channel);
@@ -60,6 +65,7 @@ class LcmLink {
   void onEvent(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onReply(const lcm::ReceiveBuffer* b, const std::string& channel);
   void onScenario(const lcm::ReceiveBuffer* b, const std::string& channel);
+  void onAssetWant(const lcm::ReceiveBuffer* b, const std::string& channel);
 
   lcm::LCM lcm_;
   LcmHandlers h_;

@@ -157,8 +157,8 @@ json vehicleLayout(const scenario::Scene& scene, int v) {
 
 }  // namespace
 
-std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json) {
-  const scenario::Scenario sc = scenario::parseScenario(scenario_json);
+std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json, const scenario::FileAccess& files) {
+  const scenario::Scenario sc = scenario::parseScenario(scenario_json, scenario::Budget{}, files);
   const scenario::Scene scene = scenario::buildScene(sc);
   auto view = std::make_shared<SceneView>();
   view->scenario_json = scenario_json;
@@ -228,7 +228,8 @@ std::string withVehicles(const std::string& scenario_json, int count, double mar
   if (count <= 0) return scenario_json;
   // side by side, their bounding circles `margin` apart (the scenario layer
   // refuses overlapping vehicles)
-  const scenario::Scenario sc = scenario::parseScenario(scenario_json);
+  // the ground's files are not read (FileAccess::collect): only the car is copied
+  const scenario::Scenario sc = scenario::parseScenario(scenario_json, scenario::Budget{}, scenario::FileAccess::collect());
   if (sc.vehicles.empty()) return scenario_json;
   const CarParams& p = sc.vehicles[0].params;
   const double spacing =

@@ -27,7 +27,10 @@ struct SceneView {
 };
 
 // Parses, validates and builds the scenario (throws scenario::ScenarioError).
-std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json);
+// Files the scenario names are read under `files` (the bridge: the assets
+// it sent or knows by hash).
+std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json,
+                                         const scenario::FileAccess& files = scenario::FileAccess::none());
 
 // Heights of the ground on an n x n grid of spacing `step` centred on the
 // grid node nearest (cx, cy): z[i * n + j] at x = x0 + j step, y = y0 + i step,
@@ -39,7 +42,8 @@ nlohmann::json groundGrid(const Ground& g, double cx, double cy, int n, double s
 bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* z);
 
 // A scenario copy with `count` copies of its first vehicle side by side
-// along y (bounding circles `margin` m apart), for one car per player.
+// along y (bounding circles `margin` m apart), for one car per player. Only
+// the vehicles are read: the files the scenario names are not.
 std::string withVehicles(const std::string& scenario_json, int count, double margin);
 
 }  // namespace groundsim::web
