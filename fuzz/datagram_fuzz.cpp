@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <groundsim/asset_part_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/request_t.hpp>
 
@@ -43,14 +44,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1 || size > (1u << 20)) return 0;
   groundsim::net::LcmServer& s = server();
   const std::uint8_t how = data[0];
-  const bool drive = how & groundsim::fuzz::kDriveBit;
+  const bool drive = how & groundsim::fuzz::kDriveBit, asset = how & groundsim::fuzz::kAssetBit;
   std::vector<std::uint8_t> buf;
   buf.reserve(size + 8);
   if (how & groundsim::fuzz::kBodyOnlyBit)
-    appendFingerprint(buf, drive ? groundsim::drive_t::getHash() : groundsim::request_t::getHash());
+    appendFingerprint(buf, asset   ? groundsim::asset_part_t::getHash()
+                           : drive ? groundsim::drive_t::getHash()
+                                   : groundsim::request_t::getHash());
   buf.insert(buf.end(), data + 1, data + size);
-  s.handleDatagram(drive ? groundsim::net::kDriveChannel : groundsim::net::kRequestChannel, buf.data(),
-                   static_cast<int>(buf.size()));
+  s.handleDatagram(asset   ? groundsim::net::kAssetChannel
+                   : drive ? groundsim::net::kDriveChannel
+                           : groundsim::net::kRequestChannel,
+                   buf.data(), static_cast<int>(buf.size()));
   // memq keeps every published message until handled: drain the answers
   while (s.lcm().handleTimeout(0) > 0) {
   }

@@ -2,6 +2,7 @@
 // and the seed writer (datagram_seeds.cpp) so that seeds are valid inputs.
 // One input is one datagram:
 //   byte 0, bit 0: channel, 0 GROUNDSIM_REQUEST, 1 GROUNDSIM_DRIVE
+//   byte 0, bit 2: GROUNDSIM_ASSET (asset_part_t) instead of either
 //   byte 0, bit 1: 1 when the rest is a message body without its 8-byte type
 //                  fingerprint; the target puts that channel's fingerprint
 //                  back, so mutations reach the decoder and the handlers
@@ -17,6 +18,7 @@ namespace groundsim::fuzz {
 
 inline constexpr std::uint8_t kDriveBit = 1;
 inline constexpr std::uint8_t kBodyOnlyBit = 2;
+inline constexpr std::uint8_t kAssetBit = 4;
 
 // An input that delivers `encoded` (a whole LCM encoding, fingerprint first)
 // on the drive or request channel; body_only strips the fingerprint.

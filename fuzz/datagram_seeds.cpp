@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include <groundsim/asset_part_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/request_t.hpp>
 
@@ -114,6 +115,24 @@ int main(int argc, char** argv) {
   mode.publish_rate = 100.0;
   ok &= write(dir, "set-mode", false, encode(mode));
   ok &= write(dir, "drive", true, encode(drive(4, 5.0)));
+  // one file part (asset_part_t on GROUNDSIM_ASSET), whole and as a body
+  {
+    groundsim::asset_part_t a{};
+    a.client_id = "fuzz";
+    a.name = "terrain/hills.png";
+    a.sha256 = std::string(64, 'a');
+    a.data.assign(64, 7);
+    a.nbytes = 64;
+    a.size = 64;
+    a.part = 0;
+    a.nparts = 1;
+    const std::vector<std::uint8_t> e = encode(a);
+    for (bool body : {false, true}) {
+      std::string in = makeInput(false, body, e);
+      in[0] = static_cast<char>(in[0] | groundsim::fuzz::kAssetBit);
+      ok &= writeFile(dir + "/asset-part" + (body ? "-body" : "-full"), in);
+    }
+  }
 
   // refusals: a drive with the wrong wheel count, a non-finite torque, a
   // drive on the request channel (wrong fingerprint), a truncated request
