@@ -75,7 +75,7 @@ case "$sanitize" in
     # (session_tests: scheduler workers, LCM's receive thread); the other suites
     # are single-threaded
     build_dir "$dir" "groundsim-server groundsim service_integration_tests lifecycle_integration_tests
-      hostile_integration_tests controls_integration_tests vec_integration_tests session_tests" \
+      hostile_integration_tests controls_integration_tests vec_integration_tests assets_integration_tests session_tests" \
       -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_SANITIZE=thread -DGROUNDSIM_BUILD_BENCH=OFF
     # the suppressions name uninstrumented libraries only (glib under LCM)
     export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/support/tsan.supp${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
