@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates docs/accuracy.md, docs/img/work_precision.png,
+# Runs the accuracy sweep: its full report to bench/results/DATE-accuracy-sweep.md
+# (docs/accuracy.md, the reference, is written by hand from it), and
+# regenerates docs/img/work_precision.png,
 # docs/img/road_work_precision.png (the sedan's manoeuvres) and
 # docs/img/stability_map.png: builds bench/accuracy/tradeoff in its own build
 # directory and runs the whole sweep (about 10 minutes on 2 cores).
@@ -16,5 +18,7 @@ if [[ "${1:-}" == "--quick" ]]; then
   "$build/bench/accuracy/tradeoff" --quick --jobs "${JOBS:-2}" --out "$out" --docs "$out/accuracy.md" --img "$out/img"
   echo "quick run written to $out"
 else
-  "$build/bench/accuracy/tradeoff" --jobs "${JOBS:-2}" --out build-accuracy/accuracy-out --docs docs/accuracy.md --img docs/img
+  report=bench/results/$(date -u +%F)-accuracy-sweep.md
+  "$build/bench/accuracy/tradeoff" --jobs "${JOBS:-2}" --out build-accuracy/accuracy-out --docs "$report" --img docs/img
+  echo "report written to $report; update docs/accuracy.md's tables from it"
 fi

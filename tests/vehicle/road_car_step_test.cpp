@@ -1,4 +1,4 @@
-// The road car's faster evaluation (docs/performance.md, "Issue 12: the
+// The road car's faster evaluation (bench/results/2026-12-01-performance-history.md, "Issue 12: the
 // sedan") against the arithmetic it replaced: the body-frame inverse of the
 // reduced mass matrix against the world-frame matrix and its LLT, the four
 // tyres at once against tyreForces, libmvec's functions against libm's.
