@@ -303,9 +303,19 @@ void run(const DriveOpts& o) {
     dirty = true;
   }
   if (!o.hold) sendNow(true);
-  // collect a last refusal, if any (states arrive meanwhile: one handle is not enough)
-  for (const auto until = SteadyClock::now() + std::chrono::milliseconds(150); SteadyClock::now() < until;)
-    client.lcm().handleTimeout(20);
+  // Collect a last refusal, if any. The server handles datagrams in the
+  // order they come, on one thread, and publishes a command's refusal as it
+  // handles it, so once a request sent after the last command is answered
+  // every refusal of ours is in (a fixed 150 ms lost them on a busy machine).
+  {
+    groundsim::request_t barrier{};
+    barrier.op = groundsim::request_t::OP_LIST;
+    try {
+      client.call(barrier, o.net.timeout);
+    } catch (const NetError&) {
+      // no answer in time: the refusals that came are counted all the same
+    }
+  }
   if (car && have_car) {
     if (const auto* c = carOf())
       std::fprintf(stderr, "%sdrive %s: t=%.2f s speed %.1f km/h gear %s %.0f rpm\n", tty ? "\n" : "",

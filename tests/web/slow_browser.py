@@ -282,8 +282,13 @@ def run(port):
         fail(f"the fast client read {fast_read} states before its pong, the bridge wrote {final_fast['states_sent']}")
     if gaps(fs) > final_fast["states_skipped"]:
         fail(f"the fast client missed {gaps(fs)} states, the bridge skipped {final_fast['states_skipped']} for it")
-    if final_fast["states_skipped"] * 4 > published:
-        fail(f"the fast client was skipped {final_fast['states_skipped']} of {published} states while the other slept")
+    # A client that reads is skipped too whenever it or the bridge waits for
+    # the CPU (on a busy machine, a quarter of the states: the newest-only
+    # slot at work); one the sleeper held up would be skipped like the
+    # sleeper, nearly every state
+    if final_fast["states_skipped"] * 2 > final_slow["states_skipped"]:
+        fail(f"the fast client was skipped {final_fast['states_skipped']} states, the one that did not read "
+             f"{final_slow['states_skipped']} ({published} were published while it slept)")
     if stalled_pong[0]["states_sent"] != stalled_pong[1]:
         fail(f"the slow client read {stalled_pong[1]} states before its pong, the bridge wrote "
              f"{stalled_pong[0]['states_sent']}")
