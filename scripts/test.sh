@@ -64,9 +64,14 @@ case "$sanitize" in
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
     # the one-process tests: unit (the GoogleTest suites) and cli (groundsim run
     # on files); not web, python, integration (multi-process; TSan's) or layers
-    # (build probes, nothing runs)
+    # (build probes, nothing runs). Five long physics runs are left out: 150-250 s
+    # each under ASan (half the stage's test time, 2026-12-02), seconds of the
+    # report's car at dt 5e-5 through code the shorter contact, ground, tyre and
+    # heightfield tests run under ASan too; they run in the plain suite.
     sanitized_ctest ASan "$dir/asan-ctest.log" 2 'ERROR: (AddressSanitizer|LeakSanitizer)|runtime error:' \
-      ctest --test-dir "$dir" "${ctest_args[@]}" -L '^(unit|cli)$' "$@"
+      ctest --test-dir "$dir" "${ctest_args[@]}" -L '^(unit|cli)$' \
+      -E '^(physics\.Contact\.(SignFrictionOfTheReportCreepsWhereStickSlipHolds|ParkedCarOnTwentyDegreesDoesNotCreep)|physics\.ReportExperiments\.CosineCarFailsToClimbTheCrestAndSettlesInTheValley|physics\.DeformableTyres\.CarryTheCarOnAFlattenedPatchAndTransmitDriveTorque|terrain\.HeightfieldRolling\.ReportCarOnASampledCosineFollowsTheAnalyticRun)$' \
+      "$@"
     ;;
   thread)
     dir=build-tsan
