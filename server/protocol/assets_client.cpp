@@ -54,7 +54,9 @@ void AssetWants::add(const groundsim::asset_want_t& w) {
   if (w.client_id != client_id_) return;
   // a client asks again only for its latest creates: keep a few
   if (by_request_.size() > 64) by_request_.erase(by_request_.begin());
-  by_request_[w.request_id].push_back(w);
+  // a create names at most kMaxAssets files: more wants for it are not the server's
+  auto& list = by_request_[w.request_id];
+  if (list.size() < scenario::kMaxAssets) list.push_back(w);
 }
 
 void AssetWants::addDatagram(const void* data, int size) {

@@ -109,7 +109,8 @@ LcmHandlers Hub::lcmHandlers() {
     if (w.client_id != bus_.client_id) return;
     asio::post(io_, [this, w] {
       if (wants_.size() > 64) wants_.erase(wants_.begin());  // creates long answered
-      wants_[w.request_id].push_back(w);
+      auto& list = wants_[w.request_id];
+      if (list.size() < scenario::kMaxAssets) list.push_back(w);  // a create names at most kMaxAssets files
     });
   };
   h.bad = [this](const std::string& channel, const std::string& reason) {
