@@ -4,6 +4,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "collision/body_contact.hpp"
 #include "forces.hpp"
 
 namespace groundsim {
@@ -22,7 +23,9 @@ const char* healthName(Health h) {
 Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
   computeKinematics(m, s.y, s.applied, ws);
   detectGroundContacts(m, ws);
+  bodyContacts(m, false, ws);
   Energy e;
+  e.contact = ws.body_contact_energy;
   const int nb = static_cast<int>(m.bodies.size());
   for (int i = 0; i < nb; ++i) {
     const Body& b = m.bodies[i];

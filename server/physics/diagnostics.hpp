@@ -14,7 +14,8 @@ struct Energy {
   double gravity = 0.0;   // J  -m g . x
   double spring = 0.0;    // J  1/2 k (l - l0)^2
   double ground = 0.0;    // J  1/2 S depth^2
-  double total() const { return kinetic + gravity + spring + ground; }
+  double contact = 0.0;   // J  1/2 S depth^2 of probes inside other bodies' shapes
+  double total() const { return kinetic + gravity + spring + ground + contact; }
 };
 
 // Recomputes kinematics and contacts of s into scratch: pass a scratch that

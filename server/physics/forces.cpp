@@ -1,4 +1,8 @@
 #include "forces.hpp"
+
+#include <algorithm>
+
+#include "collision/body_contact.hpp"
 #include "road_car_phase.hpp"
 
 namespace groundsim {
@@ -13,6 +17,8 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   applyContactNormals(m, ws);
   applyExplicitFriction(m, ws);      // regularised / sign models only
   accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
+  bodyContacts(m, true, ws);         // bodies touching bodies (collision/body_contact.cpp)
+  ws.max_depth = std::max(ws.max_depth, ws.body_contact_depth);
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
   if (!velocityLevelBrakes(m)) applyRegularizedBrakes(m, controls, ws);
   applyRoadCars(m, y, h, ws);        // tyres, suspension, powertrain, brakes, drag (road_car.cpp)

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/collision.hpp"
 #include "ground.hpp"
 #include "math.hpp"
 #include "road_car.hpp"
@@ -53,6 +54,7 @@ struct Options {
   bool deterministic = false;
   Vec3 gravity{0.0, 0.0, -9.8};    // m/s^2   the report's g = 9.8
   ContactParams contact;
+  CollisionParams collision;       // contact between bodies (collision/collision.hpp)
   Limits limits;
 };
 
@@ -139,6 +141,15 @@ struct Model {
   std::vector<int> vehicle_body;      // the chassis body of each vehicle
   std::vector<RoadCar> road_cars;     // road_car.hpp; their states follow the particles in y
   int aux_states = 0;                 // kRoadCarStates per road car
+  // contact between bodies (collision/collision.hpp): groups in build
+  // order (vehicles, then objects); their colliders and probes contiguous
+  std::vector<CollisionGroup> groups;
+  std::vector<Collider> colliders;
+  std::vector<Probe> probes;
+  std::vector<SceneObject> objects;   // obstacles: static (body -1) or with mass
+  // collisions on, and two groups of which one can move: the step runs the
+  // broad phase (and takes the general loop while a pair may touch)
+  bool collisions = false;
 
   int auxBase() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
   int stateSize() const { return auxBase() + aux_states; }

@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "collision/collision_build.hpp"
+
 namespace groundsim {
 
 namespace {
@@ -149,6 +151,25 @@ void ModelBuilder::addRoadCar(const RoadCar& car, const std::array<double, kRoad
   aux_.insert(aux_.end(), initial.begin(), initial.end());
 }
 
+int ModelBuilder::addCollisionGroup(const CollisionGroup& g) {
+  m_.groups.push_back(g);
+  return static_cast<int>(m_.groups.size()) - 1;
+}
+
+void ModelBuilder::addCollider(Collider c) {
+  if (c.group < 0 || c.group >= static_cast<int>(m_.groups.size())) bad("collider: invalid group");
+  m_.colliders.push_back(c);
+}
+
+void ModelBuilder::addProbe(Probe p) {
+  if (p.group < 0 || p.group >= static_cast<int>(m_.groups.size())) bad("probe: invalid group");
+  m_.probes.push_back(p);
+}
+
+void ModelBuilder::addObject(SceneObject o) {
+  m_.objects.push_back(std::move(o));
+}
+
 BuiltModel ModelBuilder::build() {
   m_.contact_points.clear();
   m_.steered_points.clear();
@@ -206,6 +227,7 @@ BuiltModel ModelBuilder::build() {
   s.controls.assign(m_.wheels.size(), WheelControl{});
   s.applied = s.controls;
   s.h_next = m_.opt.dt;
+  finishCollisionModel(m_, s.y);
   return {std::make_shared<const Model>(m_), std::move(s)};
 }
 

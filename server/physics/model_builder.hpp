@@ -58,6 +58,15 @@ class ModelBuilder {
   // Registers a road car (road_car_builder.cpp) with its initial states.
   void addRoadCar(const RoadCar& car, const std::array<double, kRoadCarStates>& initial);
 
+  // Contact between bodies (collision/collision.hpp). A group per vehicle
+  // or object; colliders and probes name bodies by index and give offsets
+  // from the body's centre of mass in its frame (bodyComOffset converts
+  // from the reference frame), or world ones when static.
+  int addCollisionGroup(const CollisionGroup& g);
+  void addCollider(Collider c);
+  void addProbe(Probe p);
+  void addObject(SceneObject o);
+
   BuiltModel build();
 
  private:
@@ -67,6 +76,7 @@ class ModelBuilder {
   std::vector<Vec3> particle_pos_, particle_vel_;
   std::vector<double> aux_;  // road-car states
   int current_vehicle_ = -1;
+
 };
 
 }  // namespace groundsim

@@ -114,6 +114,10 @@ struct RoadCarParams {
   double wheel_radius = 0.32;       // m
   double wheel_mass = 20.0;         // kg     unsprung, per wheel
   double wheel_inertia = 1.0;       // kg m^2 spin
+  // body box for contact with other bodies (collision/collision_build.cpp),
+  // length, width, height from the ground at design ride height; a zero
+  // entry: 1.74 wheelbase, 1.16 track, 2.64 cg_height (a sedan's 4.7 x 1.8 x 1.45)
+  Vec3 body_size = Vec3::Zero();    // m
   std::array<SuspensionParams, 2> suspension{};  // front, rear
   std::array<TyreParams, 2> tyre{};              // front, rear
   PowertrainParams powertrain;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "collision/body_contact.hpp"
 #include "road_car_phase.hpp"
 
 namespace groundsim {
@@ -69,19 +70,30 @@ bool Simulator::step() {
   applyControls(m, m.opt.dt, state_);
   ws_.car_inputs = state_.cars;  // same size every step: no allocation
   bool plainly_healthy = false;
-  if (fast_) {
+  // the specialised paths know no contact between bodies: while any pair
+  // of collision groups may touch, the step takes the general loop
+  const bool touching = m.collisions && groupsMayTouch(m, state_.y, ws_);
+  if (fast_ && !touching) {
     plainly_healthy = fast_->step(m, state_, ws_);
     ws_stale_ = true;
     integrator_->evaluations += n;
-  } else if (ring_) {
+  } else if (ring_ && !touching) {
     ring_->step(m, state_, ws_);
     ws_stale_ = true;
     integrator_->evaluations += n;
   } else {
     for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+    ws_stale_ = false;
   }
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
+  if (m.collisions) {
+    if (touching) hits_.update(m, state_, ws_, m.opt.dt);
+    else if (!hits_.active().empty()) {  // apart: end them
+      ws_.pair_contacts.clear();
+      hits_.update(m, state_, ws_, m.opt.dt);
+    }
+  }
   const bool energy = state_.tick % kEnergyCheckInterval == 0;
   if (plainly_healthy && !energy) return true;  // checkHealth would pass: skip its branches
   if (checkHealth(m, state_, ws_, energy)) return true;
@@ -98,6 +110,7 @@ bool Simulator::step() {
 void Simulator::restore(const State& s) {
   if (s.y.size() != model_->stateSize()) throw std::invalid_argument("state size does not match the model");
   if (&s != &state_) state_ = s;
+  hits_.clear();
   state_.controls.resize(model_->wheels.size());
   state_.applied.resize(model_->wheels.size());
   state_.car_controls.resize(model_->road_cars.size());

@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "collision/contact_log.hpp"
 #include "diagnostics.hpp"
 #include "fast_car.hpp"
 #include "integrator.hpp"
@@ -70,6 +71,11 @@ class Simulator {
   // (workspace().diagnostics): the last force evaluation stays as it was.
   Energy energy() const;
 
+  // Hits between bodies under way after the last step, and those that
+  // ended since the last takeEndedHits() (collision/contact_log.hpp).
+  const std::vector<Hit>& hits() const { return hits_.active(); }
+  std::vector<Hit> takeEndedHits() { return hits_.takeEnded(); }
+
   static constexpr int kEnergyCheckInterval = 256;
 
  private:
@@ -82,6 +88,7 @@ class Simulator {
   std::unique_ptr<FastCar> fast_;
   // the ring car's specialised step where the model allows it (ring_car.hpp)
   std::unique_ptr<RingCar> ring_;
+  ContactLog hits_;
 };
 
 }  // namespace groundsim

@@ -30,6 +30,12 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   wheel_normal.assign(nw, 0.0);
   wheel_friction.assign(nw, 0.0);
   wheel_slip.assign(nw, 0.0);
+  group_lo.assign(m.groups.size(), Vec3::Zero());
+  group_hi.assign(m.groups.size(), Vec3::Zero());
+  sweep.resize(m.groups.size());
+  for (size_t g = 0; g < m.groups.size(); ++g) sweep[g] = static_cast<int>(g);
+  pairs.reserve(4 * m.groups.size());
+  pair_contacts.reserve(4 * m.groups.size());
   car_inputs.assign(m.road_cars.size(), CarRuntime{});
   road.assign(m.road_cars.size(), RoadCarOut{});
   aux_dot.setZero(m.aux_states);

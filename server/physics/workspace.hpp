@@ -88,6 +88,14 @@ struct Workspace {
   double drive_power = 0.0;            // W
   int friction_sweeps = 0;             // Gauss-Seidel sweeps the last evaluation needed
 
+  // contact between bodies (collision/body_contact.cpp)
+  std::vector<Vec3> group_lo, group_hi;  // (ngroup) m, world boxes this evaluation
+  std::vector<int> sweep;              // groups sorted by group_lo.x (kept between steps)
+  std::vector<std::pair<int, int>> pairs;  // candidate pairs of the broad phase
+  std::vector<PairContact> pair_contacts;  // pairs in contact, last evaluation
+  double body_contact_energy = 0.0;    // J, 1/2 S depth^2 over probes inside shapes
+  double body_contact_depth = 0.0;     // m, deepest probe
+
   // road cars (road_car.cpp): per-step inputs, per-evaluation outputs, state rates
   std::vector<CarRuntime> car_inputs;  // (nroadcar)
   std::vector<RoadCarOut> road;        // (nroadcar)

@@ -137,6 +137,15 @@ ModelSize estimateModelSize(const Scenario& s) {
   ModelSize m;
   Counts total;
   for (const VehicleSpec& v : s.vehicles) total.add(vehicleCounts(v));
+  // an object with mass is a body whose surface probes are its points
+  for (const ObjectEntry& o : s.objects) {
+    if (!(o.spec.mass > 0.0)) continue;
+    const long long probes = static_cast<long long>(
+        o.spec.shape.probes(std::min(s.options.collision.probe_spacing, 0.5 * o.spec.shape.bound())).size());
+    total.bodies += 1;
+    total.points += probes;
+    total.contacts += probes;
+  }
   m.vehicles = static_cast<long long>(s.vehicles.size());
   m.bodies = total.bodies;
   m.points = total.points;

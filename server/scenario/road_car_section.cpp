@@ -130,6 +130,8 @@ void readRoadCar(ObjectReader& r, RoadCarParams& p) {
   p.wheel_radius = r.number("wheel_radius", d.wheel_radius, Range::positive(10.0));
   p.wheel_mass = r.number("wheel_mass", d.wheel_mass, Range::positive(1e5));
   p.wheel_inertia = r.number("wheel_inertia", d.wheel_inertia, Range::positive(1e5));
+  // 0 entries: derived from wheelbase, track and cg_height (road_car.hpp)
+  p.body_size = r.vec3("body_size", d.body_size, Range::nonNegative(100.0));
   if (!(p.mass > 4.0 * p.wheel_mass))
     r.issue("wheel_mass", "four wheels must weigh less than the car (" + formatNumber(p.mass) + " kg)");
   readAxles(r.object("suspension"), p.suspension, readSuspension);

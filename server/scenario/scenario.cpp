@@ -136,6 +136,7 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
   s.output_rate = top.number("output_rate", 50.0, Range::positive(1e6));
   readPhysics(top.object("physics"), s.options);
   readContact(top.object("contact"), s.options.contact);
+  readCollisions(top.object("collisions"), s.options.collision);
   // a frame more often than every step would repeat frames
   if (s.output_rate > 1.0 / s.options.dt * (1.0 + 1e-9))
     issues.add("/output_rate", "must be <= 1/physics.dt = " + formatNumber(1.0 / s.options.dt) + " Hz, got " +
@@ -147,6 +148,7 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
     s.ground = readGround(top.object("ground"), budget, files);
   }
   readVehicles(top, doc, issues, s, budget);
+  s.objects = readObjects(top, s.vehicles);
   // written by clients that send the files with the scenario (assets.hpp);
   // the files themselves are read through `files`
   top.allow("assets");

@@ -25,6 +25,7 @@
 #include "scenario/assets.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
+#include "scenario/object_spec.hpp"
 #include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -80,6 +81,7 @@ struct Scenario {
   Options options;                // physics + contact
   GroundSpec ground;
   std::vector<VehicleSpec> vehicles;  // document order (`vehicle` is one)
+  std::vector<ObjectEntry> objects;   // `objects`: obstacles, static or with mass
   std::optional<TaskSpec> task;   // the `task` section (experiments), when present
   std::vector<AssetRef> assets;   // the `assets` manifest (files sent with the scenario), when present
 };

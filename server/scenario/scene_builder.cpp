@@ -6,6 +6,7 @@
 #include <map>
 #include <utility>
 
+#include "physics/collision/collision_build.hpp"
 #include "physics/road_car_builder.hpp"
 #include "physics/stability.hpp"
 #include "physics/integrator.hpp"
@@ -144,6 +145,28 @@ void setControls(const VehicleControlSpec& c, const CarHandle& car, std::vector<
   }
 }
 
+// Objects resting on the ground take the height of the ground below them
+// plus the half height of their rotated shape's box.
+void addObjects(const Scenario& s, ModelBuilder& builder, IssueList& issues) {
+  for (const ObjectEntry& e : s.objects) {
+    ObjectSpec o = e.spec;
+    if (e.on_ground) {
+      Vec3 surface, normal;
+      if (!groundPointBelow(*builder.model().ground, o.position.x(), o.position.y(), &surface, &normal)) {
+        issues.add(e.path + "/position", "no ground surface below it");
+        continue;
+      }
+      const Vec3 reach = o.orientation.normalized().toRotationMatrix().cwiseAbs() * o.shape.extents();
+      o.position.z() = surface.z() + reach.z();
+    }
+    try {
+      addSceneObject(builder, o);
+    } catch (const std::invalid_argument& err) {
+      issues.add(e.path, err.what());
+    }
+  }
+}
+
 }  // namespace
 
 Scene buildScene(const Scenario& s) {
@@ -170,6 +193,9 @@ Scene buildScene(const Scenario& s) {
       issues.add(vehiclePath(s, i), e.what());
     }
   }
+  issues.throwIfAny();
+  for (const CarHandle& car : scene.cars) addVehicleCollision(builder, car.vehicle);
+  addObjects(s, builder, issues);
   issues.throwIfAny();
   try {
     scene.built = builder.build();

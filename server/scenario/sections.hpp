@@ -7,6 +7,7 @@
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
+#include "scenario/object_spec.hpp"
 #include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -26,6 +27,10 @@ VehicleSpec readVehicle(ObjectReader vehicle);
 // (gears: how many forward gears a "gear" entry may name).
 void readRoadCar(ObjectReader& vehicle, RoadCarParams& p);
 std::vector<TimedControls> readControlTable(ObjectReader& vehicle, int gears);
+// objects_section.cpp: `collisions` (contact between bodies) and `objects`,
+// whose names must differ from each other and from the vehicles'.
+void readCollisions(ObjectReader collisions, CollisionParams& c);
+std::vector<ObjectEntry> readObjects(ObjectReader& top, const std::vector<VehicleSpec>& vehicles);
 // task_section.cpp: the `task` section, checked against the vehicles read.
 TaskSpec readTask(ObjectReader task, const std::vector<VehicleSpec>& vehicles);
 

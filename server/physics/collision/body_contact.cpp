@@ -1,0 +1,211 @@
+// Contact between bodies: broad phase (a box per collision group, sorted and
+// swept along x) and narrow phase (every probe of one group of a pair
+// against every shape of the other, both ways), with the report's eq. (10)
+// at each probe inside a shape. See collision.hpp and docs/contact.md.
+#include "body_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace groundsim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool live(const CollisionGroup& g) { return g.collider_begin < g.collider_end || g.probe_begin < g.probe_end; }
+
+template <class RefCom>
+void groupBoxes(const Model& m, Workspace& ws, RefCom com) {
+  for (size_t i = 0; i < m.groups.size(); ++i) {
+    const CollisionGroup& g = m.groups[i];
+    if (g.ref_body < 0) {
+      ws.group_lo[i] = g.lo;
+      ws.group_hi[i] = g.hi;
+    } else {
+      const Vec3 c = com(g.ref_body);
+      ws.group_lo[i] = c - Vec3::Constant(g.bound);
+      ws.group_hi[i] = c + Vec3::Constant(g.bound);
+    }
+  }
+}
+
+// Sort and sweep: the order is kept between evaluations, so the insertion
+// sort costs about one comparison per group once bodies move smoothly.
+void sweep(const Model& m, Workspace& ws) {
+  std::vector<int>& o = ws.sweep;
+  for (size_t i = 1; i < o.size(); ++i) {
+    const int g = o[i];
+    const double x = ws.group_lo[g].x();
+    size_t j = i;
+    while (j > 0 && ws.group_lo[o[j - 1]].x() > x) {
+      o[j] = o[j - 1];
+      --j;
+    }
+    o[j] = g;
+  }
+  ws.pairs.clear();
+  for (size_t i = 0; i < o.size(); ++i) {
+    const int a = o[i];
+    if (!live(m.groups[a])) continue;
+    for (size_t j = i + 1; j < o.size(); ++j) {
+      const int b = o[j];
+      if (ws.group_lo[b].x() > ws.group_hi[a].x()) break;
+      if (!live(m.groups[b]) || (m.groups[a].ref_body < 0 && m.groups[b].ref_body < 0)) continue;
+      if (ws.group_lo[b].y() > ws.group_hi[a].y() || ws.group_lo[a].y() > ws.group_hi[b].y() ||
+          ws.group_lo[b].z() > ws.group_hi[a].z() || ws.group_lo[a].z() > ws.group_hi[b].z())
+        continue;
+      ws.pairs.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+}
+
+struct PairLaw {
+  double k = 0.0, c = 0.0, mu = 0.0, vs = 0.05;
+};
+
+PairLaw pairLaw(const Model& m, const CollisionGroup& a, const CollisionGroup& b) {
+  const CollisionParams& cp = m.opt.collision;
+  const bool fa = a.ref_body < 0 || !(a.mass > 0.0), fb = b.ref_body < 0 || !(b.mass > 0.0);
+  const double mr = fa ? b.mass : fb ? a.mass : a.mass * b.mass / (a.mass + b.mass);
+  PairLaw law;
+  const double w = 2.0 * kPi * cp.frequency;
+  law.k = cp.stiffness > 0.0 ? cp.stiffness : 0.25 * mr * w * w;
+  law.c = cp.damping >= 0.0 ? cp.damping : cp.damping_ratio * std::sqrt(law.k * mr);
+  law.mu = std::sqrt(std::max(a.friction, 0.0) * std::max(b.friction, 0.0));
+  law.vs = cp.slip_velocity;
+  return law;
+}
+
+// The world pose of a collider, and the velocity of its body at a point.
+struct Frame {
+  Mat3 R = Mat3::Identity();
+  Vec3 o = Vec3::Zero();
+};
+Frame colliderFrame(const Collider& c, const Workspace& ws) {
+  if (c.body < 0) return {c.rot, c.pos};
+  return {ws.R[c.body] * c.rot, ws.com[c.body] + ws.R[c.body] * c.pos};
+}
+Vec3 bodyPointVelocity(int body, const Vec3& p, const Workspace& ws) {
+  return body < 0 ? Vec3::Zero() : Vec3(ws.vel[body] + ws.omega[body].cross(p - ws.com[body]));
+}
+
+// The deepest point of a wheel's circle in a shape: start towards the
+// shape's centre, then follow the shape's inward normal projected into the
+// wheel plane (as contact.cpp does for the ground).
+Vec3 deepestCirclePoint(const Shape& s, const Frame& f, const Vec3& centre, const Vec3& axis, double radius) {
+  Vec3 d = f.o - centre;
+  d -= d.dot(axis) * axis;
+  const double dn = d.norm();
+  d = dn > 1e-12 ? Vec3(d / dn) : axis.unitOrthogonal();
+  Vec3 p = centre + radius * d;
+  for (int iter = 0; iter < 3; ++iter) {
+    Vec3 g = f.R * s.normal(f.R.transpose() * (p - f.o));
+    g = -(g - g.dot(axis) * axis);
+    const double gn = g.norm();
+    if (!(gn > 1e-12)) break;
+    p = centre + radius * (g / gn);
+  }
+  return p;
+}
+
+// Probes of group P against the shapes of group C.
+void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
+  const CollisionGroup& gp = m.groups[P];
+  const CollisionGroup& gc = m.groups[C];
+  for (int ci = gc.collider_begin; ci < gc.collider_end; ++ci) {
+    const Collider& col = m.colliders[ci];
+    const Frame f = colliderFrame(col, ws);
+    const double reach = col.shape.bound();
+    for (int pi = gp.probe_begin; pi < gp.probe_end; ++pi) {
+      const Probe& pr = m.probes[pi];
+      Vec3 p, u;
+      if (pr.wheel >= 0) {
+        const Wheel& wh = m.wheels[pr.wheel];
+        const Vec3 centre = ws.com[wh.body];
+        if ((centre - f.o).norm() > reach + wh.radius) continue;
+        p = deepestCirclePoint(col.shape, f, centre, ws.R[wh.body] * wh.axis, wh.radius);
+        u = bodyPointVelocity(wh.body, p, ws);
+      } else if (pr.point >= 0) {
+        p = ws.pointPos(pr.point);
+        if ((p - f.o).squaredNorm() > reach * reach) continue;
+        u = ws.pointVel(pr.point);
+      } else if (pr.body >= 0) {
+        p = ws.com[pr.body] + ws.R[pr.body] * pr.local;
+        if ((p - f.o).squaredNorm() > reach * reach) continue;
+        u = bodyPointVelocity(pr.body, p, ws);
+      } else {
+        p = pr.local;
+        if ((p - f.o).squaredNorm() > reach * reach) continue;
+        u.setZero();
+      }
+      const Vec3 q = f.R.transpose() * (p - f.o);
+      const double dist = col.shape.distance(q);
+      if (!(dist < 0.0)) continue;
+      const double depth = -dist;
+      const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
+      const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);
+      const double N = std::max(law.k * depth - law.c * rel.dot(n), 0.0);
+      const Vec3 slip = rel - rel.dot(n) * n;
+      const double s = slip.norm();
+      Vec3 F = N * n;
+      if (s > 0.0 && law.mu > 0.0) F -= (law.mu * N * std::tanh(s / law.vs) / s) * slip;
+      ws.body_contact_energy += 0.5 * law.k * depth * depth;
+      ws.body_contact_depth = std::max(ws.body_contact_depth, depth);
+      ++pc.points;
+      pc.normal += N;
+      pc.where += N * p;
+      pc.depth = std::max(pc.depth, depth);
+      pc.force += P == pc.a ? F : Vec3(-F);
+      if (!apply) continue;
+      const int pb = pr.wheel >= 0 ? m.wheels[pr.wheel].body : pr.point >= 0 ? m.points[pr.point].body : pr.body;
+      if (pr.particle >= 0) {
+        ws.particle_force[pr.particle] += F;
+      } else if (pb >= 0) {
+        ws.body_force[pb] += F;
+        ws.body_torque[pb] += (p - ws.com[pb]).cross(F);
+      }
+      if (col.body >= 0) {
+        ws.body_force[col.body] -= F;
+        ws.body_torque[col.body] -= (p - ws.com[col.body]).cross(F);
+      }
+    }
+  }
+}
+
+void narrowPhase(const Model& m, bool apply, Workspace& ws) {
+  ws.body_contact_energy = 0.0;
+  ws.body_contact_depth = 0.0;
+  ws.pair_contacts.clear();
+  for (const auto& [a, b] : ws.pairs) {
+    PairContact pc;
+    pc.a = a;
+    pc.b = b;
+    const PairLaw law = pairLaw(m, m.groups[a], m.groups[b]);
+    probesInto(m, a, b, law, apply, ws, pc);
+    probesInto(m, b, a, law, apply, ws, pc);
+    if (pc.points == 0) continue;
+    pc.where = pc.normal > 0.0 ? Vec3(pc.where / pc.normal) : Vec3::Zero();
+    ws.pair_contacts.push_back(pc);
+  }
+}
+
+}  // namespace
+
+bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws) {
+  if (!m.collisions) return false;
+  groupBoxes(m, ws, [&](int body) { return Vec3(bodyPos(y, body)); });
+  sweep(m, ws);
+  return !ws.pairs.empty();
+}
+
+void bodyContacts(const Model& m, bool apply, Workspace& ws) {
+  ws.pair_contacts.clear();
+  ws.body_contact_energy = 0.0;
+  ws.body_contact_depth = 0.0;
+  if (!m.collisions) return;
+  groupBoxes(m, ws, [&](int body) { return ws.com[body]; });
+  sweep(m, ws);
+  narrowPhase(m, apply, ws);
+}
+
+}  // namespace groundsim

@@ -1,0 +1,22 @@
+// The contact-between-bodies phase of a force evaluation (body_contact.cpp).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "../model.hpp"
+#include "../workspace.hpp"
+
+namespace groundsim {
+
+// After the kinematics and accumulateBodyForces: finds the pairs of groups
+// whose boxes overlap and adds the contact force of every probe inside a
+// shape of the other group to both bodies (apply = false: only measures
+// energy, depth and ws.pair_contacts, for diagnostics).
+void bodyContacts(const Model& m, bool apply, Workspace& ws);
+
+// The broad phase alone at configuration y (no kinematics needed): whether
+// any pair of groups may touch. The specialised step paths run only while
+// none may.
+bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws);
+
+}  // namespace groundsim

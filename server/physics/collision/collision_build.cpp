@@ -1,0 +1,317 @@
+#include "collision_build.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "../state.hpp"
+
+namespace groundsim {
+namespace {
+
+Mat3 zTo(const Vec3& axis) { return Quat::FromTwoVectors(Vec3::UnitZ(), axis.normalized()).toRotationMatrix(); }
+
+// Half of a disc's thickness: the report's wheels are hoops with no width,
+// so a disc a third of the radius wide stands for the tyre.
+double discHalfWidth(double radius) { return radius / 6.0; }
+
+void addWheelDisc(ModelBuilder& b, int group, int body, const Vec3& centre, const Vec3& axis, double radius) {
+  Collider c;
+  c.group = group;
+  c.body = body;
+  c.shape.kind = ShapeKind::Cylinder;
+  c.shape.radius = radius;
+  c.shape.half_height = discHalfWidth(radius);
+  c.pos = centre;
+  c.rot = zTo(axis);
+  b.addCollider(c);
+}
+
+Vec3 roadCarBodySize(const RoadCarParams& p) {
+  Vec3 s = p.body_size;
+  if (!(s.x() > 0.0)) s.x() = 1.74 * p.wheelbase;
+  if (!(s.y() > 0.0)) s.y() = 1.16 * p.track;
+  if (!(s.z() > 0.0)) s.z() = 2.64 * p.cg_height;
+  return s;
+}
+
+void addRoadCarCollision(ModelBuilder& b, int group, const RoadCar& rc, double spacing) {
+  const RoadCarParams& p = rc.p;
+  const Vec3 size = roadCarBodySize(p);
+  // the box spans the axles' midpoint lengthwise and rises from a third of
+  // the wheel radius above the ground to the car's height
+  const double clearance = std::min(p.wheel_radius / 3.0, 0.5 * size.z());
+  const double x_mid = 0.5 * (rc.hub[0].x() + rc.hub[2].x());
+  Collider box;
+  box.group = group;
+  box.body = rc.body;
+  box.shape.kind = ShapeKind::Box;
+  box.shape.half = Vec3(0.5 * size.x(), 0.5 * size.y(), 0.5 * (size.z() - clearance));
+  box.shape.radius = std::min(0.05, 0.25 * box.shape.half.minCoeff());
+  box.pos = Vec3(x_mid, 0.0, -p.cg_height + clearance + box.shape.half.z());
+  b.addCollider(box);
+  for (const Vec3& q : box.shape.probes(spacing)) {
+    Probe pr;
+    pr.group = group;
+    pr.body = rc.body;
+    pr.local = box.pos + q;
+    b.addProbe(pr);
+  }
+  for (int w = 0; w < 4; ++w) {
+    addWheelDisc(b, group, rc.body, rc.hub[w], Vec3::UnitY(), p.wheel_radius);
+    for (const Vec3& d : {Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(-1, 0, 0)}) {
+      Probe pr;
+      pr.group = group;
+      pr.body = rc.body;
+      pr.local = rc.hub[w] + p.wheel_radius * d;
+      b.addProbe(pr);
+    }
+  }
+}
+
+}  // namespace
+
+void addVehicleCollision(ModelBuilder& b, int vehicle) {
+  const Model& m = b.model();
+  const CollisionParams& cp = m.opt.collision;
+  CollisionGroup g;
+  g.name = m.vehicle_names.at(vehicle);
+  g.vehicle = vehicle;
+  g.friction = cp.friction;
+  g.ref_body = m.vehicle_body.at(vehicle);
+  const int group = b.addCollisionGroup(g);
+  for (const RoadCar& rc : m.road_cars)
+    if (rc.vehicle == vehicle) {
+      addRoadCarCollision(b, group, rc, cp.probe_spacing);
+      return;
+    }
+  std::set<int> bodies{m.vehicle_body.at(vehicle)}, wheels;
+  for (size_t w = 0; w < m.wheels.size(); ++w)
+    if (m.vehicle_of_wheel[w] == vehicle) {
+      wheels.insert(static_cast<int>(w));
+      bodies.insert(m.wheels[w].body);
+    }
+  const int chassis = m.vehicle_body.at(vehicle);
+  const bool lone = wheels.size() == 1 && m.wheels[*wheels.begin()].body == chassis;
+  double radius = 0.0;
+  for (int w : wheels) radius = std::max(radius, m.wheels[w].radius);
+  // chassis: a rounded box around its points (the report's axle points
+  // lie in one plane, so the rounding gives it thickness)
+  if (!lone) {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (const Point& p : m.points)
+      if (p.body == chassis) {
+        lo = lo.cwiseMin(p.local);
+        hi = hi.cwiseMax(p.local);
+      }
+    if (lo.x() <= hi.x()) {
+      const double round = std::max(0.25 * radius, 0.02);
+      Collider c;
+      c.group = group;
+      c.body = chassis;
+      c.shape.kind = ShapeKind::Box;
+      c.shape.half = 0.5 * (hi - lo) + Vec3::Constant(round);
+      c.shape.radius = round;
+      c.pos = 0.5 * (hi + lo);
+      b.addCollider(c);
+    }
+  }
+  for (int w : wheels) {
+    const Wheel& wh = m.wheels[w];
+    addWheelDisc(b, group, wh.body, Vec3::Zero(), wh.axis, wh.radius);
+    if (wh.contact == WheelContact::Circle) {
+      Probe pr;
+      pr.group = group;
+      pr.body = wh.body;
+      pr.wheel = w;
+      b.addProbe(pr);
+    }
+  }
+  for (int k = 0; k < static_cast<int>(m.points.size()); ++k) {
+    const Point& p = m.points[k];
+    const bool mine = p.body >= 0 ? bodies.count(p.body) > 0 : (p.wheel >= 0 && wheels.count(p.wheel) > 0);
+    if (!mine) continue;
+    Probe pr;
+    pr.group = group;
+    pr.body = p.body;
+    pr.particle = p.particle;
+    pr.point = k;
+    b.addProbe(pr);
+  }
+}
+
+int addSceneObject(ModelBuilder& b, const ObjectSpec& o) {
+  CollisionGroup g;
+  g.name = o.name;
+  g.object = static_cast<int>(b.model().objects.size());
+  g.friction = o.friction;
+  const int group = b.addCollisionGroup(g);
+  const double spacing = b.model().opt.collision.probe_spacing;
+  const std::vector<Vec3> probes = o.shape.probes(std::min(spacing, 0.5 * o.shape.bound()));
+  SceneObject so;
+  so.name = o.name;
+  so.group = group;
+  so.shape = o.shape;
+  if (!(o.mass > 0.0)) {
+    const Mat3 R = o.orientation.normalized().toRotationMatrix();
+    Collider c;
+    c.group = group;
+    c.shape = o.shape;
+    c.pos = o.position;
+    c.rot = R;
+    b.addCollider(c);
+    for (const Vec3& q : probes) {
+      Probe pr;
+      pr.group = group;
+      pr.local = o.position + R * q;
+      b.addProbe(pr);
+    }
+    so.pos = o.position;
+    so.rot = R;
+    b.addObject(so);
+    return -1;
+  }
+  // a rigid body: six mass points (not simulated) that give the shape's
+  // mass, centre of mass and inertia exactly, and the surface probes as its
+  // ground contact points
+  Vec3 com;
+  Mat3 I;
+  o.shape.massProperties(o.mass, &com, &I);
+  const Vec3 d = I.diagonal();
+  const double third = o.mass / 3.0;
+  const double dx2 = std::max(0.5 * (d.y() + d.z() - d.x()) / third, 0.0);
+  const double dy2 = std::max(0.5 * (d.x() + d.z() - d.y()) / third, 0.0);
+  const double dz2 = std::max(0.5 * (d.x() + d.y() - d.z()) / third, 0.0);
+  const double dd[3] = {std::sqrt(dx2), std::sqrt(dy2), std::sqrt(dz2)};
+  BodySpec body;
+  body.name = o.name;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sgn : {1.0, -1.0}) {
+      Vec3 q = com;
+      q[axis] += sgn * dd[axis];
+      body.points.push_back(q);
+      body.masses.push_back(o.mass / 6.0);
+      body.contact.push_back(false);
+      body.simulate.push_back(false);
+    }
+  for (const Vec3& q : probes) {
+    body.points.push_back(q);
+    body.masses.push_back(0.0);
+    body.contact.push_back(true);
+    body.simulate.push_back(true);
+  }
+  const Quat q = o.orientation.normalized();
+  body.origin = o.position;
+  body.orientation = q;
+  body.velocity = o.velocity;
+  int first = 0;
+  const int id = b.addBody(body, &first);
+  const Vec3 off = b.bodyComOffset(id);
+  Collider c;
+  c.group = group;
+  c.body = id;
+  c.shape = o.shape;
+  c.pos = -off;
+  b.addCollider(c);
+  for (int k = 0; k < static_cast<int>(probes.size()); ++k) {
+    Probe pr;
+    pr.group = group;
+    pr.body = id;
+    pr.point = first + k;
+    b.addProbe(pr);
+  }
+  so.body = id;
+  so.pos = -off;
+  b.addObject(so);
+  return id;
+}
+
+namespace {
+
+Vec3 probeWorld(const Model& m, const Probe& p, const Eigen::VectorXd& y) {
+  const int nb = static_cast<int>(m.bodies.size());
+  if (p.point >= 0) {
+    const Point& pt = m.points[p.point];
+    if (pt.body < 0) return y.segment<3>(particleOffset(nb, pt.particle));
+    return Vec3(bodyPos(y, pt.body)) + Quat(bodyRot(y, pt.body)).normalized() * pt.local;
+  }
+  if (p.body < 0) return p.local;
+  return Vec3(bodyPos(y, p.body)) + Quat(bodyRot(y, p.body)).normalized() * p.local;
+}
+
+}  // namespace
+
+void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
+  std::stable_sort(m.colliders.begin(), m.colliders.end(),
+                   [](const Collider& a, const Collider& b) { return a.group < b.group; });
+  std::stable_sort(m.probes.begin(), m.probes.end(), [](const Probe& a, const Probe& b) { return a.group < b.group; });
+  const int ng = static_cast<int>(m.groups.size());
+  for (CollisionGroup& g : m.groups) {
+    g.probe_begin = g.probe_end = g.collider_begin = g.collider_end = 0;
+    g.mass = 0.0;
+  }
+  for (int i = static_cast<int>(m.colliders.size()) - 1; i >= 0; --i) {
+    CollisionGroup& g = m.groups[m.colliders[i].group];
+    g.collider_begin = i;
+    if (g.collider_end == 0) g.collider_end = i + 1;
+  }
+  for (int i = static_cast<int>(m.probes.size()) - 1; i >= 0; --i) {
+    CollisionGroup& g = m.groups[m.probes[i].group];
+    g.probe_begin = i;
+    if (g.probe_end == 0) g.probe_end = i + 1;
+  }
+  int movable = 0, fixed = 0;
+  for (int gi = 0; gi < ng; ++gi) {
+    CollisionGroup& g = m.groups[gi];
+    std::set<int> bodies, particles;
+    for (int i = g.collider_begin; i < g.collider_end; ++i)
+      if (m.colliders[i].body >= 0) bodies.insert(m.colliders[i].body);
+    for (int i = g.probe_begin; i < g.probe_end; ++i) {
+      const Probe& p = m.probes[i];
+      if (p.body >= 0) bodies.insert(p.body);
+      if (p.particle >= 0) particles.insert(p.particle);
+    }
+    for (int i : bodies) g.mass += m.bodies[i].mass;
+    for (int j : particles) g.mass += m.particles[j].mass;
+    if (bodies.empty()) g.ref_body = -1;
+    else if (g.ref_body < 0 || !bodies.count(g.ref_body)) g.ref_body = *bodies.begin();
+    if (g.collider_begin == g.collider_end && g.probe_begin == g.probe_end) continue;
+    if (g.ref_body < 0) {
+      ++fixed;
+      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+      for (int i = g.collider_begin; i < g.collider_end; ++i) {
+        const Collider& c = m.colliders[i];
+        const Vec3 e = c.rot.cwiseAbs() * c.shape.extents();  // world box of the rotated box
+        lo = lo.cwiseMin(c.pos - e);
+        hi = hi.cwiseMax(c.pos + e);
+      }
+      for (int i = g.probe_begin; i < g.probe_end; ++i) {
+        lo = lo.cwiseMin(m.probes[i].local);
+        hi = hi.cwiseMax(m.probes[i].local);
+      }
+      g.lo = lo;
+      g.hi = hi;
+      continue;
+    }
+    ++movable;
+    const Vec3 ref = bodyPos(y, g.ref_body);
+    double r = 0.0;
+    for (int i = g.collider_begin; i < g.collider_end; ++i) {
+      const Collider& c = m.colliders[i];
+      const Vec3 centre = Vec3(bodyPos(y, c.body)) + Quat(bodyRot(y, c.body)).normalized() * c.pos;
+      r = std::max(r, (centre - ref).norm() + c.shape.bound());
+    }
+    for (int i = g.probe_begin; i < g.probe_end; ++i) {
+      const Probe& p = m.probes[i];
+      if (p.wheel >= 0) r = std::max(r, (Vec3(bodyPos(y, p.body)) - ref).norm() + m.wheels[p.wheel].radius);
+      else r = std::max(r, (probeWorld(m, p, y) - ref).norm());
+    }
+    // suspension travel, tyre and spring deflection move parts relative
+    // to the reference body: a margin keeps them inside the bound
+    g.bound = 1.1 * r + 0.05;
+  }
+  m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));
+}
+
+}  // namespace groundsim
