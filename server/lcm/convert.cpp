@@ -110,6 +110,47 @@ groundsim::car_state_t toCarMessage(const session::Frame& f) {
   return m;
 }
 
+groundsim::contact_state_t toContactMessage(const session::Frame& f) {
+  groundsim::contact_state_t m;
+  m.utime = toUtime(f.t);
+  m.seq = f.seq;
+  m.session_id = f.session_id;
+  m.t = f.t;
+  const Model* model = f.model.get();
+  for (const session::ObjectSample& o : f.objects) {
+    groundsim::object_state_t s;
+    s.name = model && o.object < static_cast<int>(model->objects.size()) ? model->objects[o.object].name : "";
+    for (int i = 0; i < 3; ++i) {
+      s.position[i] = finiteOr0(o.position[i]);
+      s.velocity[i] = finiteOr0(o.velocity[i]);
+      s.angular_velocity[i] = finiteOr0(o.angular_velocity[i]);
+    }
+    const double q[4] = {o.orientation.w(), o.orientation.x(), o.orientation.y(), o.orientation.z()};
+    for (int i = 0; i < 4; ++i) s.orientation[i] = finiteOr0(q[i]);
+    m.objects.push_back(std::move(s));
+  }
+  m.nobjects = static_cast<int32_t>(m.objects.size());
+  for (const Hit& h : f.hits) {
+    groundsim::hit_t o;
+    const int ng = model ? static_cast<int>(model->groups.size()) : 0;
+    o.a = h.a >= 0 && h.a < ng ? model->groups[h.a].name : "";
+    o.b = h.b >= 0 && h.b < ng ? model->groups[h.b].name : "";
+    for (int i = 0; i < 3; ++i) {
+      o.position[i] = finiteOr0(h.where[i]);
+      o.force[i] = finiteOr0(h.force[i]);
+    }
+    o.impulse = finiteOr0(h.impulse);
+    o.peak_force = finiteOr0(h.peak_force);
+    o.closing_speed = finiteOr0(h.closing_speed);
+    o.depth = finiteOr0(h.depth);
+    o.begin = finiteOr0(h.begin);
+    o.hard = h.hard;
+    m.hits.push_back(std::move(o));
+  }
+  m.nhits = static_cast<int32_t>(m.hits.size());
+  return m;
+}
+
 groundsim::state_t toMessage(const session::Frame& f) {
   groundsim::state_t m;
   m.utime = toUtime(f.t);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <groundsim/car_state_t.hpp>
+#include <groundsim/contact_state_t.hpp>
 #include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
@@ -38,6 +39,8 @@ session::VecRequest fromMessage(const groundsim::vec_request_t& m);
 groundsim::state_t toMessage(const session::Frame& f);
 // The frame's road cars (f.cars), published beside its state_t.
 groundsim::car_state_t toCarMessage(const session::Frame& f);
+// The objects and hits of a frame whose scene has contact between bodies.
+groundsim::contact_state_t toContactMessage(const session::Frame& f);
 groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq);
 groundsim::event_t toMessage(const session::Event& e, std::int64_t seq);
 // with_layout: a vectorised session's env_layout_t (replies); the

@@ -82,6 +82,7 @@ void LcmServer::publishState(const session::Frame& f) {
                          static_cast<long long>(LatencyTrace::us(f.drive_received)),
                          static_cast<long long>(LatencyTrace::us(f.drive_applied)));
     if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f));
+    if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f));
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a state of %s: %s\n", f.session_id.c_str(), e.what());

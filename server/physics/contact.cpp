@@ -98,14 +98,15 @@ void applyContactNormals(const Model& m, Workspace& ws) {
   for (int i = 0; i < ws.ncontacts; ++i) {
     Contact& c = ws.contacts[i];
     const double rate = -c.u.dot(c.n);  // d(depth)/dt
-    double N = cp.stiffness * c.depth;
+    const double S = groundStiffness(m, c.body), D = groundDamping(m, c.body);
+    double N = S * c.depth;
     if (cp.damping_model == NormalDamping::KelvinVoigt) {
-      N += cp.damping * rate;
+      N += D * rate;
     } else {
-      N *= 1.0 + cp.damping * rate;  // Hunt-Crossley: damping vanishes at first touch
+      N *= 1.0 + D * rate;  // Hunt-Crossley: damping vanishes at first touch
     }
     c.normal = std::max(N, 0.0);  // the ground pushes, never pulls
-    ws.ground_energy += 0.5 * cp.stiffness * c.depth * c.depth;
+    ws.ground_energy += 0.5 * S * c.depth * c.depth;
     if (c.wheel >= 0) ws.wheel_normal[c.wheel] += c.normal;
   }
 }

@@ -44,7 +44,7 @@ Energy computeEnergy(const Model& m, const State& s, Workspace& ws) {
     e.spring += 0.5 * sp.stiffness * stretch * stretch;
   }
   for (int c = 0; c < ws.ncontacts; ++c)
-    e.ground += 0.5 * m.opt.contact.stiffness * ws.contacts[c].depth * ws.contacts[c].depth;
+    e.ground += 0.5 * groundStiffness(m, ws.contacts[c].body) * ws.contacts[c].depth * ws.contacts[c].depth;
   return e;
 }
 

@@ -67,6 +67,11 @@ struct Body {
   Mat3 inv_inertia = Mat3::Zero();
   double bound_radius = 0.0;       // m       largest distance of a contact point from the COM
   bool has_contact_points = false;
+  // an object's own ground contact law (collision_build.cpp), from its mass
+  // like the contact between bodies; 0 / < 0: the scene's contact.stiffness
+  // and contact.damping
+  double ground_stiffness = 0.0;   // N/m    per contact point
+  double ground_damping = -1.0;    // N s/m  per contact point
 };
 
 // A free point mass (the report's non-rigid bodies).
@@ -115,6 +120,10 @@ struct Wheel {
   int rim_points = 0;
 };
 
+struct Model;
+double groundStiffness(const Model& m, int body);  // per contact point of `body` (-1: a particle)
+double groundDamping(const Model& m, int body);
+
 struct Model {
   Options opt;
   GroundPtr ground;
@@ -150,9 +159,17 @@ struct Model {
   // collisions on, and two groups of which one can move: the step runs the
   // broad phase (and takes the general loop while a pair may touch)
   bool collisions = false;
+  int object_substeps = 1;            // substeps objects' ground contact needs (collision_build.cpp)
 
   int auxBase() const { return 13 * static_cast<int>(bodies.size()) + 6 * static_cast<int>(particles.size()); }
   int stateSize() const { return auxBase() + aux_states; }
 };
+
+inline double groundStiffness(const Model& m, int body) {
+  return body >= 0 && m.bodies[body].ground_stiffness > 0.0 ? m.bodies[body].ground_stiffness : m.opt.contact.stiffness;
+}
+inline double groundDamping(const Model& m, int body) {
+  return body >= 0 && m.bodies[body].ground_damping >= 0.0 ? m.bodies[body].ground_damping : m.opt.contact.damping;
+}
 
 }  // namespace groundsim

@@ -65,14 +65,17 @@ bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
   saveForRollback(state_, ws_.last_good);
-  const int n = std::max(1, m.opt.substeps);
-  const double h = m.opt.dt / n;
   applyControls(m, m.opt.dt, state_);
   ws_.car_inputs = state_.cars;  // same size every step: no allocation
   bool plainly_healthy = false;
   // the specialised paths know no contact between bodies: while any pair
   // of collision groups may touch, the step takes the general loop
   const bool touching = m.collisions && groupsMayTouch(m, state_.y, ws_);
+  // stiff contacts between bodies (and light objects on the ground) take
+  // substeps that resolve them; the rest of the time the step is as set
+  int n = std::max({1, m.opt.substeps, m.object_substeps});
+  if (touching) n = std::max(n, contactSubsteps(m, ws_, m.opt.dt));
+  const double h = m.opt.dt / n;
   if (fast_ && !touching) {
     plainly_healthy = fast_->step(m, state_, ws_);
     ws_stale_ = true;

@@ -59,6 +59,8 @@ std::vector<StiffMode> stiffestModes(const Model& m) {
     StiffMode best;
     bool any = false;
     for (int k : m.contact_points) {
+      const int body = m.points[k].body;
+      if (body >= 0 && m.bodies[body].ground_stiffness > 0.0) continue;  // an object: its own substeps
       const StiffMode s = makeMode(m, "ground contact of " + nameOfPoint(m, k), cp.stiffness,
                                    cp.damping_model == NormalDamping::KelvinVoigt ? cp.damping : 0.0,
                                    massOfPoint(m, k));
@@ -82,7 +84,8 @@ std::vector<StiffMode> stiffestModes(const Model& m) {
     std::map<std::string, double> mass;
     for (int k : m.contact_points) {
       const std::string n = nameOfPoint(m, k);
-      if (total.count(n)) continue;
+      const int body = m.points[k].body;
+      if (total.count(n) || (body >= 0 && m.bodies[body].ground_stiffness > 0.0)) continue;
       total[n] = {cp.stiffness, cp.damping_model == NormalDamping::KelvinVoigt ? cp.damping : 0.0};
       mass[n] = massOfPoint(m, k);
     }

@@ -29,6 +29,8 @@ inline constexpr const char* kCarStatePrefix = "GROUNDSIM_CAR_STATE_";  // + ses
 
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }
 inline std::string carStateChannel(const std::string& session_id) { return kCarStatePrefix + session_id; }
+inline constexpr const char* kContactPrefix = "GROUNDSIM_CONTACT_";  // + session id: contact_state_t (objects, hits)
+inline std::string contactChannel(const std::string& session_id) { return kContactPrefix + session_id; }
 
 // LCM's own default, unless LCM_DEFAULT_URL says otherwise. ttl=0 keeps
 // multicast on this host.

@@ -346,8 +346,25 @@ bool Session::stepOnce() {
     diverged(sim_.state().health_reason, ErrorCode::Diverged);
     return false;
   }
+  if (sim_.model().collisions) reportHits();
   if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;
   return true;
+}
+
+// Each hit once, when it ends: a game shows it, a task penalises it, a log
+// keeps it. Hard ones (collisions.hard_impact_g) are warnings.
+void Session::reportHits() {
+  for (const Hit& h : sim_.takeEndedHits()) {
+    const Model& m = sim_.model();
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "hit: %s and %s at (%.2f, %.2f, %.2f) m, closing %.2f m/s, impulse %.4g N s, peak force %.4g N, "
+                  "overlap %.3f m, %.3f s%s",
+                  m.groups[h.a].name.c_str(), m.groups[h.b].name.c_str(), h.where.x(), h.where.y(), h.where.z(),
+                  h.closing_speed, h.impulse, h.peak_force, h.depth, h.end - h.begin + m.opt.dt,
+                  h.hard ? " (hard)" : "");
+    event(h.hard ? Severity::Warning : Severity::Info, ErrorCode::None, buf);
+  }
 }
 
 void Session::checkCommandTimeout(TimePoint now) {
@@ -474,6 +491,26 @@ Frame Session::makeFrame(bool published) {
     sanitize(f.vehicles.back());
     const int c = vehicles_[v].road_car;
     if (c >= 0) f.cars.push_back(CarFrame{static_cast<int>(v), s.car_controls.at(c), s.cars.at(c)});
+  }
+  const Model& m = sim_.model();
+  if (m.collisions || !m.objects.empty()) {
+    f.contacts = true;
+    f.model = sim_.modelPtr();
+    f.hits = sim_.hits();
+    for (size_t i = 0; i < m.objects.size(); ++i) {
+      const SceneObject& o = m.objects[i];
+      if (o.body < 0) continue;
+      ObjectSample os;
+      os.object = static_cast<int>(i);
+      const Quat q = Quat(bodyRot(s.y, o.body)).normalized();
+      os.position = Vec3(bodyPos(s.y, o.body)) + q * o.pos;
+      os.orientation = q * Quat(o.rot);
+      os.velocity = bodyVel(s.y, o.body);
+      os.angular_velocity = angularVelocity(m, s, o.body);
+      if (os.position.allFinite() && os.orientation.coeffs().allFinite() && os.velocity.allFinite() &&
+          os.angular_velocity.allFinite())
+        f.objects.push_back(os);
+    }
   }
   if (!f.vehicles.empty()) f.energy = f.vehicles.front().energy;
   for (auto& v : f.vehicles) v.energy = f.energy;

@@ -96,6 +96,7 @@ class Session : public Task {
   std::optional<TimePoint> advance(TimePoint now, TimePoint deadline);
   std::optional<TimePoint> advanceLockstep(TimePoint deadline);
   bool stepOnce();
+  void reportHits();
   void followControlTables();  // applies the rows due to cars no client drives
   bool emitFrame(TimePoint now);   // false: out of publish budget, retry later
   void publishFrame();             // now, whatever the budget (final and lockstep frames)

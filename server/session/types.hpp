@@ -81,6 +81,14 @@ struct CarFrame {
   CarRuntime applied;                // clamped controls, steer angle, engaged gear
 };
 
+// An object with mass at one instant (contact_state_t).
+struct ObjectSample {
+  int object = 0;                    // index among the model's objects
+  Vec3 position = Vec3::Zero();      // m   shape centre
+  Quat orientation = Quat::Identity();  // shape to world
+  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();
+};
+
 // One published state of a session: every vehicle at one instant. Values are
 // finite by construction (Session::makeFrame sanitizes).
 struct Frame {
@@ -95,6 +103,12 @@ struct Frame {
   double energy = 0.0;
   std::vector<VehicleSample> vehicles;
   std::vector<CarFrame> cars;        // the road cars among the vehicles (empty without)
+  // scenes with contact between bodies: objects with mass and hits under
+  // way (names from the model's collision groups)
+  bool contacts = false;
+  std::vector<ObjectSample> objects;
+  std::vector<Hit> hits;
+  std::shared_ptr<const Model> model;
   std::shared_ptr<const std::vector<std::string>> names;
   // the last drive command applied before this frame: when the server got
   // it and when the session applied it (the latency trace, bench/web)

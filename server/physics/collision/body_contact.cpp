@@ -12,6 +12,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+double reducedMass(const CollisionGroup& a, const CollisionGroup& b);
+
 bool live(const CollisionGroup& g) { return g.collider_begin < g.collider_end || g.probe_begin < g.probe_end; }
 
 template <class RefCom>
@@ -65,8 +67,7 @@ struct PairLaw {
 
 PairLaw pairLaw(const Model& m, const CollisionGroup& a, const CollisionGroup& b) {
   const CollisionParams& cp = m.opt.collision;
-  const bool fa = a.ref_body < 0 || !(a.mass > 0.0), fb = b.ref_body < 0 || !(b.mass > 0.0);
-  const double mr = fa ? b.mass : fb ? a.mass : a.mass * b.mass / (a.mass + b.mass);
+  const double mr = reducedMass(a, b);
   PairLaw law;
   const double w = 2.0 * kPi * cp.frequency;
   law.k = cp.stiffness > 0.0 ? cp.stiffness : 0.25 * mr * w * w;
@@ -189,7 +190,26 @@ void narrowPhase(const Model& m, bool apply, Workspace& ws) {
   }
 }
 
+double reducedMass(const CollisionGroup& a, const CollisionGroup& b) {
+  const bool fa = a.ref_body < 0 || !(a.mass > 0.0), fb = b.ref_body < 0 || !(b.mass > 0.0);
+  return fa ? b.mass : fb ? a.mass : a.mass * b.mass / (a.mass + b.mass);
+}
+
 }  // namespace
+
+int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
+  int n = 1;
+  for (const auto& [a, b] : ws.pairs) {
+    const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
+    const PairLaw law = pairLaw(m, ga, gb);
+    const double mr = reducedMass(ga, gb);
+    if (!(mr > 0.0)) continue;
+    const double probes = ga.face_probes + gb.face_probes;
+    const double w = std::sqrt(law.k * probes / mr) + law.c * probes / mr;
+    n = std::max(n, static_cast<int>(std::min(std::ceil(w * dt / kMaxOmegaH), 1e9)));
+  }
+  return std::min(n, kMaxContactSubsteps);
+}
 
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws) {
   if (!m.collisions) return false;

@@ -19,4 +19,10 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws);
 // none may.
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws);
 
+// Integrator substeps per step of dt that keep omega h <= kMaxOmegaH for
+// every candidate pair of the last groupsMayTouch, omega from the pair's
+// stiffness, damping and reduced mass with the face probes of both groups
+// pressing at once. 1 when no pair may touch.
+int contactSubsteps(const Model& m, const Workspace& ws, double dt);
+
 }  // namespace groundsim

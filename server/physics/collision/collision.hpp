@@ -17,6 +17,11 @@
 
 namespace groundsim {
 
+// Contacts between bodies and objects' ground contacts are resolved with
+// integrator substeps where needed: omega h at most this, at most this many.
+inline constexpr double kMaxOmegaH = 0.5;
+inline constexpr int kMaxContactSubsteps = 64;
+
 struct CollisionParams {
   bool enabled = true;              // false: bodies pass through each other
   // per probe inside a shape: stiffness S (N/m) and Kelvin-Voigt damping c
@@ -60,6 +65,9 @@ struct CollisionGroup {
   double friction = 0.5;            // -      Coulomb mu; a pair uses sqrt(mu_a mu_b)
   int probe_begin = 0, probe_end = 0;
   int collider_begin = 0, collider_end = 0;
+  // most probes that can press on one plane at once (those on one side of
+  // the group, to 2% of its size): bounds the pair's contact frequency
+  int face_probes = 1;
   int object = -1;                  // index among the scene's objects, or -1 (a vehicle)
   int vehicle = -1;                 // vehicle index, or -1 (an object)
 };

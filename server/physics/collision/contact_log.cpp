@@ -39,6 +39,7 @@ void ContactLog::update(const Model& m, const State& s, const Workspace& ws, dou
     }
     h.end = s.t;
     h.momentum += pc.force * dt;
+    h.force = pc.force;
     h.impulse = h.momentum.norm();
     h.peak_force = std::max(h.peak_force, pc.force.norm());
     h.depth = std::max(h.depth, pc.depth);

@@ -21,6 +21,7 @@ struct Hit {
   double depth = 0.0;               // m      deepest probe so far
   Vec3 where = Vec3::Zero();        // m      last contact centroid
   Vec3 momentum = Vec3::Zero();     // N s    integral of the force on a
+  Vec3 force = Vec3::Zero();        // N      on a, by b, at the last step
   bool hard = false;                // peak force above collision.hard_impact g of the lighter group
 };
 
