@@ -30,6 +30,16 @@ export function interpolateVehicle(a, b, u) {
   };
 }
 
+// Objects with mass (contact states), matched by name.
+export function interpolateObjects(a, b, u) {
+  if (!a || !b || a === b) return b || a || null;
+  const before = new Map(a.map((o) => [o.name, o]));
+  return b.map((ob) => {
+    const oa = before.get(ob.name);
+    return oa ? { ...ob, p: lerp(oa.p, ob.p, u), q: slerp(oa.q, ob.q, u) } : ob;
+  });
+}
+
 export class Playback {
   constructor() { this.reset(); }
   reset() {
@@ -38,8 +48,21 @@ export class Playback {
     this.rate = 1;          // measured real-time factor
     this.interval = 0.02;   // measured s of sim time between states
     this.rateWindow = [];   // [wall s, sim t]
+    this.contacts = new Map();  // seq -> objects of a contact state whose state has not come yet
+  }
+  // A contact state (objects with mass) joins the state of the same seq,
+  // whichever of the two arrives first.
+  pushContact(m) {
+    const s = this.states.find((x) => x.seq === m.seq);
+    if (s) { s.objects = m.objects; return; }
+    this.contacts.set(m.seq, m.objects);
+    if (this.contacts.size > 16) this.contacts.delete(this.contacts.keys().next().value);
   }
   push(state, wallS) {
+    if (this.contacts.has(state.seq)) {
+      state.objects = this.contacts.get(state.seq);
+      this.contacts.delete(state.seq);
+    }
     const last = this.states[this.states.length - 1];
     if (last && state.t < last.t - 1e-9) this.states = [];  // reset or a replay restarted
     if (last && Math.abs(state.t - last.t) < 1e-12) { this.states[this.states.length - 1] = state; return; }
@@ -72,6 +95,7 @@ export class Playback {
       ...b,
       t: a.t + (b.t - a.t) * u,
       vehicles: b.vehicles.map((vb, k) => interpolateVehicle(a.vehicles[k] || vb, vb, u)),
+      objects: interpolateObjects(a.objects, b.objects, u),  // null: none known for these two
     };
   }
 }

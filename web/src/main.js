@@ -1,7 +1,7 @@
 // The page: lobby, scene, HUD, input, and the loop that draws at the
 // display's rate (renderer.setAnimationLoop). Network (net.js), smoothing
-// (interp.js), input (input.js), ground (ground.js) and vehicles
-// (vehicle.js) are separate modules.
+// (interp.js), input (input.js), ground (ground.js), vehicles
+// (vehicle.js), obstacles (objects.js) and hits (hits.js) are separate modules.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { Connection } from './net.js';
@@ -9,6 +9,8 @@ import { Playback } from './interp.js';
 import { Input } from './input.js';
 import { GroundMesh } from './ground.js';
 import { Vehicle, defaultLayout } from './vehicle.js';
+import { SceneObjects } from './objects.js';
+import { HitEffects } from './hits.js';
 
 const $ = (id) => document.getElementById(id);
 const STATUS = { 1: 'running', 2: 'paused', 3: 'finished', 4: 'diverged', 5: 'stopped' };
@@ -48,6 +50,7 @@ window.addEventListener('resize', () => {
 
 // ---- session state ---------------------------------------------------------------
 const ground = new GroundMesh(scene);
+const hits = new HitEffects(scene, $('hud-hits'));
 const playback = new Playback();
 const input = new Input(window);
 const wsUrl = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
@@ -58,6 +61,8 @@ const app = {
   frames: 0, fps: 0, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
   car: null,  // the newest {"op":"car"} of the session: its road cars' gear, rpm, applied controls
+  objects: null, objectMeshes: 0,  // the scenario's obstacles as drawn (objects.js)
+  contacts: 0, hits, hitEvents: 0,  // contact states received, hits shown (hits.shown), "hit: " events
 };
 app.send = (m) => net.send(m);
 window.groundsim = app;  // for tests and the latency benchmark
@@ -65,6 +70,10 @@ window.groundsim = app;  // for tests and the latency benchmark
 function clearScene() {
   for (const v of app.vehicles) v.dispose(scene);
   app.vehicles = [];
+  if (app.objects) app.objects.dispose();
+  app.objects = null;
+  app.objectMeshes = 0;
+  hits.reset();
   playback.reset();
   ground.center = null;
   if (ground.mesh) { scene.remove(ground.mesh); ground.mesh = null; }
@@ -107,6 +116,8 @@ net.on('joined', (m) => {
   $('hud-session').textContent = m.session;
   $('hud-role').textContent = m.role === 'drive' ? `driving vehicle ${m.vehicle}` : 'spectating';
   if (m.note) addEvent(m.note, 'w');
+  app.objects = new SceneObjects(scene, m.layout && m.layout.objects);
+  app.objectMeshes = app.objects.meshes.length;
 });
 net.on('left', () => { app.session = null; clearScene(); showLobby(true); });
 net.on('ground', (m) => {
@@ -124,8 +135,15 @@ net.on('state', (m) => {
   for (const fn of app.stateListeners) fn(m, performance.now());
 });
 net.on('car', (m) => { if (m.session === app.session) app.car = m; });
+net.on('contact', (m) => {
+  if (m.session !== app.session) return;
+  app.contacts++;
+  playback.pushContact(m);
+  hits.onContact(m);
+});
 net.on('event', (m) => {
   const cls = m.severity >= 2 ? 'e' : m.severity === 1 ? 'w' : 'i';
+  if (typeof m.reason === 'string' && m.reason.startsWith('hit: ')) app.hitEvents++;
   addEvent(`t=${m.t.toFixed(2)} s  ${cls === 'e' ? 'error' : cls === 'w' ? 'warning' : 'info'} ${m.code}: ${m.reason}`, cls);
 });
 net.on('error', (m) => {
@@ -307,6 +325,7 @@ renderer.setAnimationLoop(() => {
       const rc = app.car && app.car.session === s.session ? app.car.cars.find((c) => c.vehicle === i) : null;
       app.vehicles[i] && app.vehicles[i].update(v, simDt, own ? input.c.steer * 0.6 : null, rc || null);
     });
+    if (app.objects) app.objects.update(s.objects);
     if (mine) {
       if (app.layout && ground.needsRefresh(mine.p[0], mine.p[1]) && !app.groundPending) {
         app.groundPending = true;
@@ -319,6 +338,7 @@ renderer.setAnimationLoop(() => {
     }
     updateHud(s, mine);
   }
+  hits.frame(wallDt);
   if (DRAW) renderer.render(scene, camera);
   app.frames++;
   fpsCount++;

@@ -1,0 +1,124 @@
+// Hits between bodies (contact states' `hits`: a pair from first touch
+// until it parts) shown as they begin: a flash and sparks where they touch,
+// and a line in the HUD naming the pair, its peak force and closing speed;
+// a hard hit (peak force above collisions.hard_impact_g of the lighter
+// one's weight) bigger, redder and in bold. The line is updated while the
+// hit lasts and fades a few seconds after it ended.
+import * as THREE from 'three';
+
+const SPARKS = 28, LINE_S = 5, MAX_LINES = 4;
+const key = (h) => `${h.a}|${h.b}|${h.begin.toFixed(4)}`;
+const escape = (s) => String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+const kN = (n) => (n >= 1000 ? `${(n / 1000).toFixed(1)} kN` : `${n.toFixed(0)} N`);
+
+class Burst {
+  constructor(scene, p, hard) {
+    this.scene = scene;
+    this.life = hard ? 0.9 : 0.5;
+    this.age = 0;
+    this.size = hard ? 0.9 : 0.45;
+    this.flash = new THREE.Mesh(new THREE.SphereGeometry(1, 16, 12),
+      new THREE.MeshBasicMaterial({ color: hard ? 0xff5a1f : 0xffe27a, transparent: true, opacity: 0.9,
+        depthWrite: false, blending: THREE.AdditiveBlending }));
+    this.flash.position.set(...p);
+    this.flash.scale.setScalar(0.1);
+    this.pos = new Float32Array(SPARKS * 3);
+    this.vel = [];
+    const speed = hard ? 7 : 4;
+    for (let i = 0; i < SPARKS; ++i) {
+      this.pos.set(p, 3 * i);
+      const d = new THREE.Vector3().randomDirection();
+      d.z = Math.abs(d.z) + 0.3;
+      this.vel.push(d.normalize().multiplyScalar(speed * (0.4 + 0.6 * Math.random())));
+    }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(this.pos, 3));
+    this.sparks = new THREE.Points(g, new THREE.PointsMaterial({ color: 0xffd36b, size: hard ? 0.12 : 0.08,
+      transparent: true, depthWrite: false, blending: THREE.AdditiveBlending }));
+    this.sparks.frustumCulled = false;
+    scene.add(this.flash, this.sparks);
+  }
+  // false once over (and removed)
+  step(dt) {
+    this.age += dt;
+    const u = Math.min(1, this.age / this.life);
+    this.flash.scale.setScalar(this.size * (0.2 + 0.8 * Math.sqrt(u)));
+    this.flash.material.opacity = 0.9 * (1 - u);
+    for (let i = 0; i < SPARKS; ++i) {
+      const v = this.vel[i];
+      v.z -= 9.81 * dt;
+      this.pos[3 * i] += v.x * dt; this.pos[3 * i + 1] += v.y * dt; this.pos[3 * i + 2] += v.z * dt;
+    }
+    this.sparks.geometry.attributes.position.needsUpdate = true;
+    this.sparks.material.opacity = 1 - u;
+    if (u < 1) return true;
+    this.dispose();
+    return false;
+  }
+  dispose() {
+    this.scene.remove(this.flash, this.sparks);
+    this.flash.geometry.dispose(); this.flash.material.dispose();
+    this.sparks.geometry.dispose(); this.sparks.material.dispose();
+  }
+}
+
+export class HitEffects {
+  // hud: the element holding the hit lines
+  constructor(scene, hud) {
+    this.scene = scene;
+    this.hud = hud;
+    this.reset();
+  }
+  reset() {
+    for (const b of this.bursts || []) b.dispose();
+    this.bursts = [];
+    this.lines = new Map();  // key -> {a, b, peak, closing, hard, ongoing, age}
+    this.shown = [];         // every hit shown: {a, b, hard, peak, closing, t} (tests read it)
+    if (this.hud) this.hud.replaceChildren();
+  }
+  // m: a contact message of the session
+  onContact(m) {
+    const now = new Set();
+    for (const h of m.hits || []) {
+      const k = key(h);
+      now.add(k);
+      let line = this.lines.get(k);
+      if (!line) {
+        const shown = { a: h.a, b: h.b, hard: h.hard, peak: h.peak, closing: h.closing, t: m.t };
+        line = { a: h.a, b: h.b, hard: h.hard, peak: 0, closing: h.closing, age: 0, shown };
+        this.lines.set(k, line);
+        if (this.bursts.length < 32) this.bursts.push(new Burst(this.scene, h.p, h.hard));
+        this.shown.push(shown);
+        if (this.shown.length > 256) this.shown.shift();
+        while (this.lines.size > MAX_LINES) this.lines.delete(this.lines.keys().next().value);
+      } else if (h.hard && !line.hard) {
+        // a hit turns hard during its course: flash again
+        this.bursts.push(new Burst(this.scene, h.p, true));
+        line.hard = line.shown.hard = true;
+      }
+      line.peak = Math.max(line.peak, h.peak);
+      line.shown.peak = line.peak;
+      line.ongoing = true;
+      line.age = 0;
+    }
+    for (const [k, line] of this.lines) if (!now.has(k)) line.ongoing = false;
+    this.render();
+  }
+  frame(dt) {
+    this.bursts = this.bursts.filter((b) => b.step(dt));
+    let changed = false;
+    for (const [k, line] of this.lines) {
+      if (line.ongoing) continue;
+      line.age += dt;
+      if (line.age > LINE_S) { this.lines.delete(k); changed = true; }
+    }
+    if (changed) this.render();
+  }
+  render() {
+    if (!this.hud) return;
+    const rows = [...this.lines.values()].reverse().map((l) =>
+      `<div class="hit${l.hard ? ' hard' : ''}${l.ongoing ? '' : ' over'}">${l.hard ? 'HARD HIT' : 'hit'}: ` +
+      `${escape(l.a)} &ndash; ${escape(l.b)} &nbsp;${kN(l.peak)}, ${l.closing.toFixed(1)} m/s</div>`);
+    this.hud.innerHTML = rows.join('');
+  }
+}
