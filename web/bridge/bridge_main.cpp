@@ -10,6 +10,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 
+#include "bridge/contact_feed.hpp"
 #include "bridge/hub.hpp"
 #include "bridge/lcm_link.hpp"
 #include "bridge/web_server.hpp"
@@ -79,6 +80,16 @@ int main(int argc, char** argv) {
   bus.client_id = link.clientId();
   hub = std::make_unique<Hub>(io, cfg, bus);
   forward = hub->lcmHandlers();
+
+  // objects and hits of scenes with contact between bodies, beside the states
+  ContactFeed contacts(&link.bus(), ContactFeed::Hooks{
+                                        [&](const std::string& id) { return hub->watched(id); },
+                                        [&](const std::string& id, std::shared_ptr<const std::string> json) {
+                                          hub->postToWatchers(id, Slot::Contact, std::move(json));
+                                        },
+                                        [&](const std::string& c, const std::string& r) {
+                                          if (forward.bad) forward.bad(c, r);
+                                        }});
 
   WebServer server(io, *hub, std::move(files));
   try {

@@ -597,6 +597,20 @@ void Hub::onCarState(const std::string& id, std::shared_ptr<const std::string> j
   for (Peer* p : it->second.watchers) p->sendLatest(Slot::Car, json);
 }
 
+bool Hub::watched(const std::string& id) {
+  std::lock_guard<std::mutex> lk(shared_mu_);
+  auto it = watched_.find(id);
+  return it != watched_.end() && it->second > 0;
+}
+
+void Hub::postToWatchers(const std::string& id, Slot slot, std::shared_ptr<const std::string> json) {
+  asio::post(io_, [this, id, slot, json] {
+    auto it = sessions_.find(id);
+    if (it == sessions_.end()) return;
+    for (Peer* p : it->second.watchers) p->sendLatest(slot, json);
+  });
+}
+
 void Hub::onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string> json) {
   if (e.session_id.empty()) return;
   auto it = sessions_.find(e.session_id);

@@ -70,6 +70,12 @@ class Hub {
   const std::vector<std::string>& configs() const { return configs_; }
   const std::map<std::string, ShippedScenario>& scenarios() const { return scenarios_; }
 
+  // Any thread: whether a browser watches the session, and a message for
+  // the newest-only `slot` of every browser watching it (posted to the I/O
+  // thread). Feeds beside the hub's own channels use these (contact_feed.hpp).
+  bool watched(const std::string& id);
+  void postToWatchers(const std::string& id, Slot slot, std::shared_ptr<const std::string> json);
+
   // Counters, for logs and tests.
   std::int64_t refused() const { return refused_; }
 

@@ -50,6 +50,8 @@ class LcmLink {
   void start();
   void stop();
   const std::string& clientId() const { return client_id_; }
+  // The bus, for feeds that subscribe on their own (contact_feed.hpp) before start().
+  lcm::LCM& bus() { return lcm_; }
 
   // Any thread. Fill client_id (and request_id for requests) before.
   void publish(const groundsim::request_t& r);

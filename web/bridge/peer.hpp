@@ -10,8 +10,9 @@
 
 namespace groundsim::web {
 
-enum class Slot { State = 0, Lobby = 1, Car = 2 };  // Car: a session's road cars (car_state_t)
-inline constexpr int kSlots = 3;
+// Car: a session's road cars (car_state_t); Contact: its objects and hits (contact_state_t)
+enum class Slot { State = 0, Lobby = 1, Car = 2, Contact = 3 };
+inline constexpr int kSlots = 4;
 
 // What a browser's outbox has done, for the browser itself (the pong) and
 // tests: states are counted from its connection on.

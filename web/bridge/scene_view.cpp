@@ -1,5 +1,7 @@
 #include "bridge/scene_view.hpp"
 
+#include "bridge/object_layout.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -174,7 +176,8 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json, const
     view->road_car.push_back(rc != m.road_cars.end());
     vehicles.push_back(std::move(l));
   }
-  view->layout = {{"name", sc.name}, {"ground", scenario::groundKindName(sc.ground.kind)}, {"vehicles", vehicles}};
+  view->layout = {{"name", sc.name}, {"ground", scenario::groundKindName(sc.ground.kind)}, {"vehicles", vehicles},
+                  {"objects", objectsLayout(m, scene.built.initial)}};
   return view;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace groundsim::web {
 namespace {
@@ -115,6 +116,45 @@ std::string carStateJson(const groundsim::car_state_t& s) {
     out += ",\"travel\":";
     array(out, 4, [&](int i) { return c.suspension_travel[i]; });
     out += '}';
+  }
+  return out + "]}";
+}
+
+std::string contactJson(const groundsim::contact_state_t& s) {
+  std::string out;
+  out.reserve(128 + 160 * s.objects.size() + 256 * s.hits.size());
+  out += "{\"op\":\"contact\",\"session\":" + quoted(s.session_id) + ",\"seq\":" + std::to_string(s.seq) + ",\"t\":";
+  num(out, s.t);
+  out += ",\"objects\":[";
+  for (std::size_t k = 0; k < s.objects.size(); ++k) {
+    const groundsim::object_state_t& o = s.objects[k];
+    if (k) out += ',';
+    out += "{\"name\":" + quoted(o.name) + ",\"p\":";
+    array(out, 3, [&](int i) { return o.position[i]; });
+    out += ",\"q\":";
+    array(out, 4, [&](int i) { return o.orientation[i]; });
+    out += ",\"v\":";
+    array(out, 3, [&](int i) { return o.velocity[i]; });
+    out += ",\"w\":";
+    array(out, 3, [&](int i) { return o.angular_velocity[i]; });
+    out += '}';
+  }
+  out += "],\"hits\":[";
+  for (std::size_t k = 0; k < s.hits.size(); ++k) {
+    const groundsim::hit_t& h = s.hits[k];
+    if (k) out += ',';
+    out += "{\"a\":" + quoted(h.a) + ",\"b\":" + quoted(h.b) + ",\"p\":";
+    array(out, 3, [&](int i) { return h.position[i]; });
+    out += ",\"F\":";
+    array(out, 3, [&](int i) { return h.force[i]; });
+    const std::pair<const char*, double> fields[] = {{"impulse", h.impulse}, {"peak", h.peak_force},
+                                                     {"closing", h.closing_speed}, {"depth", h.depth},
+                                                     {"begin", h.begin}};
+    for (const auto& [key, value] : fields) {
+      out += std::string(",\"") + key + "\":";
+      num(out, value);
+    }
+    out += std::string(",\"hard\":") + (h.hard ? "true" : "false") + '}';
   }
   return out + "]}";
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <groundsim/car_state_t.hpp>
+#include <groundsim/contact_state_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/state_t.hpp>
@@ -22,6 +23,11 @@ std::string stateJson(const groundsim::state_t& s, double wall_s);
 //  "yaw_rate","throttle","brake","steer","steer_angle","handbrake",
 //  "gear_request","slip_ratio","slip_angle","travel"}]}
 std::string carStateJson(const groundsim::car_state_t& s);
+// {"op":"contact","session","seq","t","objects":[{"name","p" (shape centre),
+//  "q" (w x y z),"v","w"}],"hits":[{"a","b","p","F" (on a),"impulse","peak",
+//  "closing","depth","begin","hard"}]}: the objects with mass and the hits
+// under way, with the seq of the state it goes with
+std::string contactJson(const groundsim::contact_state_t& s);
 // {"op":"event","session","severity","code","reason","t"}
 std::string eventJson(const groundsim::event_t& e);
 // A JSON string literal (quotes and escapes) for any bytes.
