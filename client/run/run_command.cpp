@@ -8,6 +8,7 @@
 // reason), 4 out of memory or an internal error (the message says which).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <new>
@@ -51,6 +52,7 @@ struct RunOptions {
   std::string preset, integrator;
   std::optional<double> dt;
   std::string csv_path;
+  std::string hits_path;
   std::string plot_path;
   bool quiet = false;
   scenario::Budget budget;  // raised by the --max-* flags
@@ -121,6 +123,8 @@ struct RunResult {
   double wall = 0.0;
   double energy_start = 0.0, energy_end = 0.0;
   std::vector<VehicleSample> final_samples;
+  std::vector<Hit> hits;  // contact between bodies: ended ones, then those still under way
+  std::size_t hits_dropped = 0;
 };
 
 // The frame loop: step to each frame's tick, sample every vehicle, write.
@@ -132,6 +136,13 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
   r.energy_start = sim.state().initial_energy;
   Progress bar(progress, scene.duration);
   const auto t0 = Clock::now();
+  // the simulator keeps at most ContactLog::kMaxEnded ended hits: with
+  // contact between bodies, collect them every few steps
+  const long long most = sim.model().collisions ? 64 : 2048;
+  auto collectHits = [&]() {
+    if (!sim.model().collisions) return;
+    for (Hit& h : sim.takeEndedHits()) r.hits.push_back(h);
+  };
 
   auto writeFrame = [&]() {
     r.final_samples.clear();
@@ -152,17 +163,23 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     const long long target = std::min(frameTick(k, scene.output_rate, dt), end_tick);
     while (sim.state().tick < target) {
       // progress is checked between chunks: a clock read per step costs more than the step
-      const long long chunk = std::min<long long>(target - sim.state().tick, 2048);
-      if (!scenario::stepScene(scene, sim, chunk)) break;  // with the road cars' control tables
+      const long long chunk = std::min<long long>(target - sim.state().tick, most);
+      const bool ok = scenario::stepScene(scene, sim, chunk);  // with the road cars' control tables
+      collectHits();
+      if (!ok) break;
       bar.update(sim.state().t);
     }
     writeFrame();  // after a divergence: the last finite state, health set
   }
   // a duration that is not a whole number of frames still runs to its end
   while (sim.healthy() && sim.state().tick < end_tick) {
-    if (!scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, 2048))) break;
+    const bool ok = scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, most));
+    collectHits();
+    if (!ok) break;
     bar.update(sim.state().t);
   }
+  collectHits();
+  r.hits.insert(r.hits.end(), sim.hits().begin(), sim.hits().end());
   r.wall = secondsSince(t0);
   bar.done();
   r.steps = sim.state().tick;
@@ -172,6 +189,22 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     for (size_t v = 0; v < scene.cars.size(); ++v) r.final_samples.push_back(sampleVehicle(sim, scene.cars[v].vehicle, false));
   }
   return r;
+}
+
+// One row per hit between bodies (contact_log.hpp), in the order they ended.
+bool writeHits(const std::string& path, const Model& m, const std::vector<Hit>& hits) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) return false;
+  f << "a,b,begin,end,x,y,z,closing_speed,impulse,peak_force,depth,hard\n";
+  char buf[512];
+  for (const Hit& h : hits) {
+    std::snprintf(buf, sizeof buf, "%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%d\n", m.groups[h.a].name.c_str(),
+                  m.groups[h.b].name.c_str(), h.begin, h.end, h.where.x(), h.where.y(), h.where.z(), h.closing_speed,
+                  h.impulse, h.peak_force, h.depth, h.hard ? 1 : 0);
+    f << buf;
+  }
+  f.close();
+  return static_cast<bool>(f);
 }
 
 void printSummary(const scenario::Scenario& s, const Simulator& sim, const scenario::Scene& scene,
@@ -188,6 +221,20 @@ void printSummary(const scenario::Scenario& s, const Simulator& sim, const scena
     std::printf("vehicle    %-10s position (%.4f, %.4f, %.4f) m, speed %.4f m/s, velocity (%.4f, %.4f, %.4f) m/s\n",
                 scene.vehicle_names[v].c_str(), f.position.x(), f.position.y(), f.position.z(), f.speed,
                 f.velocity.x(), f.velocity.y(), f.velocity.z());
+  }
+  if (m.collisions) {
+    int hard = 0;
+    for (const Hit& h : r.hits) hard += h.hard;
+    std::printf("hits       %zu between bodies (%d hard)%s\n", r.hits.size(), hard,
+                r.hits_dropped ? " and more not kept" : "");
+  }
+  for (const SceneObject& o : m.objects) {
+    if (o.body < 0) continue;
+    const Vec3 x0 = bodyPos(scene.built.initial.y, o.body), x = bodyPos(sim.state().y, o.body);
+    const Quat q = Quat(bodyRot(sim.state().y, o.body)).normalized();
+    const double tilt = std::acos(std::clamp((q * Vec3::UnitZ()).z(), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+    std::printf("object     %-10s position (%.4f, %.4f, %.4f) m, moved %.3f m, tilted %.1f deg\n", o.name.c_str(),
+                x.x(), x.y(), x.z(), (x - x0).norm(), tilt);
   }
   std::printf("energy     start %.6g J, end %.6g J (drive work %.4g J)\n", r.energy_start, r.energy_end,
               sim.state().drive_work);
@@ -264,6 +311,10 @@ int run(const RunOptions& o) {
       code = kExitOutput;
     }
   }
+  if (!o.hits_path.empty() && !writeHits(o.hits_path, sim.model(), r.hits)) {
+    std::cerr << "error: cannot write " << scenario::quote(o.hits_path) << "\n";
+    code = kExitOutput;
+  }
   if (!o.quiet) printSummary(s, sim, *scene, r);
   if (!o.plot_path.empty() && code == 0) {
     const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,
@@ -334,6 +385,8 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("--set", opts->overrides, "Override a value before validation: key.path=value (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--csv", opts->csv_path, "Write frames at the output rate to this CSV file");
+  cmd->add_option("--hits", opts->hits_path,
+                  "Write the hits between bodies (which pair, when, where, closing speed, impulse, peak force) to this CSV file");
   cmd->add_option("--plot", opts->plot_path, "Plot speed per frame to this PNG (needs gnuplot)");
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress line and no summary");
   addBudgetOptions(cmd, opts->budget);

@@ -89,7 +89,12 @@ struct BatchStep::Impl {
   State probe;       // one lane as a State, for checkHealth
 };
 
-const char* BatchStep::unsupported(const Model& m) { return fastCarUnsupported(m); }
+// A batch steps every environment on the fast kernel with no broad phase:
+// a scene whose bodies can touch each other is stepped one by one.
+const char* BatchStep::unsupported(const Model& m) {
+  if (m.collisions) return "bodies of the scene can touch each other (collisions)";
+  return fastCarUnsupported(m);
+}
 
 BatchStep::BatchStep(std::shared_ptr<const Model> model) : model_(std::move(model)) {
   if (!model_) throw std::invalid_argument("batch step: no model");

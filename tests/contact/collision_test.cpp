@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -80,6 +81,9 @@ void crash(double offset) {
   ASSERT_GE(ended, 1) << "the cars never touched";
   const Vec3 p1 = linearMomentum(m, r.sim->state());
   const Vec3 L1 = angularMomentum(m, r.sim->state());
+  std::printf("crash offset %.2f m: p_x %.6g -> %.6g N s, p_y %.4g, L_z %.6g -> %.6g N m s, KE %.6g -> max %.6g J, "
+              "end %.6g J, struck car %.3f m/s\n",
+              offset, p0.x(), p1.x(), p1.y(), L0.z(), L1.z(), ke0, ke_max, r.sim->energy().kinetic, r.vel("b").x());
   EXPECT_NEAR(p1.x(), p0.x(), 0.01 * p0.norm());
   EXPECT_NEAR(p1.y(), p0.y(), 0.01 * p0.norm());
   EXPECT_NEAR(L1.z(), L0.z(), 0.01 * std::max(std::abs(L0.z()), p0.norm() * 1.0));
@@ -136,6 +140,9 @@ TEST(Collision, BoxesRestitutionMatchesSpringDashpot) {
   ASSERT_EQ(hits.size(), 1u);
   const double e = (r.vel("b").x() - r.vel("a").x()) / v0;
   const double duration = hits[0].end - hits[0].begin + m.opt.dt;
+  std::printf("boxes: %d probes, zeta %.4f: e %.4f (closed form %.4f, clamped-force exact %.4f), contact %.4f s "
+              "(pi/omega_d %.4f s)\n",
+              n, zeta, e, e_closed, e_exact, duration, t_closed);
   EXPECT_NEAR(e, e_closed, 0.05 * e_closed) << "zeta " << zeta << ", " << n << " probes";
   EXPECT_NEAR(e, e_exact, 0.01 * e_exact);
   EXPECT_NEAR(duration, t_closed, 0.10 * t_closed);
@@ -196,6 +203,8 @@ TEST(Collision, FiftyKmhIntoAWallAtEveryPresetAndIntegrator) {
   };
   for (const json& c : cases) {
     const WallResult w = hitWall(v, c);
+    std::printf("50 km/h wall %s: deepest %.4f m, front reached %.4f m (wall face %.2f)\n", c.dump().c_str(), w.depth,
+                w.front_max + 2.2, 9.9);
     EXPECT_TRUE(w.healthy) << c.dump() << ": " << w.why;
     EXPECT_GT(w.depth, 0.0) << c.dump() << ": never touched";
     EXPECT_LT(w.depth, 0.10) << c.dump();
@@ -205,6 +214,8 @@ TEST(Collision, FiftyKmhIntoAWallAtEveryPresetAndIntegrator) {
 
 TEST(Collision, HundredKmhAtTheFastPresetNeitherDivergesNorTunnels) {
   const WallResult w = hitWall(100.0 / 3.6, {{"preset", "fast"}});
+  std::printf("100 km/h wall, fast preset: deepest %.4f m, front reached %.4f m (far face 10.1), hard %d\n", w.depth,
+              w.front_max + 2.2, w.hard ? 1 : 0);
   EXPECT_TRUE(w.healthy) << w.why;
   EXPECT_TRUE(w.hard) << "a 100 km/h impact is reported as hard";
   EXPECT_LT(w.front_max, 10.1 - 2.2) << "the car's front passed the wall's far face";
@@ -232,6 +243,7 @@ TEST(Collision, CarRestsAgainstAWallOnASlope) {
     ASSERT_TRUE(step(r, 1));
     vmax = std::max(vmax, r.vel("car").norm());
   }
+  std::printf("slope: creep %.3g m in 10 s, fastest %.3g m/s\n", (r.pos("car") - x0).norm(), vmax);
   EXPECT_LT((r.pos("car") - x0).norm(), 1e-3);
   EXPECT_LT(vmax, 1e-3);
 }
@@ -256,6 +268,8 @@ TEST(Collision, CarsRestOnABox) {
     SceneRun r = load(doc);
     const double seconds = 4.0;
     ASSERT_TRUE(step(r, std::llround(seconds / r.m().opt.dt))) << r.sim->state().health_reason;
+    std::printf("stack (dt %g): car at z %.4f m, speed %.3g m/s, box speed %.3g m/s\n", r.m().opt.dt,
+                r.pos("car").z(), r.vel("car").norm(), r.vel("box").norm());
     EXPECT_GT(r.pos("car").z(), 0.5) << "fell through the box";
     EXPECT_LT(r.vel("car").norm(), 1e-3);
     EXPECT_LT(r.vel("box").norm(), 1e-3);
@@ -288,6 +302,7 @@ TEST(Collision, PushedCarAcceleratesAtForceOverBothMasses) {
   const double mass = r.m().bodies[r.body("pusher")].mass + r.m().bodies[r.body("pushed")].mass;
   const double a_closed = impulse / (n * r.m().opt.dt) / mass;
   const double a_pushed = (r.vel("pushed").x() - v1) / (n * r.m().opt.dt);
+  std::printf("push: pushed car %.4f m/s^2, F/(m1+m2) %.4f m/s^2\n", a_pushed, a_closed);
   EXPECT_GT(a_closed, 0.5);
   EXPECT_NEAR(a_pushed, a_closed, 0.05 * a_closed);
 }
@@ -314,6 +329,7 @@ TEST(Collision, WheelClimbsAKerbAboveTheClosedFormSpeedOnly) {
                    {"friction", 2.0}}}}};
     SceneRun run = load(doc);
     EXPECT_TRUE(step(run, 40000)) << run.sim->state().health_reason;  // 4 s
+    std::printf("kerb at %.3f v_c: wheel ends at x %.3f, z %.3f\n", v / vc, run.pos("wheel").x(), run.pos("wheel").z());
     return run.pos("wheel").x() > 3.0 && run.pos("wheel").z() > r + 0.5 * h;
   };
   EXPECT_TRUE(climbs(1.2 * vc)) << "v_c = " << vc;

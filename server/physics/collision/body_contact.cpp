@@ -31,6 +31,31 @@ void groupBoxes(const Model& m, Workspace& ws, RefCom com) {
   }
 }
 
+// After the boxes overlap: two movable groups' spheres must overlap, and a
+// movable group's sphere must reach a static group's shape (its distance
+// function at the sphere's centre; long walls have large boxes).
+bool closeEnough(const Model& m, int a, int b, const Workspace& ws) {
+  const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
+  const bool sa = ga.ref_body < 0, sb = gb.ref_body < 0;
+  if (!sa && !sb) {
+    const double r = ga.bound + gb.bound;
+    const Vec3 ca = 0.5 * (ws.group_lo[a] + ws.group_hi[a]), cb = 0.5 * (ws.group_lo[b] + ws.group_hi[b]);
+    return (ca - cb).squaredNorm() <= r * r;
+  }
+  const CollisionGroup& moving = sa ? gb : ga;
+  const CollisionGroup& fixed = sa ? ga : gb;
+  const int mi = sa ? b : a;
+  const Vec3 c = 0.5 * (ws.group_lo[mi] + ws.group_hi[mi]);  // the reference body's centre
+  for (int i = fixed.collider_begin; i < fixed.collider_end; ++i) {
+    const Collider& col = m.colliders[i];
+    if (col.shape.distance(col.rot.transpose() * (c - col.pos)) <= moving.bound) return true;
+  }
+  // its probes (a static group's points) may still poke into the group
+  for (int i = fixed.probe_begin; i < fixed.probe_end; ++i)
+    if ((m.probes[i].local - c).squaredNorm() <= moving.bound * moving.bound) return true;
+  return false;
+}
+
 // Sort and sweep: the order is kept between evaluations, so the insertion
 // sort costs about one comparison per group once bodies move smoothly.
 void sweep(const Model& m, Workspace& ws) {
@@ -56,6 +81,7 @@ void sweep(const Model& m, Workspace& ws) {
       if (ws.group_lo[b].y() > ws.group_hi[a].y() || ws.group_lo[a].y() > ws.group_hi[b].y() ||
           ws.group_lo[b].z() > ws.group_hi[a].z() || ws.group_lo[a].z() > ws.group_hi[b].z())
         continue;
+      if (!closeEnough(m, a, b, ws)) continue;
       ws.pairs.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
@@ -197,6 +223,13 @@ double reducedMass(const CollisionGroup& a, const CollisionGroup& b) {
 
 }  // namespace
 
+int substepsFor(double omega, double zeta, double dt) {
+  const double limit = 2.0 * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  const double n = std::ceil(omega * dt / (kStepMargin * limit));
+  return std::isfinite(n) ? static_cast<int>(std::clamp(n, 1.0, static_cast<double>(kMaxContactSubsteps)))
+                          : kMaxContactSubsteps;
+}
+
 int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
   int n = 1;
   for (const auto& [a, b] : ws.pairs) {
@@ -204,11 +237,13 @@ int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
     const PairLaw law = pairLaw(m, ga, gb);
     const double mr = reducedMass(ga, gb);
     if (!(mr > 0.0)) continue;
+    // the face probes of both groups pressing at once: the stiffest mode
     const double probes = ga.face_probes + gb.face_probes;
-    const double w = std::sqrt(law.k * probes / mr) + law.c * probes / mr;
-    n = std::max(n, static_cast<int>(std::min(std::ceil(w * dt / kMaxOmegaH), 1e9)));
+    const double k = law.k * probes, c = law.c * probes;
+    const double w = std::sqrt(k / mr);
+    n = std::max(n, substepsFor(w, c / (2.0 * std::sqrt(k * mr)), dt));
   }
-  return std::min(n, kMaxContactSubsteps);
+  return n;
 }
 
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws) {

@@ -19,8 +19,8 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws);
 // none may.
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws);
 
-// Integrator substeps per step of dt that keep omega h <= kMaxOmegaH for
-// every candidate pair of the last groupsMayTouch, omega from the pair's
+// Integrator substeps per step of dt that resolve (substepsFor) the
+// contact of every candidate pair of the last groupsMayTouch, from the pair's
 // stiffness, damping and reduced mass with the face probes of both groups
 // pressing at once. 1 when no pair may touch.
 int contactSubsteps(const Model& m, const Workspace& ws, double dt);

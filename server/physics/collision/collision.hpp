@@ -18,9 +18,14 @@
 namespace groundsim {
 
 // Contacts between bodies and objects' ground contacts are resolved with
-// integrator substeps where needed: omega h at most this, at most this many.
-inline constexpr double kMaxOmegaH = 0.5;
+// integrator substeps where needed: omega h at most kStepMargin times the
+// symplectic Euler limit of a damped oscillator, 2 (sqrt(1 + zeta^2) -
+// zeta), and at most kMaxContactSubsteps of them.
+inline constexpr double kStepMargin = 0.5;
 inline constexpr int kMaxContactSubsteps = 64;
+// Substeps of dt that resolve an oscillator of frequency omega and damping
+// ratio zeta (at least 1).
+int substepsFor(double omega, double zeta, double dt);
 
 struct CollisionParams {
   bool enabled = true;              // false: bodies pass through each other
@@ -35,8 +40,9 @@ struct CollisionParams {
   double friction = 0.5;            // -      Coulomb mu of vehicles (objects carry their own)
   double slip_velocity = 0.05;      // m/s    friction is mu N tanh(|slip| / v_s)
   double probe_spacing = 0.5;       // m      largest gap between a shape's probe points
-  double hard_impact = 20.0;        // g      a hit whose peak force exceeds this times the lighter
-                                    //        group's weight is reported as hard
+  double hard_impact = 20.0;        // g      a hit whose peak force exceeds this times the weight of
+                                    //        the lighter vehicle of the pair (else the lighter
+                                    //        object) is reported as hard
 };
 
 struct Collider {

@@ -13,10 +13,17 @@ Vec3 refVelocity(const Model& m, const State& s, int group) {
   return b < 0 ? Vec3::Zero() : Vec3(bodyVel(s.y, b));
 }
 
-double lighterWeight(const Model& m, const Hit& h) {
+// What "hard" is measured against: the lighter vehicle of the pair (a car
+// that knocks a cone over is not hit hard), else the lighter object.
+double referenceWeight(const Model& m, const Hit& h) {
   const CollisionGroup &a = m.groups[h.a], &b = m.groups[h.b];
-  const double ma = a.ref_body < 0 ? 1e300 : a.mass, mb = b.ref_body < 0 ? 1e300 : b.mass;
-  return std::min(ma, mb) * m.opt.gravity.norm();
+  auto mass = [](const CollisionGroup& g, bool vehicles_only) {
+    if (g.ref_body < 0 || (vehicles_only && g.vehicle < 0)) return 1e300;
+    return g.mass;
+  };
+  double ref = std::min(mass(a, true), mass(b, true));
+  if (ref >= 1e300) ref = std::min(mass(a, false), mass(b, false));
+  return ref * std::max(m.opt.gravity.norm(), 9.80665);
 }
 
 }  // namespace
@@ -43,8 +50,8 @@ void ContactLog::update(const Model& m, const State& s, const Workspace& ws, dou
     h.impulse = h.momentum.norm();
     h.peak_force = std::max(h.peak_force, pc.force.norm());
     h.depth = std::max(h.depth, pc.depth);
-    h.where = pc.where;
-    h.hard = h.peak_force > m.opt.collision.hard_impact * lighterWeight(m, h);
+    if (pc.normal > 0.0) h.where = pc.where;  // a step of pure overlap (force clamped to 0) keeps the last
+    h.hard = h.peak_force > m.opt.collision.hard_impact * referenceWeight(m, h);
     next_.push_back(h);
   }
   for (const Hit& h : active_) {

@@ -22,7 +22,7 @@ struct Hit {
   Vec3 where = Vec3::Zero();        // m      last contact centroid
   Vec3 momentum = Vec3::Zero();     // N s    integral of the force on a
   Vec3 force = Vec3::Zero();        // N      on a, by b, at the last step
-  bool hard = false;                // peak force above collision.hard_impact g of the lighter group
+  bool hard = false;                // peak force above collision.hard_impact g (collision.hpp)
 };
 
 class ContactLog {

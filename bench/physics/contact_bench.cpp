@@ -1,0 +1,64 @@
+// The cost of contact between bodies when nothing touches (issue 19): 32
+// road cars spread over the hills heightfield, with collisions on and off,
+// and the same for 32 of the report's cars at the fast preset on a plane
+// (the specialised kernel while no pair may touch). The broad phase must
+// stay within 5% of "off". Run: build/bench/physics/contact_bench.
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "physics/simulator.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim {
+namespace {
+
+scenario::Scene fleet(bool road_cars, bool collisions) {
+  nlohmann::json doc = scenario::loadScenarioDocument(std::string(GROUNDSIM_CONFIGS) + "/hills.json");
+  doc.erase("vehicle");
+  doc["name"] = "fleet";
+  doc["duration"] = 1e4;
+  doc["collisions"] = {{"enabled", collisions}};
+  if (road_cars) {
+    doc["physics"] = {{"integrator", "semi_implicit_euler"}, {"dt", 0.004}};
+  } else {
+    doc["ground"] = {{"type", "plane"}};
+    doc["preset"] = "fast";
+  }
+  nlohmann::json cars = nlohmann::json::array();
+  for (int i = 0; i < 32; ++i) {
+    const double x = -60.0 + 30.0 * (i % 5), y = -60.0 + 30.0 * (i / 5 % 5) + (i >= 25 ? 12.0 : 0.0);
+    nlohmann::json v = {{"name", "car" + std::to_string(i)}, {"initial", {{"position", {x, y, 0}}, {"speed", 2.0}}}};
+    if (road_cars) {
+      v["kind"] = "road_car";
+      v["controls"] = {{{"t", 0.0}, {"throttle", 0.05}}};
+    }
+    cars.push_back(v);
+  }
+  doc["vehicles"] = cars;
+  return scenario::buildScene(scenario::parseScenario(doc, scenario::FileAccess::local(GROUNDSIM_CONFIGS)));
+}
+
+void Fleet(benchmark::State& st, bool road_cars, bool collisions) {
+  const scenario::Scene scene = fleet(road_cars, collisions);
+  Simulator sim(scene.built.model, scene.built.initial);
+  for (auto _ : st) {
+    if (sim.state().t > 20.0) sim.restore(scene.built.initial);  // stay spread out
+    scenario::stepScene(scene, sim, 100);
+  }
+  st.counters["steps/s"] = benchmark::Counter(100.0 * st.iterations(), benchmark::Counter::kIsRate);
+  st.counters["specialised"] = sim.specialised() ? 1 : 0;
+  st.counters["collisions"] = sim.model().collisions ? 1 : 0;
+}
+
+BENCHMARK_CAPTURE(Fleet, road_cars_hills_off, true, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Fleet, road_cars_hills_on, true, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Fleet, report_cars_fast_off, false, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Fleet, report_cars_fast_on, false, true)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace groundsim
+
+BENCHMARK_MAIN();
