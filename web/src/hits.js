@@ -73,7 +73,7 @@ export class HitEffects {
     for (const b of this.bursts || []) b.dispose();
     this.bursts = [];
     this.lines = new Map();  // key -> {a, b, peak, closing, hard, ongoing, age}
-    this.shown = [];         // every hit shown: {a, b, hard, peak, closing, t} (tests read it)
+    this.shown = [];         // every hit shown: {a, b, hard, peak, closing, t, p} (tests read it)
     if (this.hud) this.hud.replaceChildren();
   }
   // m: a contact message of the session
@@ -84,7 +84,7 @@ export class HitEffects {
       now.add(k);
       let line = this.lines.get(k);
       if (!line) {
-        const shown = { a: h.a, b: h.b, hard: h.hard, peak: h.peak, closing: h.closing, t: m.t };
+        const shown = { a: h.a, b: h.b, hard: h.hard, peak: h.peak, closing: h.closing, t: m.t, p: h.p };
         line = { a: h.a, b: h.b, hard: h.hard, peak: 0, closing: h.closing, age: 0, shown };
         this.lines.set(k, line);
         if (this.bursts.length < 32) this.bursts.push(new Burst(this.scene, h.p, h.hard));

@@ -1,0 +1,98 @@
+// Contact between bodies in the browser (issue 19). Two players in one
+// session of tests/web/data/contact/push.json (two sedans nose to tail,
+// 3.3 m apart; the bridge offers that folder's scenarios): player one
+// drives the car behind into the other, whose driver (player two) does
+// nothing. Both pages show the hit (the HUD line names the pair), and the
+// car in front is pushed more than 1 m. Then a session of
+// configs/contact/crash.json, created with the command line client and
+// spectated, is drawn with its static concrete barrier where the scene
+// placed it (on the ground: its centre half its 1 m height up).
+import { fileURLToPath } from 'node:url';
+import * as h from './harness.mjs';
+import { CONFIGS } from './harness.mjs';
+
+const data = fileURLToPath(new URL('./data/contact', import.meta.url));
+const { url } = await h.startServices({ bridgeArgs: ['--configs', data] });
+await h.launch();
+const one = await h.newPage(url), two = await h.newPage(url);
+const session = await h.createAndDrive(one, 'push.json', 2);
+await h.until('the session in the lobby', () => two.evaluate((id) => !!document.querySelector(`tr[data-session="${id}"]`), session));
+await two.click(`tr[data-session="${session}"] button[data-act="drive"]`);
+await h.until('player two to drive', () => two.evaluate(() => window.groundsim.role === 'drive' && window.groundsim.states > 2));
+const roles = await Promise.all([one, two].map((p) => p.evaluate(() => [window.groundsim.role, window.groundsim.vehicle])));
+if (roles[0][1] !== 0 || roles[1][1] !== 1) await h.fail(`wrong roles ${JSON.stringify(roles)}`);
+await Promise.all([one, two].map((p) => h.caughtUp(p, session)));
+const contacts0 = await two.evaluate(() => window.groundsim.contacts);
+console.log(`contact states received by player two so far: ${contacts0}`);
+
+const pos = (page, k) => page.evaluate((i) => window.groundsim.lastState.vehicles[i].p, k);
+const shown = (page) => page.evaluate(() => ({
+  hits: window.groundsim.hits.shown.map((x) => ({ ...x })),
+  hud: document.getElementById('hud-hits').textContent,
+}));
+// the car in front at rest, its driver idle
+const start = await pos(two, 1);
+await one.waitForTimeout(1500);
+const still = await pos(two, 1);
+const drift = Math.hypot(still[0] - start[0], still[1] - start[1]);
+console.log(`car 1 idle for 1.5 s: moved ${drift.toFixed(3)} m`);
+if (drift > 0.2) await h.fail(`car 1 moves by itself (${drift} m in 1.5 s): the push would prove nothing`);
+
+// player one holds W until its page shows the hit, then lets go
+let hudOne = '', hudTwo = '';
+await h.holdUntil(one, 'w', 'a hit shown on player one\'s page', async () => {
+  const s = await shown(one);
+  if (s.hits.length) hudOne = s.hud;
+  return s.hits.length > 0;
+}, 60000);
+const hitTwo = await h.until('the hit shown on player two\'s page too', async () => {
+  const s = await shown(two);
+  if (s.hits.length) hudTwo = s.hud;
+  return s.hits.length > 0 && s;
+}, 30000, 50);
+const hitOne = await shown(one);
+console.log(`player one: ${JSON.stringify(hitOne.hits)} HUD "${hudOne}"`);
+console.log(`player two: ${JSON.stringify(hitTwo.hits)} HUD "${hudTwo}"`);
+const pair = (x) => [x.a, x.b].sort().join('+') === 'pushed+pusher';
+// flashed where they touch: behind the front car's centre (4.7 m long cars), on its line
+const near = (x) => x.p && x.p[0] > start[0] - 4 && x.p[0] < start[0] && Math.abs(x.p[1] - start[1]) < 1.5 && x.p[2] > 0 && x.p[2] < 2;
+for (const [who, s, hud] of [['one', hitOne, hudOne], ['two', hitTwo, hudTwo]]) {
+  if (!s.hits.some(pair)) await h.fail(`player ${who}'s page shows no hit between pusher and pushed: ${JSON.stringify(s.hits)}`);
+  if (!(hud.includes('pusher') && hud.includes('pushed'))) await h.fail(`player ${who}'s HUD does not name the pair: "${hud}"`);
+  if (!s.hits.some((x) => pair(x) && near(x))) await h.fail(`player ${who}'s page flashed the hit away from the cars: ${JSON.stringify(s.hits)}`);
+}
+
+// the car in front was pushed, while its own driver sent nothing but zeros
+const moved = await h.until('car 1 to be pushed more than 1 m', async () => {
+  const p = await pos(two, 1);
+  const d = Math.hypot(p[0] - start[0], p[1] - start[1]);
+  return d > 1.0 && d;
+}, 30000, 100).catch(async () => h.fail(`car 1 moved ${JSON.stringify(await pos(two, 1))} from ${JSON.stringify(start)}: not pushed 1 m`));
+const idle = await two.evaluate(() => JSON.parse(window.groundsim.lastControls));
+console.log(`car 1 pushed ${moved.toFixed(2)} m; player two's controls ${JSON.stringify(idle)}`);
+if (idle.throttle !== 0 || idle.brake !== 0) await h.fail(`player two's car was driven: ${JSON.stringify(idle)}`);
+// the ended hit arrives as the server's event too
+const events = await h.until('the ended hit as an event', () => one.evaluate(() => window.groundsim.hitEvents), 30000)
+  .catch(() => 0);
+console.log(`"hit: " events on player one's page: ${events}`);
+
+// a scenario with objects: its static barrier is drawn where the scene
+// placed it (the players' pages closed first: software WebGL takes a core each)
+for (const p of [one, two]) await p.context().close();
+const crash = h.cli('create', `${CONFIGS}/contact/crash.json`, '--duration', '-1').trim().split('\n').pop().trim();
+const spectator = await h.newPage(`${url}?session=${crash}`);
+await h.until('states of the crash session', () => spectator.evaluate(() => window.groundsim.states > 2));
+const objects = await spectator.evaluate(() => ({ n: window.groundsim.objectMeshes, list: window.groundsim.objects.describe() }));
+console.log(`crash.json drawn with ${objects.n} object meshes: ${JSON.stringify(objects.list)}`);
+const barrier = objects.list.find((o) => o.name === 'barrier');
+if (!(objects.n >= 1) || !barrier) await h.fail('the crash scenario\'s barrier is not drawn');
+if (barrier.kind !== 'barrier') await h.fail(`the barrier is drawn as a ${barrier.kind}`);
+if (Math.abs(barrier.p[0] - 40) > 1e-6 || Math.abs(barrier.p[1]) > 1e-6 || Math.abs(barrier.p[2] - 0.5) > 1e-6)
+  await h.fail(`the barrier is drawn at ${barrier.p}, not [40, 0, 0.5]`);
+await h.until('its contact states', () => spectator.evaluate(() => window.groundsim.contacts > 0), 30000);
+// its first frames compile the shaders (seconds in software WebGL): until then the canvas is sky
+await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0));
+let stats = null;
+await h.until('the spectator\'s view drawn', async () => (stats = await h.canvasStats(spectator)).std >= 10, 60000, 500)
+  .catch(() => h.fail(`the spectator's view is blank: ${JSON.stringify(stats)}`));
+await h.pass(`hit shown on both pages, car 1 pushed ${moved.toFixed(2)} m; crash.json's barrier drawn`);
