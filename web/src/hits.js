@@ -38,6 +38,16 @@ class Burst {
     this.sparks.frustumCulled = false;
     scene.add(this.flash, this.sparks);
   }
+  // The hit's point moved (a later contact state places it better): the
+  // flash and the sparks follow.
+  moveTo(p) {
+    const d = new THREE.Vector3(...p).sub(this.flash.position);
+    if (d.lengthSq() === 0) return;
+    this.flash.position.add(d);
+    for (let i = 0; i < SPARKS; ++i) {
+      this.pos[3 * i] += d.x; this.pos[3 * i + 1] += d.y; this.pos[3 * i + 2] += d.z;
+    }
+  }
   // false once over (and removed)
   step(dt) {
     this.age += dt;
@@ -85,17 +95,20 @@ export class HitEffects {
       let line = this.lines.get(k);
       if (!line) {
         const shown = { a: h.a, b: h.b, hard: h.hard, peak: h.peak, closing: h.closing, t: m.t, p: h.p };
-        line = { a: h.a, b: h.b, hard: h.hard, peak: 0, closing: h.closing, age: 0, shown };
+        line = { a: h.a, b: h.b, hard: h.hard, peak: 0, closing: h.closing, age: 0, shown, burst: null };
         this.lines.set(k, line);
-        if (this.bursts.length < 32) this.bursts.push(new Burst(this.scene, h.p, h.hard));
+        if (this.bursts.length < 32) this.bursts.push(line.burst = new Burst(this.scene, h.p, h.hard));
         this.shown.push(shown);
         if (this.shown.length > 256) this.shown.shift();
         while (this.lines.size > MAX_LINES) this.lines.delete(this.lines.keys().next().value);
       } else if (h.hard && !line.hard) {
         // a hit turns hard during its course: flash again
-        this.bursts.push(new Burst(this.scene, h.p, true));
+        this.bursts.push(line.burst = new Burst(this.scene, h.p, true));
         line.hard = line.shown.hard = true;
+      } else if (line.burst && line.burst.age < line.burst.life) {
+        line.burst.moveTo(h.p);
       }
+      line.shown.p = h.p;
       line.peak = Math.max(line.peak, h.peak);
       line.shown.peak = line.peak;
       line.ongoing = true;

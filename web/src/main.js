@@ -66,6 +66,7 @@ const app = {
 };
 app.send = (m) => net.send(m);
 window.groundsim = app;  // for tests and the latency benchmark
+app.three = { scene, camera };
 
 function clearScene() {
   for (const v of app.vehicles) v.dispose(scene);
@@ -143,7 +144,13 @@ net.on('contact', (m) => {
 });
 net.on('event', (m) => {
   const cls = m.severity >= 2 ? 'e' : m.severity === 1 ? 'w' : 'i';
-  if (typeof m.reason === 'string' && m.reason.startsWith('hit: ')) app.hitEvents++;
+  if (typeof m.reason === 'string' && m.reason.startsWith('hit: ')) {
+    // an ended hit: the HUD named it while it lasted; one short line here
+    app.hitEvents++;
+    const pair = m.reason.split(' at (')[0], peak = m.reason.match(/peak force ([0-9.e+-]+) N/);
+    const hard = m.reason.endsWith('(hard)') ? ' (hard)' : '';
+    return addEvent(`t=${m.t.toFixed(2)} s  ${pair}${peak ? `, peak ${(parseFloat(peak[1]) / 1000).toFixed(1)} kN` : ''}${hard}`, cls);
+  }
   addEvent(`t=${m.t.toFixed(2)} s  ${cls === 'e' ? 'error' : cls === 'w' ? 'warning' : 'info'} ${m.code}: ${m.reason}`, cls);
 });
 net.on('error', (m) => {
