@@ -26,9 +26,11 @@ const contacts0 = await two.evaluate(() => window.groundsim.contacts);
 console.log(`contact states received by player two so far: ${contacts0}`);
 
 const pos = (page, k) => page.evaluate((i) => window.groundsim.lastState.vehicles[i].p, k);
+// the hits a page has shown (each at its last point), its HUD lines, and both cars' positions now
 const shown = (page) => page.evaluate(() => ({
   hits: window.groundsim.hits.shown.map((x) => ({ ...x })),
   hud: document.getElementById('hud-hits').textContent,
+  cars: window.groundsim.lastState.vehicles.map((v) => v.p),
 }));
 // the car in front at rest, its driver idle
 const start = await pos(two, 1);
@@ -51,15 +53,17 @@ const hitTwo = await h.until('the hit shown on player two\'s page too', async ()
   return s.hits.length > 0 && s;
 }, 30000, 50);
 const hitOne = await shown(one);
-console.log(`player one: ${JSON.stringify(hitOne.hits)} HUD "${hudOne}"`);
+console.log(`player one: ${JSON.stringify(hitOne.hits)} HUD "${hudOne}", cars at ${JSON.stringify(hitOne.cars)}`);
 console.log(`player two: ${JSON.stringify(hitTwo.hits)} HUD "${hudTwo}"`);
 const pair = (x) => [x.a, x.b].sort().join('+') === 'pushed+pusher';
-// flashed where they touch: behind the front car's centre (4.7 m long cars), on its line
-const near = (x) => x.p && x.p[0] > start[0] - 4 && x.p[0] < start[0] && Math.abs(x.p[1] - start[1]) < 1.5 && x.p[2] > 0 && x.p[2] < 2;
+// flashed where they touch: between the two cars (nose to tail along x), on their line
+const between = (x, cars) => x.p && x.p[0] > cars[0][0] && x.p[0] < cars[1][0] && Math.abs(x.p[1] - cars[1][1]) < 1.5 &&
+  x.p[2] > 0 && x.p[2] < 2;
 for (const [who, s, hud] of [['one', hitOne, hudOne], ['two', hitTwo, hudTwo]]) {
   if (!s.hits.some(pair)) await h.fail(`player ${who}'s page shows no hit between pusher and pushed: ${JSON.stringify(s.hits)}`);
   if (!(hud.includes('pusher') && hud.includes('pushed'))) await h.fail(`player ${who}'s HUD does not name the pair: "${hud}"`);
-  if (!s.hits.some((x) => pair(x) && near(x))) await h.fail(`player ${who}'s page flashed the hit away from the cars: ${JSON.stringify(s.hits)}`);
+  if (!s.hits.some((x) => pair(x) && between(x, s.cars)))
+    await h.fail(`player ${who}'s page flashed the hit away from the cars (${JSON.stringify(s.cars)}): ${JSON.stringify(s.hits)}`);
 }
 
 // the car in front was pushed, while its own driver sent nothing but zeros
