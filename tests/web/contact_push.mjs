@@ -6,13 +6,18 @@
 // car in front is pushed more than 1 m. Then a session of
 // configs/contact/crash.json, created with the command line client and
 // spectated, is drawn with its static concrete barrier where the scene
-// placed it (on the ground: its centre half its 1 m height up).
+// placed it (on the ground: its centre half its 1 m height up). Between
+// the two, datagrams that are no contact_state_t on the session's contact
+// channel are logged and dropped by the bridge, which serves on.
+import dgram from 'node:dgram';
 import { fileURLToPath } from 'node:url';
 import * as h from './harness.mjs';
 import { CONFIGS } from './harness.mjs';
 
 const data = fileURLToPath(new URL('./data/contact', import.meta.url));
-const { url } = await h.startServices({ bridgeArgs: ['--configs', data] });
+const { url, bridge } = await h.startServices({ bridgeArgs: ['--configs', data] });
+let bridgeLog = '';
+bridge.stderr.on('data', (d) => { bridgeLog += d; });
 await h.launch();
 const one = await h.newPage(url), two = await h.newPage(url);
 const session = await h.createAndDrive(one, 'push.json', 2);
@@ -79,6 +84,29 @@ if (idle.throttle !== 0 || idle.brake !== 0) await h.fail(`player two's car was 
 const events = await h.until('the ended hit as an event', () => one.evaluate(() => window.groundsim.hitEvents), 30000)
   .catch(() => 0);
 console.log(`"hit: " events on player one's page: ${events}`);
+
+// bad datagrams on the contact channel (LCM's small-message framing: magic,
+// sequence number, channel, payload): counted, logged and dropped
+const lcmPublish = (channel, payload, seqno) => new Promise((resolve) => {
+  const sock = dgram.createSocket('udp4'), head = Buffer.alloc(8);
+  head.writeUInt32BE(0x4c433032, 0);
+  head.writeUInt32BE(seqno, 4);
+  sock.send(Buffer.concat([head, Buffer.from(`${channel}\0`), payload]), 7667, '239.255.76.67', () => { sock.close(); resolve(); });
+});
+const channel = `GROUNDSIM_CONTACT_${session}`;
+await lcmPublish(channel, Buffer.alloc(0), 1);
+await lcmPublish(channel, Buffer.from('not a contact_state_t'), 2);
+await lcmPublish(channel, Buffer.from(Array.from({ length: 300 }, (_, i) => (i * 37 + 11) & 255)), 3);
+// contact_state_t's fingerprint (a released type never changes), then a
+// session id whose length runs past the datagram, and an object count of 2^31 - 1
+const fingerprint = Buffer.from('7d9d2a9ee58581c9', 'hex'), word = (n) => { const b = Buffer.alloc(4); b.writeInt32BE(n); return b; };
+await lcmPublish(channel, Buffer.concat([fingerprint, Buffer.alloc(16), word(1000), Buffer.from('s1')]), 4);
+await lcmPublish(channel, Buffer.concat([fingerprint, Buffer.alloc(16), word(3), Buffer.from('s1\0'), Buffer.alloc(8), word(0x7fffffff)]), 5);
+await h.until('the bridge to log the bad datagrams', () => (bridgeLog.match(/undecodable message on GROUNDSIM_CONTACT_/g) || []).length >= 5, 15000)
+  .catch(() => h.fail(`the bridge did not report the bad contact datagrams: ${bridgeLog.slice(-2000)}`));
+const before = await one.evaluate(() => window.groundsim.contacts);
+await h.until('contact states after the bad datagrams', async () => (await one.evaluate(() => window.groundsim.contacts)) > before + 5, 30000);
+console.log('5 bad contact datagrams logged and dropped; contact states still arrive');
 
 // a scenario with objects: its static barrier is drawn where the scene
 // placed it (the players' pages closed first: software WebGL takes a core each)

@@ -117,6 +117,25 @@ export class HitEffects {
     for (const [k, line] of this.lines) if (!now.has(k)) line.ongoing = false;
     this.render();
   }
+  // An ended hit as the server's event ("hit: A and B at (x, y, z) m,
+  // closing V m/s, ... peak force F N, ... (hard)"). Events are never
+  // skipped, contact states may be (a browser that reads slowly gets the
+  // newest): a hit this page never saw under way is shown now.
+  onEndedHit(m) {
+    const r = /^hit: (.+) and (.+) at \(([-0-9.e+]+), ([-0-9.e+]+), ([-0-9.e+]+)\) m, closing ([-0-9.e+]+) m\/s.*peak force ([-0-9.e+]+) N/
+      .exec(m.reason || '');
+    if (!r) return;
+    const [a, b] = [r[1], r[2]], p = [r[3], r[4], r[5]].map(Number), closing = Number(r[6]), peak = Number(r[7]);
+    const hard = m.reason.endsWith('(hard)');
+    for (const line of this.lines.values()) if (line.a === a && line.b === b) return;  // seen under way
+    const shown = { a, b, hard, peak, closing, t: m.t, p, event: true };
+    this.lines.set(`${a}|${b}|event${m.t}`, { a, b, hard, peak, closing, age: 0, ongoing: false, shown, burst: null });
+    while (this.lines.size > MAX_LINES) this.lines.delete(this.lines.keys().next().value);
+    if (this.bursts.length < 32) this.bursts.push(new Burst(this.scene, p, hard));
+    this.shown.push(shown);
+    if (this.shown.length > 256) this.shown.shift();
+    this.render();
+  }
   frame(dt) {
     this.bursts = this.bursts.filter((b) => b.step(dt));
     let changed = false;

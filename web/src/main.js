@@ -147,6 +147,7 @@ net.on('event', (m) => {
   if (typeof m.reason === 'string' && m.reason.startsWith('hit: ')) {
     // an ended hit: the HUD named it while it lasted; one short line here
     app.hitEvents++;
+    if (m.session === app.session) hits.onEndedHit(m);
     const pair = m.reason.split(' at (')[0], peak = m.reason.match(/peak force ([0-9.e+-]+) N/);
     const hard = m.reason.endsWith('(hard)') ? ' (hard)' : '';
     return addEvent(`t=${m.t.toFixed(2)} s  ${pair}${peak ? `, peak ${(parseFloat(peak[1]) / 1000).toFixed(1)} kN` : ''}${hard}`, cls);
