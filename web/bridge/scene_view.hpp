@@ -2,7 +2,7 @@
 // layer so the browser never re-implements the ground or the car:
 //  - the layout of each vehicle (points and springs of the report's figure 1,
 //    the wheels' placement on the body, their radius and radial stiffness),
-//    sent once when a browser joins;
+//    sent once when a browser joins, with the scenario's objects as placed;
 //  - height grids of the ground H(x, y, z) = 0 around a point, sent as the
 //    followed vehicle moves.
 #pragma once
@@ -20,7 +20,7 @@ namespace groundsim::web {
 struct SceneView {
   std::string scenario_json;     // the document as given
   std::string name;
-  nlohmann::json layout;         // {"vehicles": [...]} (see vehicleLayout in scene_view.cpp)
+  nlohmann::json layout;         // {"vehicles": [...] (vehicleLayout in scene_view.cpp), "objects": [...] (object_layout.hpp)}
   std::vector<int> wheels;       // wheel count per vehicle (drive_t.nwheels)
   std::vector<bool> road_car;    // per vehicle: kind "road_car", driven with controls_t
   GroundPtr ground;              // this view's own instance: use from one thread at a time
