@@ -94,6 +94,15 @@ export class HitEffects {
       now.add(k);
       let line = this.lines.get(k);
       if (!line) {
+        // its end may have come first, as an event (a page that reads slowly)
+        for (const [ek, el] of this.lines)
+          if (el.shown.event && el.a === h.a && el.b === h.b && el.shown.t >= h.begin - 1e-6) {
+            this.lines.delete(ek);
+            this.lines.set(k, line = el);
+            break;
+          }
+      }
+      if (!line) {
         const shown = { a: h.a, b: h.b, hard: h.hard, peak: h.peak, closing: h.closing, t: m.t, p: h.p };
         line = { a: h.a, b: h.b, hard: h.hard, peak: 0, closing: h.closing, age: 0, shown, burst: null };
         this.lines.set(k, line);
