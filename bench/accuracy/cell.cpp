@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "physics/integrator.hpp"
+#include "physics/integrators/integrator.hpp"
 
 namespace groundsim::accuracy {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "physics/simulator.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/build/vehicle.hpp"
 
 namespace groundsim::accuracy {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "physics/simulator.hpp"
-#include "physics/integrator.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/integrators/integrator.hpp"
+#include "physics/checks/telemetry.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::accuracy {

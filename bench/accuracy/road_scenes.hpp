@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cell.hpp"
-#include "physics/math.hpp"
+#include "physics/core/math.hpp"
 
 namespace groundsim::accuracy {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "physics/model_builder.hpp"
+#include "physics/build/model_builder.hpp"
 #include "support/scenes.hpp"
 
 namespace groundsim::accuracy {

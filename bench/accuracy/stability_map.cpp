@@ -11,8 +11,8 @@
 #include <numbers>
 
 #include "cell.hpp"
-#include "physics/model_builder.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/build/model_builder.hpp"
+#include "physics/build/vehicle.hpp"
 
 namespace groundsim::accuracy {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/model.hpp"
+#include "physics/core/model.hpp"
 
 namespace groundsim::accuracy {
 

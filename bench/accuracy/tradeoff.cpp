@@ -21,7 +21,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "physics/model_builder.hpp"
+#include "physics/build/model_builder.hpp"
 #include "report.hpp"
 
 using namespace groundsim;

@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "physics/batch_step.hpp"
+#include "physics/kernels/batch_step.hpp"
 #include "physics/simulator.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/build/vehicle.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 

@@ -25,9 +25,9 @@
 #include <CLI/CLI.hpp>
 
 #include "../commands.hpp"
-#include "physics/integrator.hpp"
+#include "physics/integrators/integrator.hpp"
 #include "physics/simulator.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 #include "speed_plot.hpp"

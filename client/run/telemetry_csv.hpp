@@ -15,7 +15,7 @@
 
 #include <string>
 
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 
 namespace groundsim::cli {
 

@@ -9,7 +9,7 @@
 #include <numbers>
 
 #include "experiments/task_context.hpp"
-#include "physics/batch_step.hpp"
+#include "physics/kernels/batch_step.hpp"
 
 namespace groundsim::experiments {
 namespace {
@@ -160,8 +160,26 @@ bool stepsBatched(const TaskContext& c) {
 void Env::step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
   if (!beginStep(obs, reward, terminated, truncated)) return;
   bool ok = true;
-  for (int k = 0; k < ctx_->task().control_period && ok; ++k) ok = sim_->step();
+  const bool bumps = ctx_->task().reward.collision != 0.0 && sim_->model().collisions;
+  for (int k = 0; k < ctx_->task().control_period && ok; ++k) {
+    ok = sim_->step();
+    if (bumps) addBump();
+  }
   finishStep(obs, reward, terminated, truncated);
+}
+
+// The hits of the task's vehicle this step, as the velocity change they
+// give it: |force| dt / its mass (a reward term that means the same for a
+// 1.4 kg car and a 1.5 t one).
+void Env::addBump() {
+  const Model& m = sim_->model();
+  const int vehicle = ctx_->task().vehicle;
+  for (const Hit& h : sim_->hits()) {
+    const CollisionGroup& a = m.groups[h.a];
+    const CollisionGroup& b = m.groups[h.b];
+    const CollisionGroup* mine = a.vehicle == vehicle ? &a : b.vehicle == vehicle ? &b : nullptr;
+    if (mine && mine->mass > 0.0) bump_ += h.force.norm() * m.opt.dt / mine->mass;
+  }
 }
 
 bool Env::beginStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated) {
@@ -172,6 +190,7 @@ bool Env::beginStep(float* obs, double* reward, std::uint8_t* terminated, std::u
     return false;
   }
   before_ = bodyPos(sim_->state().y, ctx_->body);
+  bump_ = 0.0;
   applyAction();
   return true;
 }
@@ -213,6 +232,7 @@ void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::
   if (w.effort != 0.0) r -= w.effort * effort / n;
   if (w.jerk != 0.0) r -= w.jerk * jerk / n;
   if (w.tilt != 0.0) r -= w.tilt * (1.0 - up_z);
+  if (w.collision != 0.0) r -= w.collision * bump_;
   r += w.alive;
   if (at_goal) r += w.goal;
   if (!std::isfinite(r)) r = 0.0;

@@ -43,7 +43,7 @@ struct TaskContext {
 std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const scenario::Budget& budget,
                                                     const scenario::FileAccess& files);
 
-// Whether VecEnv steps this task's cars together (physics/batch_step.hpp):
+// Whether VecEnv steps this task's cars together (physics/kernels/batch_step.hpp):
 // when every environment keeps the shared model (no drawn parameters),
 // BatchStep takes that model (the fast presets' rigid car on a plane), and
 // no observed feature reads the workspace (wheel_contact, wheel_slip:
@@ -64,7 +64,7 @@ class Env {
   // Takes the action set (or resets, when the last episode ended).
   void step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
   // step() in two halves around the physics, for VecEnv's batched path
-  // (physics/batch_step.hpp): beginStep resets an ended episode (and returns
+  // (physics/kernels/batch_step.hpp): beginStep resets an ended episode (and returns
   // false: nothing to step) or applies the action; the caller then advances
   // physicsState() by control_period steps; finishStep evaluates the task.
   bool beginStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
@@ -98,6 +98,8 @@ class Env {
   std::vector<double> feature_;     // scratch of one observation, in double
   std::int64_t episode_ = 0, steps_ = 0;
   double return_ = 0.0;
+  double bump_ = 0.0;  // m/s: velocity change given to the task's vehicle by hits this action
+  void addBump();
   bool diverged_ = false, needs_reset_ = false;
   Vec3 before_ = Vec3::Zero();      // chassis position when the current action was applied
 };

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/state.hpp"
+#include "physics/core/state.hpp"
 
 namespace groundsim::experiments {
 

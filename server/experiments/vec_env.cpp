@@ -5,7 +5,7 @@
 //
 // Tasks on a model BatchStep can take (the fast presets' rigid car on a
 // plane) step each thread's environments together, four cars to a SIMD
-// group (physics/batch_step.hpp). Whether a task is batched depends on the
+// group (physics/kernels/batch_step.hpp). Whether a task is batched depends on the
 // task alone, and a car's arithmetic in a group does not depend on its lane
 // or its neighbours, so the bits stay independent of the thread count.
 #include "experiments/vec_env.hpp"
@@ -19,7 +19,7 @@
 #include "experiments/env.hpp"
 #include "experiments/snapshot.hpp"
 #include "experiments/thread_pool.hpp"
-#include "physics/batch_step.hpp"
+#include "physics/kernels/batch_step.hpp"
 #include "scenario/object_reader.hpp"
 
 namespace groundsim::experiments {

@@ -1,12 +1,12 @@
-#include "simulator.hpp"
+#include "physics/simulator.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "collision/body_contact.hpp"
-#include "road_car_phase.hpp"
+#include "physics/collision/body_contact.hpp"
+#include "physics/road_car/road_car_phase.hpp"
 
 namespace groundsim {
 

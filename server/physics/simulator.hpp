@@ -5,14 +5,14 @@
 
 #include <memory>
 
-#include "collision/contact_log.hpp"
-#include "diagnostics.hpp"
-#include "fast_car.hpp"
-#include "integrator.hpp"
-#include "model.hpp"
-#include "ring_car.hpp"
-#include "state.hpp"
-#include "workspace.hpp"
+#include "physics/collision/contact_log.hpp"
+#include "physics/checks/diagnostics.hpp"
+#include "physics/kernels/fast_car.hpp"
+#include "physics/integrators/integrator.hpp"
+#include "physics/core/model.hpp"
+#include "physics/kernels/ring_car.hpp"
+#include "physics/core/state.hpp"
+#include "physics/core/workspace.hpp"
 
 namespace groundsim {
 

@@ -6,7 +6,7 @@
 
 #include <groundsim/state_t.hpp>
 
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 
 namespace groundsim::net {
 

@@ -1,11 +1,11 @@
 // The model budget: counts of a validated scenario from its specs, checked
 // against the limits before buildScene runs. The counts mirror the vehicle
-// builders (physics/vehicle.cpp); budget_test.cpp holds them to the models
+// builders (physics/build/vehicle.cpp); budget_test.cpp holds them to the models
 // actually built.
 #include <algorithm>
 #include <cmath>
 
-#include "physics/integrator.hpp"
+#include "physics/integrators/integrator.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
 #include "scenario/scenario_error.hpp"
@@ -30,7 +30,7 @@ Counts vehicleCounts(const VehicleSpec& v) {
   const bool rim_contact = p.wheel_contact == WheelContact::RimPoints;
   Counts c;
   if (v.road_car) {
-    // physics/road_car_builder.cpp: one body of six mass points (none in
+    // physics/build/road_car_builder.cpp: one body of six mass points (none in
     // contact: the tyres touch the ground analytically), no springs, and
     // kRoadCarStates states for its wheels
     c.bodies = 1;

@@ -20,7 +20,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "physics/ground.hpp"
+#include "physics/ground/ground.hpp"
 
 namespace groundsim::scenario {
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "physics/ground.hpp"
-#include "physics/heightfield.hpp"
-#include "physics/math.hpp"
-#include "physics/surface_friction.hpp"
+#include "physics/ground/ground.hpp"
+#include "physics/ground/heightfield.hpp"
+#include "physics/core/math.hpp"
+#include "physics/ground/surface_friction.hpp"
 
 namespace groundsim::scenario {
 

@@ -1,5 +1,5 @@
 // `ground.type: "heightfield"`: the samples from a file or inline, their
-// placement and scale, then the spline (physics/heightfield.hpp) built once.
+// placement and scale, then the spline (physics/ground/heightfield.hpp) built once.
 #include <cmath>
 
 #include "scenario/terrain_sections.hpp"

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/math.hpp"
+#include "physics/core/math.hpp"
 #include "scenario/scenario_error.hpp"
 
 namespace groundsim::scenario {

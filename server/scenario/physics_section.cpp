@@ -1,7 +1,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/integrator.hpp"
+#include "physics/integrators/integrator.hpp"
 #include "scenario/sections.hpp"
 
 namespace groundsim::scenario {

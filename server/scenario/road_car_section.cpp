@@ -1,4 +1,4 @@
-// The keys of a `"kind": "road_car"` vehicle (physics/road_car.hpp holds
+// The keys of a `"kind": "road_car"` vehicle (physics/road_car/road_car.hpp holds
 // their meaning, units and defaults; docs/vehicles.md lists them) and its
 // `controls` time table.
 #include <cmath>

@@ -16,11 +16,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/model.hpp"
-#include "physics/model_builder.hpp"
+#include "physics/core/model.hpp"
+#include "physics/build/model_builder.hpp"
 #include "physics/simulator.hpp"
-#include "physics/state.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/core/state.hpp"
+#include "physics/build/vehicle.hpp"
 #include "scenario/budget.hpp"
 #include "scenario/assets.hpp"
 #include "scenario/file_access.hpp"
@@ -157,7 +157,7 @@ struct Scene {
   double duration = 5.0;          // s
   double output_rate = 50.0;      // Hz
   // settings that run but sit near or beyond a known stability limit,
-  // each naming the setting and the limit (physics/stability.hpp)
+  // each naming the setting and the limit (physics/checks/stability.hpp)
   std::vector<std::string> warnings;
 };
 

@@ -7,9 +7,9 @@
 #include <utility>
 
 #include "physics/collision/collision_build.hpp"
-#include "physics/road_car_builder.hpp"
-#include "physics/stability.hpp"
-#include "physics/integrator.hpp"
+#include "physics/build/road_car_builder.hpp"
+#include "physics/checks/stability.hpp"
+#include "physics/integrators/integrator.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
 #include "scenario/scenario_error.hpp"

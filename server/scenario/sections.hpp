@@ -3,7 +3,7 @@
 // returns the typed settings.
 #pragma once
 
-#include "physics/model.hpp"
+#include "physics/core/model.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"

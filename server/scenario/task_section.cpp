@@ -118,6 +118,7 @@ void readReward(ObjectReader r, RewardWeights& w) {
   w.tilt = r.number("tilt", 0.0, any);
   w.alive = r.number("alive", 0.0, any);
   w.goal = r.number("goal", 0.0, any);
+  w.collision = r.number("collision", 0.0, any);
   r.finish();
 }
 

@@ -53,6 +53,7 @@ struct RewardWeights {
   double tilt = 0.0;                // -(1 - cos(tilt))
   double alive = 0.0;               // +1 per action
   double goal = 0.0;                // +1 on the action that reaches the goal
+  double collision = 0.0;           // -(velocity change from hits with other bodies and objects, m/s)
 };
 
 struct TaskSpec {

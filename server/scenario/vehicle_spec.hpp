@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "physics/road_car.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/road_car/road_car.hpp"
+#include "physics/build/vehicle.hpp"
 
 namespace groundsim::scenario {
 

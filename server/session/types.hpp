@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "experiments/batch_env.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 
 namespace groundsim::session {
 

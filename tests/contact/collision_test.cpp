@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 

@@ -96,7 +96,7 @@ TEST(Determinism, BatchedTasksAreBitIdenticalOnOneTwoAndThreeThreads) {
 }
 
 // With physics.deterministic a car stepped in a SIMD group has exactly the
-// arithmetic of the car stepped alone (physics/batch_step.hpp), so VecEnv's
+// arithmetic of the car stepped alone (physics/kernels/batch_step.hpp), so VecEnv's
 // batched path must give the bits of each Env stepped by itself through its
 // Simulator: the split of a step around the batch (beginStep, finishStep)
 // and the autoresets change nothing.

@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "physics/batch_step.hpp"
-#include "physics/forces.hpp"
-#include "physics/integrator_methods.hpp"
+#include "physics/kernels/batch_step.hpp"
+#include "physics/forces/forces.hpp"
+#include "physics/integrators/integrator_methods.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

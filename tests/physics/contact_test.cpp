@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "physics/simd_path.hpp"
+#include "physics/simd/simd_path.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;
@@ -48,7 +48,10 @@ TEST(Determinism, TheDeterministicRunHasTheSameBitsOnEveryMachine) {
   std::string path;
   const Eigen::VectorXd y = run(true, &path);
   EXPECT_EQ(path, "generic");
-  EXPECT_EQ(fnv1a(y), 0x13010e7dcd25a8d4ull) << std::hex << fnv1a(y);
+  // the hash of the baseline build's bits; it changes only when the
+  // arithmetic does (last: the general loop took the rotation series every
+  // path shares, core/pointwise.hpp, a round-off change)
+  EXPECT_EQ(fnv1a(y), 0xc96d902022222042ull) << std::hex << fnv1a(y);
 }
 
 TEST(Determinism, TheFastPathIsAnotherBuildWhereTheCpuHasIt) {

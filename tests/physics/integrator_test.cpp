@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

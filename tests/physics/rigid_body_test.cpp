@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "physics/forces.hpp"
-#include "physics/integrator_methods.hpp"
-#include "physics/ring_car.hpp"
+#include "physics/forces/forces.hpp"
+#include "physics/integrators/integrator_methods.hpp"
+#include "physics/kernels/ring_car.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

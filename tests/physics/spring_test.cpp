@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

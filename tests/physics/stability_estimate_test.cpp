@@ -2,7 +2,7 @@
 // is healthy a little below the estimated limit and diverges above it.
 #include <gtest/gtest.h>
 
-#include "physics/stability.hpp"
+#include "physics/checks/stability.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-#include "physics/diagnostics.hpp"
+#include "physics/checks/diagnostics.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

@@ -5,8 +5,8 @@
 #include <array>
 #include <cmath>
 
-#include "physics/diagnostics.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/checks/diagnostics.hpp"
+#include "physics/checks/telemetry.hpp"
 #include "support/scenes.hpp"
 #include "support/fit.hpp"
 

@@ -2,8 +2,8 @@
 // diverged step is undone whole.
 #include <gtest/gtest.h>
 
-#include "physics/forces.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/forces/forces.hpp"
+#include "physics/checks/telemetry.hpp"
 #include "support/scenes.hpp"
 
 using namespace groundsim;

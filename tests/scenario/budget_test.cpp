@@ -49,7 +49,7 @@ TEST(Budget, EstimateEqualsTheBuiltModelForEveryWheelKind) {
 }
 
 // A road car is one body of six mass points with twenty wheel states and no
-// springs or contact points (physics/road_car_builder.cpp): the estimate
+// springs or contact points (physics/build/road_car_builder.cpp): the estimate
 // did not know the kind and counted the report car's 4 wheels instead.
 TEST(Budget, EstimateEqualsTheBuiltModelForRoadCars) {
   const nlohmann::json sedan = nlohmann::json::parse(std::ifstream(std::string(GROUNDSIM_SOURCE_DIR) + "/configs/sedan.json"));

@@ -2,7 +2,7 @@
 // while building.
 #include <gtest/gtest.h>
 
-#include "physics/integrator.hpp"
+#include "physics/integrators/integrator.hpp"
 #include "physics/simulator.hpp"
 #include "scenario_test_util.hpp"
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "physics/model_builder.hpp"
+#include "physics/build/model_builder.hpp"
 #include "physics/simulator.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/build/vehicle.hpp"
 
 namespace groundsim::test {
 

@@ -2,9 +2,9 @@
 // patch it slides on, and across a border at the distance both zones give.
 #include <gtest/gtest.h>
 
-#include "physics/model_builder.hpp"
+#include "physics/build/model_builder.hpp"
 #include "physics/simulator.hpp"
-#include "physics/surface_friction.hpp"
+#include "physics/ground/surface_friction.hpp"
 #include "scenario/expression_ground.hpp"
 
 using namespace groundsim;

@@ -6,7 +6,7 @@
 #include <memory>
 #include <numbers>
 
-#include "physics/heightfield.hpp"
+#include "physics/ground/heightfield.hpp"
 
 namespace groundsim::test {
 

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "grids.hpp"
-#include "physics/model_builder.hpp"
+#include "physics/build/model_builder.hpp"
 #include "physics/simulator.hpp"
-#include "physics/telemetry.hpp"
-#include "physics/vehicle.hpp"
+#include "physics/checks/telemetry.hpp"
+#include "physics/build/vehicle.hpp"
 #include "support/fit.hpp"
 
 using namespace groundsim;

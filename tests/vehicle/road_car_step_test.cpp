@@ -10,9 +10,9 @@
 #include <cstring>
 #include <random>
 
-#include "physics/simd_path.hpp"
-#include "physics/tyre.hpp"
-#include "physics/vector_math.hpp"
+#include "physics/simd/simd_path.hpp"
+#include "physics/road_car/tyre.hpp"
+#include "physics/simd/vector_math.hpp"
 #include "sedan.hpp"
 
 namespace groundsim::test {

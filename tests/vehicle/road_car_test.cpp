@@ -8,7 +8,7 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include "physics/steering.hpp"
+#include "physics/road_car/steering.hpp"
 #include "sedan.hpp"
 
 namespace groundsim::test {

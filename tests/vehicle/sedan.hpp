@@ -9,10 +9,10 @@
 #include <string>
 #include <utility>
 
-#include "physics/road_car_builder.hpp"
-#include "physics/steering.hpp"
+#include "physics/build/road_car_builder.hpp"
+#include "physics/road_car/steering.hpp"
 #include "physics/simulator.hpp"
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 
 namespace groundsim::test {
 

@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "physics/integrator.hpp"
-#include "physics/surface_friction.hpp"
-#include "physics/tyre_stick_slip.hpp"
+#include "physics/integrators/integrator.hpp"
+#include "physics/ground/surface_friction.hpp"
+#include "physics/road_car/tyre_stick_slip.hpp"
 #include "scenario/scenario.hpp"
 #include "scenario/scenario_error.hpp"
 #include "sedan.hpp"

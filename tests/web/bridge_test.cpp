@@ -163,7 +163,7 @@ TEST(Layout, ReportCarHasFigureOnePointsAndSprings) {
   EXPECT_EQ(rim, 80);
 }
 
-// A road car's wheels are its four struts' hubs (physics/road_car.hpp), not
+// A road car's wheels are its four struts' hubs (physics/road_car/road_car.hpp), not
 // model wheels: the layout places them from the car's own geometry.
 TEST(Layout, RoadCarWheelsSitOnItsAxlesAndTrack) {
   const double wheelbase = 2.7, a = 1.2, track = 1.55, r = 0.32;

@@ -42,7 +42,7 @@ double radialStiffness(const Model& m, const State& s, int wheel_body, int carri
 }
 
 // A road car's wheels are not model wheels: they sit on struts along the
-// body's z (physics/road_car.hpp), at RoadCar::hub at zero travel; the page
+// body's z (physics/road_car/road_car.hpp), at RoadCar::hub at zero travel; the page
 // raises each by the suspension travel the car state reports ("strut").
 json roadCarLayout(const Model& m, const RoadCar& rc) {
   const RoadCarParams& p = rc.p;

@@ -3,8 +3,8 @@
 
 #include <Eigen/Core>
 
-#include "../model.hpp"
-#include "../workspace.hpp"
+#include "physics/core/model.hpp"
+#include "physics/core/workspace.hpp"
 
 namespace groundsim {
 

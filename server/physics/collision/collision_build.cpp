@@ -1,11 +1,11 @@
-#include "collision_build.hpp"
+#include "physics/collision/collision_build.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
 
-#include "../state.hpp"
+#include "physics/core/state.hpp"
 
 namespace groundsim {
 namespace {

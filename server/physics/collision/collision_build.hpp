@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "../model.hpp"
-#include "../model_builder.hpp"
+#include "physics/core/model.hpp"
+#include "physics/build/model_builder.hpp"
 
 namespace groundsim {
 

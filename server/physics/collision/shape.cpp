@@ -1,4 +1,4 @@
-#include "shape.hpp"
+#include "physics/collision/shape.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "../math.hpp"
+#include "physics/core/math.hpp"
 
 namespace groundsim {
 
