@@ -70,7 +70,8 @@ bool Simulator::step() {
   bool plainly_healthy = false;
   // the specialised paths know no contact between bodies: while any pair
   // of collision groups may touch, the step takes the general loop
-  const bool touching = m.collisions && groupsMayTouch(m, state_.y, ws_);
+  const bool touching = m.collisions && groupsMayTouch(m, state_.y, m.opt.dt, ws_);
+  ws_.step_pairs = m.collisions;
   // stiff contacts between bodies (and light objects on the ground) take
   // substeps that resolve them; the rest of the time the step is as set
   int n = std::max({1, m.opt.substeps, m.object_substeps});
@@ -88,6 +89,7 @@ bool Simulator::step() {
     for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
     ws_stale_ = false;
   }
+  ws_.step_pairs = false;
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
   if (m.collisions) {

@@ -68,7 +68,7 @@ void readCollisions(ObjectReader r, CollisionParams& c) {
   c.friction = r.number("friction", def.friction, Range::nonNegative(100.0));
   c.slip_velocity = r.number("slip_velocity", def.slip_velocity, Range::positive(1e3));
   c.probe_spacing = r.number("probe_spacing", def.probe_spacing, Range::closed(0.01, 100.0));
-  c.hard_impact = r.number("hard_impact_g", def.hard_impact, Range::positive(1e6));
+  c.hard_impact_dv = r.number("hard_impact_dv", def.hard_impact_dv, Range::positive(1e6));
   r.finish();
 }
 

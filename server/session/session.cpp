@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include "physics/telemetry.hpp"
+#include "physics/checks/telemetry.hpp"
 #include "answers.hpp"
 #include "token.hpp"
 
@@ -352,7 +352,7 @@ bool Session::stepOnce() {
 }
 
 // Each hit once, when it ends: a game shows it, a task penalises it, a log
-// keeps it. Hard ones (collisions.hard_impact_g) are warnings.
+// keeps it. Hard ones (collisions.hard_impact_dv) are warnings.
 void Session::reportHits() {
   for (const Hit& h : sim_.takeEndedHits()) {
     const Model& m = sim_.model();

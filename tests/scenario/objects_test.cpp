@@ -12,6 +12,7 @@ namespace {
 
 nlohmann::json withObjects(const nlohmann::json& objects) {
   auto d = minimalDoc();
+  d["vehicle"]["name"] = "vehicle";
   d["objects"] = objects;
   return d;
 }
@@ -101,7 +102,7 @@ TEST(Objects, BudgetCountsObjectsWithMassExactly) {
 }
 
 TEST(Objects, CollisionsOffLeaveTheModelWithoutContactBetweenBodies) {
-  auto d = withObjects({cone("k")});
+  auto d = withObjects(nlohmann::json::array({cone("k")}));
   d["collisions"] = {{"enabled", false}};
   const auto scene = buildScene(parseScenario(d));
   EXPECT_FALSE(scene.built.model->collisions);

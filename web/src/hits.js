@@ -1,8 +1,8 @@
 // Hits between bodies (contact states' `hits`: a pair from first touch
 // until it parts) shown as they begin: a flash and sparks where they touch,
 // and a line in the HUD naming the pair, its peak force and closing speed;
-// a hard hit (peak force above collisions.hard_impact_g of the lighter
-// one's weight) bigger, redder and in bold. The line is updated while the
+// a hard hit (a velocity change above collisions.hard_impact_dv for the
+// lighter one) bigger, redder and in bold. The line is updated while the
 // hit lasts and fades a few seconds after it ended.
 import * as THREE from 'three';
 

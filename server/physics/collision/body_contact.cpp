@@ -40,19 +40,22 @@ bool closeEnough(const Model& m, int a, int b, const Workspace& ws) {
   if (!sa && !sb) {
     const double r = ga.bound + gb.bound;
     const Vec3 ca = 0.5 * (ws.group_lo[a] + ws.group_hi[a]), cb = 0.5 * (ws.group_lo[b] + ws.group_hi[b]);
-    return (ca - cb).squaredNorm() <= r * r;
+    // the boxes' half widths: the bounds plus any padding
+    const double reach = 0.5 * ((ws.group_hi[a] - ws.group_lo[a]).x() + (ws.group_hi[b] - ws.group_lo[b]).x());
+    return (ca - cb).squaredNorm() <= std::max(r, reach) * std::max(r, reach);
   }
   const CollisionGroup& moving = sa ? gb : ga;
   const CollisionGroup& fixed = sa ? ga : gb;
   const int mi = sa ? b : a;
   const Vec3 c = 0.5 * (ws.group_lo[mi] + ws.group_hi[mi]);  // the reference body's centre
+  const double reach = 0.5 * (ws.group_hi[mi] - ws.group_lo[mi]).x();  // the bound plus any padding
   for (int i = fixed.collider_begin; i < fixed.collider_end; ++i) {
     const Collider& col = m.colliders[i];
-    if (col.shape.distance(col.rot.transpose() * (c - col.pos)) <= moving.bound) return true;
+    if (col.shape.distance(col.rot.transpose() * (c - col.pos)) <= reach) return true;
   }
   // its probes (a static group's points) may still poke into the group
   for (int i = fixed.probe_begin; i < fixed.probe_end; ++i)
-    if ((m.probes[i].local - c).squaredNorm() <= moving.bound * moving.bound) return true;
+    if ((m.probes[i].local - c).squaredNorm() <= reach * reach) return true;
   return false;
 }
 
@@ -246,9 +249,19 @@ int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
   return n;
 }
 
-bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws) {
+bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspace& ws) {
   if (!m.collisions) return false;
   groupBoxes(m, ws, [&](int body) { return Vec3(bodyPos(y, body)); });
+  // pad each movable group by twice what its reference body's speed covers
+  // in the step (and 1 cm): a pair that can meet during the step is a
+  // candidate from its start
+  for (size_t i = 0; i < m.groups.size(); ++i) {
+    const int b = m.groups[i].ref_body;
+    if (b < 0) continue;
+    const double pad = 2.0 * Vec3(bodyVel(y, b)).norm() * dt + 0.01;
+    ws.group_lo[i].array() -= pad;
+    ws.group_hi[i].array() += pad;
+  }
   sweep(m, ws);
   return !ws.pairs.empty();
 }
@@ -258,8 +271,10 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws) {
   ws.body_contact_energy = 0.0;
   ws.body_contact_depth = 0.0;
   if (!m.collisions) return;
-  groupBoxes(m, ws, [&](int body) { return ws.com[body]; });
-  sweep(m, ws);
+  if (!ws.step_pairs) {
+    groupBoxes(m, ws, [&](int body) { return ws.com[body]; });
+    sweep(m, ws);
+  }
   narrowPhase(m, apply, ws);
 }
 

@@ -14,10 +14,12 @@ namespace groundsim {
 // energy, depth and ws.pair_contacts, for diagnostics).
 void bodyContacts(const Model& m, bool apply, Workspace& ws);
 
-// The broad phase alone at configuration y (no kinematics needed): whether
-// any pair of groups may touch. The specialised step paths run only while
-// none may.
-bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, Workspace& ws);
+// The broad phase alone at configuration y (no kinematics needed), each
+// group's box padded by what it can move in dt: whether any pair of groups
+// may touch during the step. The specialised step paths run only while
+// none may; the step's force evaluations then reuse its pairs
+// (Workspace::step_pairs).
+bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspace& ws);
 
 // Integrator substeps per step of dt that resolve (substepsFor) the
 // contact of every candidate pair of the last groupsMayTouch, from the pair's

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "../math.hpp"
-#include "shape.hpp"
+#include "physics/core/math.hpp"
+#include "physics/collision/shape.hpp"
 
 namespace groundsim {
 
@@ -40,9 +40,11 @@ struct CollisionParams {
   double friction = 0.5;            // -      Coulomb mu of vehicles (objects carry their own)
   double slip_velocity = 0.05;      // m/s    friction is mu N tanh(|slip| / v_s)
   double probe_spacing = 0.5;       // m      largest gap between a shape's probe points
-  double hard_impact = 20.0;        // g      a hit whose peak force exceeds this times the weight of
-                                    //        the lighter vehicle of the pair (else the lighter
-                                    //        object) is reported as hard
+  // a hit is hard once the velocity change it gave the lighter vehicle of
+  // the pair (else the lighter object) exceeds this: crash severity as
+  // delta-v, which does not depend on the penalty's stiffness (a peak
+  // force does: a stiff contact makes every bump tens of g)
+  double hard_impact_dv = 5.0;      // m/s
 };
 
 struct Collider {

@@ -1,9 +1,9 @@
-#include "contact_log.hpp"
+#include "physics/collision/contact_log.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "../state.hpp"
+#include "physics/core/state.hpp"
 
 namespace groundsim {
 namespace {
@@ -15,7 +15,7 @@ Vec3 refVelocity(const Model& m, const State& s, int group) {
 
 // What "hard" is measured against: the lighter vehicle of the pair (a car
 // that knocks a cone over is not hit hard), else the lighter object.
-double referenceWeight(const Model& m, const Hit& h) {
+double referenceMass(const Model& m, const Hit& h) {
   const CollisionGroup &a = m.groups[h.a], &b = m.groups[h.b];
   auto mass = [](const CollisionGroup& g, bool vehicles_only) {
     if (g.ref_body < 0 || (vehicles_only && g.vehicle < 0)) return 1e300;
@@ -23,7 +23,7 @@ double referenceWeight(const Model& m, const Hit& h) {
   };
   double ref = std::min(mass(a, true), mass(b, true));
   if (ref >= 1e300) ref = std::min(mass(a, false), mass(b, false));
-  return ref * std::max(m.opt.gravity.norm(), 9.80665);
+  return ref;
 }
 
 }  // namespace
@@ -51,7 +51,7 @@ void ContactLog::update(const Model& m, const State& s, const Workspace& ws, dou
     h.peak_force = std::max(h.peak_force, pc.force.norm());
     h.depth = std::max(h.depth, pc.depth);
     if (pc.normal > 0.0) h.where = pc.where;  // a step of pure overlap (force clamped to 0) keeps the last
-    h.hard = h.peak_force > m.opt.collision.hard_impact * referenceWeight(m, h);
+    h.hard = h.impulse > m.opt.collision.hard_impact_dv * referenceMass(m, h);
     next_.push_back(h);
   }
   for (const Hit& h : active_) {

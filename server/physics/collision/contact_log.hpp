@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "../model.hpp"
-#include "../workspace.hpp"
+#include "physics/core/model.hpp"
+#include "physics/core/workspace.hpp"
 
 namespace groundsim {
 
@@ -22,7 +22,7 @@ struct Hit {
   Vec3 where = Vec3::Zero();        // m      last contact centroid
   Vec3 momentum = Vec3::Zero();     // N s    integral of the force on a
   Vec3 force = Vec3::Zero();        // N      on a, by b, at the last step
-  bool hard = false;                // peak force above collision.hard_impact g (collision.hpp)
+  bool hard = false;                // impulse / lighter mass above collision.hard_impact_dv (collision.hpp)
 };
 
 class ContactLog {

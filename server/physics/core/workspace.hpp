@@ -92,6 +92,10 @@ struct Workspace {
   std::vector<Vec3> group_lo, group_hi;  // (ngroup) m, world boxes this evaluation
   std::vector<int> sweep;              // groups sorted by group_lo.x (kept between steps)
   std::vector<std::pair<int, int>> pairs;  // candidate pairs of the broad phase
+  // set by the Simulator for the length of one step: `pairs` came from
+  // groupsMayTouch at the step's start, its boxes padded by what each group
+  // can move in the step, so the step's force evaluations skip the sweep
+  bool step_pairs = false;
   std::vector<PairContact> pair_contacts;  // pairs in contact, last evaluation
   double body_contact_energy = 0.0;    // J, 1/2 S depth^2 over probes inside shapes
   double body_contact_depth = 0.0;     // m, deepest probe

@@ -7,6 +7,12 @@
 
 namespace groundsim {
 
+namespace {
+// the step keeps the wheels' controls on the stack: a scene of more (five
+// cars and up) takes the general loop instead of throwing at construction
+constexpr int kMaxWheels = 16;
+}  // namespace
+
 const char* fastCarUnsupported(const Model& m) {
   Vec3 n;
   double offset;
@@ -20,6 +26,7 @@ const char* fastCarUnsupported(const Model& m) {
     if (m.points[k].body < 0) return "the model has particle contacts";
   if (!m.spring_fans.empty()) return "the model has spring fans (rim springs)";
   if (m.wheels.empty()) return "the model has no wheels";
+  if (m.wheels.size() > static_cast<size_t>(kMaxWheels)) return "more than 16 wheels";
   for (const Wheel& w : m.wheels)
     if (w.contact != WheelContact::Circle) return "a wheel is not a circle";
   if (!m.ground || !m.ground->asPlane(&n, &offset)) return "the ground is not a plane";
@@ -131,8 +138,6 @@ FastCarPlan makeFastCarPlan(const Model& m) {
 namespace {
 
 using fastcar::Scratch;
-
-constexpr int kMaxWheels = 16;
 
 GROUNDSIM_INLINE_BODY void evaluateBody(const FastCarPlan& P, const double* y, const double* drive,
                                         const double* brake, const double* steer, double h, Scratch<double>& S) {
