@@ -25,6 +25,15 @@ inline T springTension(T len2, T inv, T d_dot_e, K k, K c, K rest) {
   return len2 > kMinSpringLength2 ? t : T{};
 }
 
+// The same for loops that must stay branch-free to vectorise (the rims'
+// fans): the guard as a multiplication by 0 or 1, which `omp simd` keeps
+// in vector registers where a select on doubles may not be.
+inline double springTensionFan(double len2, double inv, double d_dot_e, double k, double c, double rest) {
+  const double rate = d_dot_e * inv;
+  const double t = (k * (len2 * inv - rest) + c * rate) * inv;
+  return t * static_cast<double>(len2 > kMinSpringLength2);
+}
+
 // Report eq. (10) with damping: the normal force of a penalty contact at
 // `depth` whose depth grows at `rate`; Kelvin-Voigt S d + c rate, or
 // Hunt-Crossley S d (1 + alpha rate), whose damping vanishes at first

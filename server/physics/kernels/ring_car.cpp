@@ -311,12 +311,12 @@ GROUNDSIM_INLINE_BODY void rimPass(const Plan& P, const Rim& rim, const double* 
     const double len2 = dx * dx + dy * dy + dz * dz;
     const double inv = 1.0 / std::sqrt(len2 + 1e-300);
     const double t =
-        pointwise::springTension(len2, inv, dx * (e0x - ux) + dy * (e0y - uy) + dz * (e0z - uz), k0[q], c0[q], s0[q]);
+        pointwise::springTensionFan(len2, inv, dx * (e0x - ux) + dy * (e0y - uy) + dz * (e0z - uz), k0[q], c0[q], s0[q]);
     const double gx = b1x - px, gy = b1y - py, gz = b1z - pz;
     const double m2 = gx * gx + gy * gy + gz * gz;
     const double iv = 1.0 / std::sqrt(m2 + 1e-300);
     const double t1 =
-        pointwise::springTension(m2, iv, gx * (e1x - ux) + gy * (e1y - uy) + gz * (e1z - uz), k1[q], c1[q], s1[q]);
+        pointwise::springTensionFan(m2, iv, gx * (e1x - ux) + gy * (e1y - uy) + gz * (e1z - uz), k1[q], c1[q], s1[q]);
     gxs[q] = t * dx;
     gys[q] = t * dy;
     gzs[q] = t * dz;
