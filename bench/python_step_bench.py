@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Throughput through Python, and Python's share of a batched step.
 
-    PYTHONPATH=build/python python3 bench/python_step_bench.py [--envs 256] [--threads 1 2]
+    PYTHONPATH=build/python python3 bench/python_step_bench.py [--envs 256] [--threads 1 2] [--copy 1 0]
 
 For each thread count, steps of the fast-preset car task (8 physics steps
 per action) taken through VecEnv.step (Gymnasium's API), with the time
@@ -11,8 +11,9 @@ so a change of machine load during the run does not bias it; Python's CPU
 time (time.thread_time outside the C++ step) does not grow with the load. What counts
 as Python: the wrapper (action check, the infos, the returned views and
 dict), the binding's buffer checks, and the timing probe itself (so the
-share is overstated a little). The C++ figure without Python is
-bench/experiments_bench (docs/experiments.md)."""
+share is overstated a little), and with --copy 1 (the default env) the
+copies of the returned arrays, which --copy 0 (views) leaves out. The C++
+figure without Python is bench/experiments_bench (docs/experiments.md)."""
 
 import argparse
 import os
@@ -50,11 +51,12 @@ def main():
     p.add_argument("--threads", type=int, nargs="+", default=[1, 2])
     p.add_argument("--steps", type=int, default=100, help="steps per round")
     p.add_argument("--rounds", type=int, default=7)
+    p.add_argument("--copy", type=int, nargs="+", default=[1, 0], help="1: fresh arrays (default env), 0: views")
     args = p.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
 
-    for threads in args.threads:
-        env = groundsim.make_vec(args.task, args.envs, threads)
+    for threads, copy in [(t, c) for t in args.threads for c in args.copy]:
+        env = groundsim.make_vec(args.task, args.envs, threads, copy=bool(copy))
         layout = env.layout
         rng = np.random.default_rng(0)
         acts = [rng.uniform(env.single_action_space.low, env.single_action_space.high,
@@ -74,7 +76,7 @@ def main():
             shares.append((total - timed.inside) / total)
             python_cpu.append((cpu - timed.inside_cpu) / args.steps)
         step, share = statistics.median(totals), statistics.median(shares)
-        print(f"{args.envs} envs, {threads} thread(s), control period {layout.control_period}: "
+        print(f"{args.envs} envs, {threads} thread(s), copy={bool(copy)}, control period {layout.control_period}: "
               f"{args.envs / step:,.0f} env-steps/s ({args.envs * layout.control_period / step:,.0f} physics "
               f"steps/s) through VecEnv.step; {step * 1e6:.0f} us per step, Python {share * step * 1e6:.1f} us "
               f"= {100 * share:.2f}%, Python's CPU time {statistics.median(python_cpu) * 1e6:.1f} us "

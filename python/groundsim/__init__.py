@@ -6,14 +6,20 @@ reinforcement learning. See docs/experiments.md.
     obs, infos = env.reset(seed=0)
     obs, rewards, terminations, truncations, infos = env.step(actions)
 
+    # one env (Gymnasium's Env API), a shipped task by id
+    env = groundsim.make("groundsim/Goal-v0")
+    groundsim.register_envs()   # gymnasium.make / make_vec("groundsim/Goal-v0") when gymnasium is there
+
     # the same environments in a groundsim-server, over LCM
     env = groundsim.make_remote_vec("configs/tasks/speed.json", 64, lcm_url="udpm://239.255.76.67:7667?ttl=0")
 """
 
 from ._errors import ExperimentError, RemoteError, ScenarioError, ScenarioIssue
 from ._gym import HAVE_GYMNASIUM, AutoresetMode, Box
+from .env import Env, make
+from .registration import register_envs, task_ids
 from .vector import VecEnv, make_remote_vec, make_vec
 
 __version__ = "0.1.0"
-__all__ = ["AutoresetMode", "Box", "ExperimentError", "HAVE_GYMNASIUM", "RemoteError", "ScenarioError",
-           "ScenarioIssue", "VecEnv", "make_remote_vec", "make_vec"]
+__all__ = ["AutoresetMode", "Box", "Env", "ExperimentError", "HAVE_GYMNASIUM", "RemoteError", "ScenarioError",
+           "ScenarioIssue", "VecEnv", "make", "make_remote_vec", "make_vec", "register_envs", "task_ids"]

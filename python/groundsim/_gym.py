@@ -2,6 +2,7 @@
 importable, groundsim.spaces' stand-ins otherwise."""
 
 try:
+    from gymnasium import Env
     from gymnasium.spaces import Box
     from gymnasium.vector import AutoresetMode, VectorEnv
     from gymnasium.vector.utils import batch_space
@@ -10,7 +11,8 @@ try:
 except ImportError:
     from .spaces import AutoresetMode, Box, batch_space
 
+    Env = object
     VectorEnv = object
     HAVE_GYMNASIUM = False
 
-__all__ = ["AutoresetMode", "Box", "HAVE_GYMNASIUM", "VectorEnv", "batch_space"]
+__all__ = ["AutoresetMode", "Box", "Env", "HAVE_GYMNASIUM", "VectorEnv", "batch_space"]

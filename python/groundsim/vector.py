@@ -1,9 +1,10 @@
 """Gymnasium's vector API over a groundsim._core.BatchEnv.
 
-The arrays returned by reset() and step() are allocated once, here, and the
-C++ environments write into them in place: each call returns the same
-(read-only) arrays with new contents. Copy what you keep beyond the next
-call (``obs.copy()``)."""
+The C++ environments write into arrays allocated once, here. By default
+(``copy=True``, as Gymnasium's vector envs) reset() and step() return fresh
+copies of them; with ``copy=False`` they return read-only views of those
+same arrays, overwritten by the next call (no copy: keep what you need with
+``obs.copy()``). docs/experiments.md "Python" has the measured cost."""
 
 import json
 import operator
@@ -13,8 +14,10 @@ from collections.abc import Mapping
 import numpy as np
 
 from . import _core
+from ._episodes import EpisodeStatistics, autoreset_mode_of
 from ._errors import ExperimentError
 from ._gym import AutoresetMode, Box, VectorEnv, batch_space
+from .registration import task_source
 
 _SEED_END = 2**63  # seeds are in [0, 2^63)
 
@@ -37,17 +40,36 @@ class VecEnv(VectorEnv):
 
     Gymnasium's vector API (a gymnasium.vector.VectorEnv when gymnasium is
     importable): reset(seed, options) -> (obs, infos); step(actions) ->
-    (obs, rewards, terminations, truncations, infos); autoreset NEXT_STEP.
+    (obs, rewards, terminations, truncations, infos).
+
+    autoreset_mode (``metadata["autoreset_mode"]``): NEXT_STEP (default) resets
+    an env in the step after its episode ended, ignoring its action;
+    SAME_STEP resets it in the step that ended it and puts the last
+    observation in ``infos["final_obs"]`` and its infos in
+    ``infos["final_info"]`` (masks ``_final_obs``, ``_final_info``);
+    DISABLED never resets: step() refuses an env whose episode ended until
+    reset(options={"reset_mask": ...}) resets it.
+
+    infos: ``episode_index``, ``episode_steps``, ``episode_return``,
+    ``diverged`` for every env every step (masks all true), and, in a step
+    where episodes end, Gymnasium's episode statistics ``episode`` = {"r",
+    "l", "t"} with the ``_episode`` mask (``episode_statistics=False`` leaves
+    them to a wrapper such as gymnasium's RecordEpisodeStatistics, which
+    refuses an env that already reports them).
     Besides: ``layout`` (component names, dt, control period, wheel counts),
     ``snapshot(env)`` and ``restore(env, data)``."""
 
-    def __init__(self, core, name="groundsim"):
+    def __init__(self, core, name="groundsim", *, copy=True, autoreset_mode=AutoresetMode.NEXT_STEP,
+                 episode_statistics=True):
+        mode = autoreset_mode_of(autoreset_mode)
         self._core = core
         self._name = name
+        self._copy = bool(copy)
+        self._mode = mode
         layout = core.layout
         n, obs_size, action_size = layout.num_envs, layout.obs_size, layout.action_size
         self.num_envs = n
-        self.metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
+        self.metadata = {"autoreset_mode": mode}
         self.render_mode = None
         self.spec = None
         self.closed = False
@@ -64,8 +86,10 @@ class VecEnv(VectorEnv):
         self._rewards = np.zeros(n, np.float64)
         self._terminations = np.zeros(n, np.bool_)
         self._truncations = np.zeros(n, np.bool_)
-        self._info_arrays = {"episode": np.zeros(n, np.int64), "episode_steps": np.zeros(n, np.int64),
+        self._info_arrays = {"episode_index": np.zeros(n, np.int64), "episode_steps": np.zeros(n, np.int64),
                              "episode_return": np.zeros(n, np.float64), "diverged": np.zeros(n, np.bool_)}
+        self._stats = EpisodeStatistics(n) if episode_statistics else None
+        self._ended = np.zeros(n, np.bool_)  # DISABLED: episodes ended and not reset since
         self._views = tuple(_readonly(a) for a in (self._obs, self._rewards, self._terminations, self._truncations))
         # every env reports every key on every step: Gymnasium's "_key" masks are all true
         everyone = _readonly(np.ones(n, np.bool_))
@@ -99,14 +123,18 @@ class VecEnv(VectorEnv):
                 self._core.reset_env(i, seeds[i] if isinstance(seeds, list) else
                                      (None if seeds is None else seeds + i), self._obs)
         self._core.fill_infos(*self._info_arrays.values())
-        return self._views[0], dict(self._infos)
+        chosen = slice(None) if envs is None else envs
+        self._ended[chosen] = False
+        if self._stats is not None:
+            self._stats.started(chosen)
+        return self._out(self._views[0]), self._infos_out()
 
     def step(self, actions):
         """actions: array-like of shape (num_envs, action_size), cast to
         float32; NaN or inf is refused (ExperimentError, field
-        "actions[i][j]"), finite values are clipped to the action space. An
-        env whose episode ended in the previous step is reset instead, and
-        its action ignored (NEXT_STEP)."""
+        "actions[i][j]"), finite values are clipped to the action space.
+        What happens to an env whose episode ended depends on the
+        autoreset mode (class docstring)."""
         if isinstance(actions, np.ndarray) and actions.dtype == np.float32:
             a = actions
         else:
@@ -120,9 +148,55 @@ class VecEnv(VectorEnv):
             raise ExperimentError("actions", f"actions: expected shape {self._action_shape}, got {a.shape}")
         if not a.flags.c_contiguous:
             a = np.ascontiguousarray(a)
+        if self._mode is AutoresetMode.DISABLED and self._ended.any():
+            i = int(np.flatnonzero(self._ended)[0])
+            raise ExperimentError("actions", f"actions: env {i} ended its episode and autoreset_mode is "
+                                             f"DISABLED; reset it first (reset(options={{'reset_mask': mask}}))")
         self._core.step(a, self._obs, self._rewards, self._terminations, self._truncations)
         self._core.fill_infos(*self._info_arrays.values())
-        return (*self._views, dict(self._infos))
+        dones = self._terminations | self._truncations
+        extra = {}
+        if dones.any():
+            if self._stats is not None:
+                extra.update(self._stats.ended(dones, self._info_arrays))
+            if self._mode is AutoresetMode.SAME_STEP:
+                extra.update(self._reset_ended(dones))
+            elif self._mode is AutoresetMode.DISABLED:
+                self._ended |= dones
+        rewards, terminations, truncations = (self._out(v) for v in self._views[1:])
+        return self._out(self._views[0]), rewards, terminations, truncations, self._infos_out(extra)
+
+    def _reset_ended(self, dones):
+        """SAME_STEP: the last observation and infos of the ended envs, then
+        their reset (each continues its own random stream)."""
+        ended = np.flatnonzero(dones)
+        final_obs = np.zeros_like(self._obs)
+        final_obs[ended] = self._obs[ended]
+        final_info = {}
+        for key, array in self._info_arrays.items():
+            final_info[key] = np.where(dones, array, np.zeros_like(array))
+            final_info["_" + key] = dones.copy()
+        for i in ended:
+            self._core.reset_env(int(i), None, self._obs)
+        self._core.fill_infos(*self._info_arrays.values())
+        if self._stats is not None:
+            self._stats.started(ended)
+        return {"final_obs": final_obs, "_final_obs": dones.copy(), "final_info": final_info,
+                "_final_info": dones.copy()}
+
+    def _out(self, view):
+        return view.copy() if self._copy else view
+
+    def _infos_out(self, extra=None):
+        """A new dict each call: the per-env counters (copies or read-only
+        views), then what this step adds (episode statistics, final_obs)."""
+        if self._copy:
+            infos = {key: value.copy() for key, value in self._infos.items()}
+        else:
+            infos = dict(self._infos)
+        if extra:
+            infos.update(extra)
+        return infos
 
     def snapshot(self, env):
         """The full state of env (bytes), restorable bit for bit, also into
@@ -136,7 +210,10 @@ class VecEnv(VectorEnv):
             raise ExperimentError("snapshot", f"snapshot: must be bytes, got {type(data).__name__}")
         self._core.restore(i, bytes(data), self._obs)
         self._core.fill_infos(*self._info_arrays.values())
-        return self._views[0][i]
+        self._ended[i] = False
+        if self._stats is not None:
+            self._stats.started([i])
+        return self._out(self._views[0][i])
 
     def close(self, **kwargs):
         if self.closed:
@@ -159,7 +236,8 @@ class VecEnv(VectorEnv):
         return False
 
     def __repr__(self):
-        return f"groundsim.VecEnv({self._name!r}, num_envs={self.num_envs})"
+        return (f"groundsim.VecEnv({self._name!r}, num_envs={self.num_envs}, "
+                f"autoreset_mode={self._mode.name}, copy={self._copy})")
 
     def _env_index(self, env, field):
         i = _index(env, field)
@@ -235,31 +313,46 @@ def _scenario_source(scenario):
                                       f"{type(scenario).__name__}")
 
 
-def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None):
+_OPTIONS_DOC = """
+    copy: True (default) returns fresh arrays from reset() and step(); False
+    returns read-only views of buffers the next call overwrites.
+    autoreset_mode: "next_step" (default), "same_step" or "disabled" (or a
+    gymnasium AutoresetMode); see VecEnv.
+    episode_statistics: put Gymnasium's ``episode`` / ``_episode`` in the
+    infos of a step where episodes end (default True)."""
+
+
+def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, autoreset_mode="next_step",
+             episode_statistics=True):
     """num_envs environments of a scenario with a ``task`` section, stepped
     in this process on num_threads threads (0: one per core, 1: the calling
     thread) with the GIL released.
 
-    scenario: a path to a JSON file (the heightfields it names are read next
-    to it), a JSON string, or a dict. For the last two, files_dir says
+    scenario: a shipped task's id ("groundsim/Goal-v0", groundsim.task_ids())
+    or short name ("goal"), a path to a JSON file (the heightfields it names
+    are read next to it), a JSON string, or a dict. For the last two, files_dir says
     where named files are read from (none are readable without it).
     Raises ScenarioError for a bad scenario or task, ExperimentError for bad
     arguments. The result does not depend on num_threads, bit for bit."""
+    options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
+               "episode_statistics": episode_statistics}
     n = _index(num_envs, "num_envs")
     threads = _index(num_threads, "num_threads")
     if not 1 <= n < 2**31:
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
     if not 0 <= threads < 2**31:
         raise ExperimentError("num_threads", f"num_threads: must be >= 0 (0: one per core), got {threads}")
+    scenario, files_dir = task_source(scenario, files_dir)
     text, path, name = _scenario_source(scenario)
     if path is not None:
-        return VecEnv(_core.make_vec_env_from_file(path, n, threads), name)
+        return VecEnv(_core.make_vec_env_from_file(path, n, threads), name, **options)
     if files_dir is not None:
         files_dir = os.fspath(files_dir)
-    return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name)
+    return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name, **options)
 
 
-def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None):
+def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, copy=True,
+                    autoreset_mode="next_step", episode_statistics=True):
     """num_envs environments of a scenario with a ``task`` section, run in a
     vectorised session of groundsim-server over LCM (docs/protocol.md),
     with the same API and the same results, bit for bit, as make_vec.
@@ -273,11 +366,14 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
     server names the field: num_envs above its --max-envs is "num_envs"),
     RemoteError when the server is gone or parts of a reply are missing.
     close() stops the session."""
+    options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
+               "episode_statistics": episode_statistics}
     n = _index(num_envs, "num_envs")
     if not 1 <= n < 2**31:
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
     if not (isinstance(timeout, (int, float)) and timeout > 0):
         raise ExperimentError("timeout", f"timeout: must be a positive number of seconds, got {timeout!r}")
+    scenario, files_dir = task_source(scenario, files_dir)
     text, path, name = _scenario_source(scenario)
     if path is not None:
         with open(path, encoding="utf-8", errors="replace") as f:
@@ -285,4 +381,8 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
         files_dir = os.path.dirname(os.path.abspath(path))
     elif files_dir is not None:
         files_dir = os.fspath(files_dir)
-    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir), name)
+    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir), name, **options)
+
+
+make_vec.__doc__ += _OPTIONS_DOC
+make_remote_vec.__doc__ += _OPTIONS_DOC

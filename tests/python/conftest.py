@@ -21,12 +21,17 @@ def goal_doc():
     return json.loads(GOAL.read_text())
 
 
+ENV_OPTIONS = ("copy", "autoreset_mode", "episode_statistics")
+
+
 def make_goal(doc, num_envs, num_threads=1, **task):
     """The goal task with some task fields replaced (heightfields are read
-    next to configs/tasks/goal.json)."""
+    next to configs/tasks/goal.json); copy, autoreset_mode and
+    episode_statistics go to make_vec."""
+    options = {key: task.pop(key) for key in ENV_OPTIONS if key in task}
     doc = copy.deepcopy(doc)
     doc["task"].update(task)
-    return groundsim.make_vec(doc, num_envs, num_threads, files_dir=TASKS)
+    return groundsim.make_vec(doc, num_envs, num_threads, files_dir=TASKS, **options)
 
 
 def actions(env, steps, seed=7):

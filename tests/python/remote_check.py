@@ -34,7 +34,7 @@ def steps(env, seq, seed):
     out = [tuple(np.copy(a) for a in env.reset(seed=seed)[:1])]
     for a in seq:
         obs, rew, term, trunc, infos = env.step(a)
-        out.append((obs.copy(), rew.copy(), term.copy(), trunc.copy(), infos["episode"].copy()))
+        out.append((obs.copy(), rew.copy(), term.copy(), trunc.copy(), infos["episode_index"].copy()))
     return out
 
 

@@ -159,6 +159,11 @@ def test_env_indices_out_of_range_are_refused(env, index):
         assert e.value.field == "env"
 
 
+def _read_only(array):
+    array.flags.writeable = False
+    return array
+
+
 def test_the_binding_checks_every_buffer(env):
     n, o, a = 3, env.layout.obs_size, env.layout.action_size
     good = dict(actions=np.zeros((n, a), np.float32), obs=np.zeros((n, o), np.float32),
@@ -167,7 +172,7 @@ def test_the_binding_checks_every_buffer(env):
         "actions": [np.zeros((n, a)), np.zeros((n, a + 1), np.float32), np.zeros((a, n), np.float32).T, [[0.0] * a] * n],
         "obs": [np.zeros((n, o)), np.zeros((n, o + 1), np.float32), np.zeros((n, 2 * o), np.float32)[:, ::2],
                 np.zeros((n, o), np.float32, order="F") if o > 1 and n > 1 else np.zeros(1),
-                env.step(good["actions"])[0]],  # the read-only view the wrapper returns
+                _read_only(np.zeros((n, o), np.float32))],  # as the wrapper returns with copy=False
         "rewards": [np.zeros(n, np.float32), np.zeros(n + 1)],
         "terminations": [np.zeros(n, np.uint8), np.zeros((n, 1), bool)],
         "truncations": [np.zeros(n, np.int64)],

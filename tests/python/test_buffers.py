@@ -1,13 +1,35 @@
-"""No copies: the C++ environments write into numpy arrays allocated once by
-the wrapper; every call returns read-only views of those same arrays."""
+"""Buffers: by default (copy=True, as Gymnasium's vector envs) every call
+returns fresh, writable arrays; with copy=False the C++ environments write
+into numpy arrays allocated once by the wrapper and every call returns
+read-only views of those same arrays."""
 
 import numpy as np
 
 from conftest import actions, make_goal
 
 
-def test_every_step_returns_views_of_the_same_buffers(goal_doc):
+def test_by_default_every_call_returns_fresh_arrays(goal_doc):
     env = make_goal(goal_doc, 4)
+    obs0, infos0 = env.reset(seed=0)
+    seq = actions(env, 2)
+    first = env.step(seq[0])
+    kept = [a.copy() for a in first[:4]]
+    second = env.step(seq[1])
+    for a, b, k in zip(first[:4], second[:4], kept):
+        assert not np.shares_memory(a, b) and a.flags.writeable
+        # a kept array is not overwritten by the next step (the replay-buffer bug)
+        np.testing.assert_array_equal(a, k)
+    assert obs0 is not first[0] and not np.shares_memory(obs0, first[0])
+    assert not np.array_equal(first[0], second[0])
+    for key in ("episode_index", "episode_steps", "episode_return", "diverged"):
+        assert not np.shares_memory(first[4][key], second[4][key]) and first[4][key].flags.writeable
+    # writing into a returned array changes nothing the env holds
+    first[0][:] = np.nan
+    assert np.isfinite(env.step(seq[0])[0]).all()
+
+
+def test_copy_false_returns_views_of_the_same_buffers(goal_doc):
+    env = make_goal(goal_doc, 4, copy=False)
     obs0, infos0 = env.reset(seed=0)
     seq = actions(env, 3)
     first = env.step(seq[0])
@@ -16,12 +38,27 @@ def test_every_step_returns_views_of_the_same_buffers(goal_doc):
         assert a.__array_interface__["data"][0] == b.__array_interface__["data"][0]
         assert not a.flags.writeable and not a.flags.owndata
     assert obs0.__array_interface__["data"][0] == first[0].__array_interface__["data"][0]
-    for key in ("episode", "episode_steps", "episode_return", "diverged"):
+    for key in ("episode_index", "episode_steps", "episode_return", "diverged"):
         assert np.shares_memory(first[4][key], second[4][key]) and not first[4][key].flags.writeable
     # the contents are the new ones: a kept reference sees the next step
     kept = first[0]
     third = env.step(seq[2])[0].copy()
     np.testing.assert_array_equal(kept, third)
+
+
+def test_copies_and_views_hold_the_same_values(goal_doc):
+    seq = None
+    out = {}
+    for copy in (True, False):
+        env = make_goal(goal_doc, 3, copy=copy)
+        seq = seq or actions(env, 5)
+        obs, _ = env.reset(seed=11)
+        run = [obs.copy()]
+        for a in seq:
+            run += [x.copy() for x in env.step(a)[:4]]
+        out[copy] = run
+    for x, y in zip(out[True], out[False]):
+        assert x.tobytes() == y.tobytes()
 
 
 def test_the_core_writes_into_the_callers_arrays(goal_doc):
@@ -43,9 +80,9 @@ def test_the_core_writes_into_the_callers_arrays(goal_doc):
     assert not div.any()
 
 
-def test_infos_dicts_are_fresh_but_their_arrays_are_shared(goal_doc):
-    env = make_goal(goal_doc, 2)
+def test_infos_dicts_are_fresh_but_their_arrays_are_shared_without_copies(goal_doc):
+    env = make_goal(goal_doc, 2, copy=False)
     _, infos = env.reset(seed=0)
-    infos["episode"] = "changed by a wrapper"
+    infos["episode_index"] = "changed by a wrapper"
     _, _, _, _, infos2 = env.step(actions(env, 1)[0])
-    assert infos2["episode"].tolist() == [1, 1]
+    assert infos2["episode_index"].tolist() == [1, 1]

@@ -57,7 +57,7 @@ def test_autoreset_next_step(goal_doc):
     seq = actions(env, 4)
     for k in range(3):
         obs, rew, term, trunc, info = env.step(seq[k])
-        assert info["episode"].tolist() == [1, 1] and info["episode_steps"].tolist() == [k + 1] * 2
+        assert info["episode_index"].tolist() == [1, 1] and info["episode_steps"].tolist() == [k + 1] * 2
         assert not term.any()
         assert trunc.tolist() == [k == 2] * 2
     # the step after the episode ended resets: first observation of the next
@@ -69,7 +69,7 @@ def test_autoreset_next_step(goal_doc):
     obs, rew, term, trunc, info = env.step(seq[3])
     obs = obs.copy()
     assert rew.tolist() == [0.0, 0.0] and not term.any() and not trunc.any()
-    assert info["episode"].tolist() == [2, 2] and info["episode_steps"].tolist() == [0, 0]
+    assert info["episode_index"].tolist() == [2, 2] and info["episode_steps"].tolist() == [0, 0]
     assert info["episode_return"].tolist() == [0.0, 0.0]
     other = twin.step(-seq[3])[0]
     np.testing.assert_array_equal(obs, other)

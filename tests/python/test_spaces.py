@@ -33,9 +33,9 @@ def test_spaces_and_buffers_have_the_layouts_shapes(goal_doc):
     assert obs.shape == (n, o) and obs.dtype == np.float32
     assert rew.shape == (n,) and rew.dtype == np.float64
     assert term.shape == trunc.shape == (n,) and term.dtype == trunc.dtype == np.bool_
-    assert infos["episode"].dtype == infos["episode_steps"].dtype == np.int64
+    assert infos["episode_index"].dtype == infos["episode_steps"].dtype == np.int64
     assert infos["episode_return"].dtype == np.float64 and infos["diverged"].dtype == np.bool_
-    for key in ("episode", "episode_steps", "episode_return", "diverged"):
+    for key in ("episode_index", "episode_steps", "episode_return", "diverged"):
         assert infos[key].shape == (n,) and infos["_" + key].all()
     env.close()
 
