@@ -42,6 +42,7 @@ Layout fromWire(const groundsim::env_layout_t& m) {
   l.action_high = m.action_high;
   l.wheel_counts.assign(m.wheel_counts.begin(), m.wheel_counts.end());
   l.scenario_hash = m.scenario_hash;
+  l.drawn.assign(m.drawn.begin(), m.drawn.end());
   return l;
 }
 
@@ -304,6 +305,33 @@ void RemoteVecEnv::restore(int env, const std::string& snapshot, float* obs_row)
   req.env = env;
   req.snapshot.assign(snapshot.begin(), snapshot.end());
   takeEnvs(call(std::move(req), options_.timeout_s, "restore"), obs_row, nullptr, nullptr, nullptr);
+}
+
+void RemoteVecEnv::setRandomization(int env, const std::string& randomize_json) {
+  checkOpen("set_randomization");
+  if (env != -1) checkEnv(env);
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_RANDOMIZE;
+  req.env = env;
+  req.scenario_json = randomize_json;
+  call(std::move(req), options_.timeout_s, "set_randomization");
+}
+
+void RemoteVecEnv::drawn(double* out) const {
+  checkOpen("drawn");
+  groundsim::vec_request_t req{};
+  req.op = groundsim::vec_request_t::OP_DRAWN;
+  const groundsim::vec_reply_t r = call(req, options_.timeout_s, "drawn");
+  const std::size_t want = static_cast<std::size_t>(layout_.num_envs) * layout_.drawnSize() * sizeof(double);
+  if (r.snapshot.size() != want)
+    throw RemoteError("drawn: reply of request " + std::to_string(r.request_id) + " holds " +
+                      std::to_string(r.snapshot.size()) + " bytes, the layout needs " + std::to_string(want));
+  // float64 little-endian, as the server wrote them (session/vec_session.cpp)
+  for (std::size_t k = 0; k < want / sizeof(double); ++k) {
+    std::uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) bits |= static_cast<std::uint64_t>(r.snapshot[k * 8 + b]) << (8 * b);
+    std::memcpy(out + k, &bits, sizeof bits);
+  }
 }
 
 void RemoteVecEnv::close() {

@@ -64,6 +64,8 @@ class RemoteVecEnv final : public BatchEnv {
   EnvInfo info(int env) const override;
   std::string snapshot(int env) const override;
   void restore(int env, const std::string& snapshot, float* obs_row) override;
+  void setRandomization(int env, const std::string& randomize_json) override;
+  void drawn(double* out) const override;
   // Stops the session (request_t OP_STOP); later calls throw. Idempotent.
   void close() override;
 

@@ -71,14 +71,16 @@ class Env(_GymEnv):
 
     def reset(self, *, seed=None, options=None):
         """A new episode: (observation, info). seed: None (the env's own
-        stream goes on) or an int in [0, 2^63)."""
+        stream goes on) or an int in [0, 2^63). options: None or
+        {"randomize": ranges} (set_randomization first)."""
         if HAVE_GYMNASIUM:
             super().reset(seed=seed)
         elif seed is not None:
             self._np_random = np.random.default_rng(seed)
-        if options not in (None, {}):
-            raise ExperimentError("options", f"options: a single env takes none, got {options!r}")
-        obs, infos = self._vec.reset(seed=seed)
+        if options is not None and set(options) - {"randomize"}:
+            raise ExperimentError("options", f"options: a single env takes only 'randomize', got "
+                                             f"{sorted(options)}")
+        obs, infos = self._vec.reset(seed=seed, options=options or None)
         self._needs_reset = False
         return obs[0], self._info(infos)
 
@@ -109,6 +111,15 @@ class Env(_GymEnv):
 
     def close(self):
         self._vec.close()
+
+    def set_randomization(self, ranges):
+        """A curriculum: the ranges the next resets draw from
+        (VecEnv.set_randomization)."""
+        self._vec.set_randomization(ranges)
+
+    def drawn(self):
+        """What the last reset drew, float64 (len(layout.drawn),)."""
+        return self._vec.drawn()[0]
 
     def snapshot(self):
         """The full state (bytes), restorable bit for bit (VecEnv.snapshot)."""

@@ -56,11 +56,15 @@ class VecEnv(VectorEnv):
     "l", "t"} with the ``_episode`` mask (``episode_statistics=False`` leaves
     them to a wrapper such as gymnasium's RecordEpisodeStatistics, which
     refuses an env that already reports them).
+    Curriculum: set_randomization(ranges, envs) or reset(options={"randomize":
+    ranges}) change what the next resets of those envs draw; drawn() (and
+    ``infos["drawn"]`` with ``drawn_in_infos=True``) is what each env's last
+    reset drew, columns named by ``layout.drawn``.
     Besides: ``layout`` (component names, dt, control period, wheel counts),
     ``snapshot(env)`` and ``restore(env, data)``."""
 
     def __init__(self, core, name="groundsim", *, copy=True, autoreset_mode=AutoresetMode.NEXT_STEP,
-                 episode_statistics=True):
+                 episode_statistics=True, drawn_in_infos=False):
         mode = autoreset_mode_of(autoreset_mode)
         self._core = core
         self._name = name
@@ -89,6 +93,7 @@ class VecEnv(VectorEnv):
         self._info_arrays = {"episode_index": np.zeros(n, np.int64), "episode_steps": np.zeros(n, np.int64),
                              "episode_return": np.zeros(n, np.float64), "diverged": np.zeros(n, np.bool_)}
         self._stats = EpisodeStatistics(n) if episode_statistics else None
+        self._drawn = np.zeros((n, len(layout.drawn)), np.float64) if drawn_in_infos else None
         self._ended = np.zeros(n, np.bool_)  # DISABLED: episodes ended and not reset since
         self._views = tuple(_readonly(a) for a in (self._obs, self._rewards, self._terminations, self._truncations))
         # every env reports every key on every step: Gymnasium's "_key" masks are all true
@@ -116,6 +121,8 @@ class VecEnv(VectorEnv):
         their state. Returns every env's observation."""
         envs = self._envs_to_reset(options)
         seeds = self._seeds(seed)
+        if options is not None and "randomize" in options:
+            self.set_randomization(options["randomize"], envs)
         if envs is None and not isinstance(seeds, list):
             self._core.reset(seeds, self._obs)
         else:
@@ -194,9 +201,57 @@ class VecEnv(VectorEnv):
             infos = {key: value.copy() for key, value in self._infos.items()}
         else:
             infos = dict(self._infos)
+        if self._drawn is not None:
+            self._core.drawn(self._drawn)
+            infos["drawn"] = self._drawn.copy()
+            infos["_drawn"] = np.ones(self.num_envs, np.bool_)
         if extra:
             infos.update(extra)
         return infos
+
+    def set_randomization(self, ranges, envs=None):
+        """A curriculum: the ranges the next resets of envs draw from.
+        ranges: the task's ``randomize`` object (dict), every key optional:
+        "x", "y" (m), "yaw_deg", "speed" as [lo, hi], "parameters" as
+        [{"path": ..., "range": [lo, hi]}] for parameters the task already
+        randomises (a curriculum changes ranges, it adds none; each end must
+        validate). envs: None (every env), an index, a list of indices or a
+        bool mask. Refused values raise ExperimentError naming the field
+        ("randomize/x", "randomize/parameters/0/range") and change nothing."""
+        if not isinstance(ranges, Mapping):
+            raise ExperimentError("randomize", f"randomize: must be a dict such as {{'x': [-2, 2]}}, got "
+                                               f"{type(ranges).__name__}")
+        try:
+            text = json.dumps(ranges, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise ExperimentError("randomize", f"randomize: not representable as JSON ({e})") from None
+        chosen = self._chosen_envs(envs)
+        if chosen is None:
+            self._core.set_randomization(-1, text)
+            return
+        # whether new ranges validate does not depend on an env's current ones
+        # (kept keys were valid), so a refusal comes at the first env, before
+        # any has changed
+        for i in chosen:
+            self._core.set_randomization(i, text)
+
+    def drawn(self):
+        """What each env's last reset drew, float64 (num_envs,
+        len(layout.drawn)): x, y (m), yaw (rad), speed (m/s), then each
+        parameter, for a privileged critic."""
+        out = np.zeros((self.num_envs, len(self.layout.drawn)), np.float64)
+        self._core.drawn(out)
+        return out
+
+    def _chosen_envs(self, envs):
+        if envs is None:
+            return None
+        if isinstance(envs, np.ndarray) and envs.dtype == np.bool_:
+            if envs.shape != (self.num_envs,):
+                raise ExperimentError("envs", f"envs: a bool mask needs shape ({self.num_envs},), got {envs.shape}")
+            return [int(i) for i in np.flatnonzero(envs)]
+        chosen = [envs] if np.ndim(envs) == 0 else list(envs)
+        return list(dict.fromkeys(self._env_index(i, "envs") for i in chosen))
 
     def snapshot(self, env):
         """The full state of env (bytes), restorable bit for bit, also into
@@ -250,13 +305,16 @@ class VecEnv(VectorEnv):
             return None
         if not isinstance(options, Mapping):
             raise ExperimentError("options", f"options: must be a dict or None, got {type(options).__name__}")
-        unknown = sorted(set(options) - {"env", "reset_mask"})
+        unknown = sorted(set(options) - {"env", "reset_mask", "randomize"})
         if unknown:
             raise ExperimentError("options", f"options: unknown key(s) {unknown}; supported: 'env' (an index "
                                              f"or a list of indices), 'reset_mask' (bool array of shape "
-                                             f"({self.num_envs},))")
+                                             f"({self.num_envs},)), 'randomize' (new ranges, the task's "
+                                             f"randomize schema)")
         if "env" in options and "reset_mask" in options:
             raise ExperimentError("options", "options: give 'env' or 'reset_mask', not both")
+        if "env" not in options and "reset_mask" not in options:
+            return None
         if "env" in options:
             chosen = options["env"]
             chosen = [chosen] if np.ndim(chosen) == 0 else list(chosen)
@@ -319,11 +377,13 @@ _OPTIONS_DOC = """
     autoreset_mode: "next_step" (default), "same_step" or "disabled" (or a
     gymnasium AutoresetMode); see VecEnv.
     episode_statistics: put Gymnasium's ``episode`` / ``_episode`` in the
-    infos of a step where episodes end (default True)."""
+    infos of a step where episodes end (default True).
+    drawn_in_infos: put what each env's last reset drew in ``infos["drawn"]``
+    (num_envs, len(layout.drawn)) every step (default False)."""
 
 
 def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, autoreset_mode="next_step",
-             episode_statistics=True):
+             episode_statistics=True, drawn_in_infos=False):
     """num_envs environments of a scenario with a ``task`` section, stepped
     in this process on num_threads threads (0: one per core, 1: the calling
     thread) with the GIL released.
@@ -335,7 +395,7 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
     Raises ScenarioError for a bad scenario or task, ExperimentError for bad
     arguments. The result does not depend on num_threads, bit for bit."""
     options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
-               "episode_statistics": episode_statistics}
+               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos}
     n = _index(num_envs, "num_envs")
     threads = _index(num_threads, "num_threads")
     if not 1 <= n < 2**31:
@@ -352,7 +412,7 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
 
 
 def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, copy=True,
-                    autoreset_mode="next_step", episode_statistics=True):
+                    autoreset_mode="next_step", episode_statistics=True, drawn_in_infos=False):
     """num_envs environments of a scenario with a ``task`` section, run in a
     vectorised session of groundsim-server over LCM (docs/protocol.md),
     with the same API and the same results, bit for bit, as make_vec.
@@ -367,7 +427,7 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
     RemoteError when the server is gone or parts of a reply are missing.
     close() stops the session."""
     options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
-               "episode_statistics": episode_statistics}
+               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos}
     n = _index(num_envs, "num_envs")
     if not 1 <= n < 2**31:
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")

@@ -123,6 +123,7 @@ void bindBatchEnv(py::module_& m) {
       .def_readonly("action_high", &Layout::action_high)
       .def_readonly("wheel_counts", &Layout::wheel_counts, "wheels per vehicle, in document order")
       .def_readonly("scenario_hash", &Layout::scenario_hash)
+      .def_readonly("drawn", &Layout::drawn, "what each reset draws: x, y, yaw (rad), speed, then parameter paths")
       .def_property_readonly("obs_size", &Layout::obsSize)
       .def_property_readonly("action_size", &Layout::actionSize)
       .def("__repr__", [](const Layout& l) {
@@ -219,6 +220,27 @@ void bindBatchEnv(py::module_& m) {
             h.env().restore(i, data, o + static_cast<std::ptrdiff_t>(i) * h.layout().obsSize());
           },
           py::arg("env"), py::arg("snapshot"), py::arg("obs"), "restores env; writes its row of obs")
+      .def(
+          "set_randomization",
+          [](EnvHandle& h, int env, const std::string& randomize_json) {
+            if (env != -1) envIndex(h, env);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().setRandomization(env, randomize_json);
+          },
+          py::arg("env"), py::arg("randomize_json"),
+          "a curriculum: new ranges (the task's randomize object as JSON) for env, -1 for every env, "
+          "from its next reset on")
+      .def(
+          "drawn",
+          [](EnvHandle& h, const py::handle& out) {
+            const Layout& l = h.layout();
+            double* o = buffer<double>(out, "drawn", {l.num_envs, l.drawnSize()}, true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().drawn(o);
+          },
+          py::arg("out"), "writes what each env's last reset drew, [num_envs x len(layout.drawn)]")
       .def(
           "close",
           [](EnvHandle& h) {

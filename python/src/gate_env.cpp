@@ -73,6 +73,9 @@ class GateEnv final : public BatchEnv {
   EnvInfo info(int) const override { return EnvInfo{1, steps_, 0.0, false}; }
   std::string snapshot(int) const override { return std::to_string(steps_); }
   void restore(int, const std::string&, float* obs_row) override { obs_row[0] = static_cast<float>(steps_); }
+  // draws nothing (Layout::drawn is empty)
+  void setRandomization(int, const std::string&) override {}
+  void drawn(double*) const override {}
 
  private:
   Layout layout_;

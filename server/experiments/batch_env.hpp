@@ -35,9 +35,11 @@ struct Layout {
   std::vector<std::string> action;       // one name per component, e.g. "throttle"
   std::vector<float> action_low, action_high;
   std::vector<int> wheel_counts;    // per vehicle, in document order
+  std::vector<std::string> drawn;   // what each reset draws: "x", "y", "yaw", "speed", then each parameter's path
   std::string scenario_hash;        // hex digest of the validated document (snapshots must match)
   int obsSize() const { return static_cast<int>(observation.size()); }
   int actionSize() const { return static_cast<int>(action.size()); }
+  int drawnSize() const { return static_cast<int>(drawn.size()); }
 };
 
 // Bad calls from a client: wrong shapes, NaN actions, out-of-range seeds or
@@ -80,6 +82,16 @@ class BatchEnv {
   // process running the same scenario.
   virtual std::string snapshot(int env) const = 0;
   virtual void restore(int env, const std::string& snapshot, float* obs_row) = 0;
+
+  // A curriculum: new randomisation ranges for env (every env when env is
+  // -1), drawn from at its next resets on. randomize_json: the task's
+  // `randomize` object, every key optional; a parameter must be one the
+  // task randomises, and both ends of its range must validate. Throws
+  // ExperimentError naming the field ("randomize/x", ...); nothing changes then.
+  virtual void setRandomization(int env, const std::string& randomize_json) = 0;
+  // What each env's last reset drew, row-major [num_envs x Layout::drawnSize()]
+  // (yaw in rad), for a privileged critic.
+  virtual void drawn(double* out) const = 0;
   virtual void close() {}
 };
 

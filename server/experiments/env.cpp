@@ -20,13 +20,8 @@ using scenario::TaskSpec;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Body-to-world rotation, world angular velocity of body b.
+// Body-to-world rotation of body b.
 Mat3 rotation(const Eigen::VectorXd& y, int b) { return bodyRot(y, b).normalized().toRotationMatrix(); }
-
-Vec3 omegaWorld(const Model& m, const Eigen::VectorXd& y, int b) {
-  const Mat3 R = rotation(y, b);
-  return R * (m.bodies[static_cast<size_t>(b)].inv_inertia * (R.transpose() * Vec3(bodyMom(y, b))));
-}
 
 float toFloat(double v) {
   if (!std::isfinite(v)) return 0.0f;  // never published (only a diverged step's workspace could hold one)
@@ -41,9 +36,11 @@ Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std:
   action_.assign(static_cast<size_t>(l.actionSize()), 0.0f);
   previous_ = action_;
   last_obs_.assign(static_cast<size_t>(l.obsSize()), 0.0f);
-  feature_.reserve(static_cast<size_t>(l.obsSize()));
+  feature_.assign(static_cast<size_t>(l.obsSize()), 0.0);
+  ranges_ = ctx_->task().randomize;
   sim_ = std::make_unique<Simulator>(ctx_->scene.built.model, ctx_->scene.built.initial);
   probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+  sensors_ = resolveSensors(*ctx_, sim_->model());
   reset(seed, last_obs_.data());
   // the first step() begins episode 1 (its action ignored), as after any end
   episode_ = 0;
@@ -51,17 +48,18 @@ Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std:
 }
 
 State Env::initialState(std::shared_ptr<const Model>* model) const {
-  const TaskSpec& t = ctx_->task();
-  const bool moved = drawn_[0] != 0.0 || drawn_[1] != 0.0 || drawn_[2] != 0.0 || drawn_[3] != 0.0;
-  if (t.parameters.empty() && !moved) {
+  const bool moved = drawn_[kDrawnX] != 0.0 || drawn_[kDrawnY] != 0.0 || drawn_[kDrawnYaw] != 0.0 ||
+                     drawn_[kDrawnSpeed] != 0.0;
+  const std::vector<scenario::ParameterRange>& parameters = ranges_.parameters;
+  if (parameters.empty() && !moved) {
     *model = ctx_->scene.built.model;
     return ctx_->scene.built.initial;
   }
   scenario::Scenario s;
-  if (!t.parameters.empty()) {
+  if (!parameters.empty()) {
     nlohmann::json doc = ctx_->base_document;
-    for (size_t i = 0; i < t.parameters.size(); ++i)
-      scenario::applyOverride(doc, overrideText(t.parameters[i].path, drawn_[4 + i]), ctx_->budget);
+    for (size_t i = 0; i < parameters.size(); ++i)
+      scenario::applyOverride(doc, overrideText(parameters[i].path, drawn_[kDrawnParameters + i]), ctx_->budget);
     s = scenario::parseScenario(std::move(doc), ctx_->budget, ctx_->files);
   } else {
     s.options = ctx_->scenario.options;
@@ -70,28 +68,28 @@ State Env::initialState(std::shared_ptr<const Model>* model) const {
     s.document = nlohmann::json::object();
   }
   CarPlacement& at = s.vehicles.at(static_cast<size_t>(ctx_->vehicle)).placement;
-  at.position.x() += drawn_[0];
-  at.position.y() += drawn_[1];
-  at.yaw += drawn_[2];
-  at.speed += drawn_[3];
+  at.position.x() += drawn_[kDrawnX];
+  at.position.y() += drawn_[kDrawnY];
+  at.yaw += drawn_[kDrawnYaw];
+  at.speed += drawn_[kDrawnSpeed];
   scenario::Scene scene = scenario::buildScene(s);
   // only a drawn parameter changes the model: placements share the base one
-  *model = t.parameters.empty() ? ctx_->scene.built.model : scene.built.model;
+  *model = parameters.empty() ? ctx_->scene.built.model : scene.built.model;
   return std::move(scene.built.initial);
 }
 
 void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
   if (seed) rng_.seed(*seed);
-  const TaskSpec& t = ctx_->task();
-  drawn_.resize(4 + t.parameters.size());
+  const scenario::Randomization& r = ranges_;
+  drawn_.resize(kDrawnParameters + r.parameters.size());
   // always four draws for the placement, then one per parameter: a task's
   // stream does not depend on which ranges are empty
-  drawn_[0] = rng_.uniform(t.random_x[0], t.random_x[1]);
-  drawn_[1] = rng_.uniform(t.random_y[0], t.random_y[1]);
-  drawn_[2] = rng_.uniform(t.random_yaw_deg[0], t.random_yaw_deg[1]) * kDeg;
-  drawn_[3] = rng_.uniform(t.random_speed[0], t.random_speed[1]);
-  for (size_t i = 0; i < t.parameters.size(); ++i)
-    drawn_[4 + i] = rng_.uniform(t.parameters[i].lo, t.parameters[i].hi);
+  drawn_[kDrawnX] = rng_.uniform(r.x[0], r.x[1]);
+  drawn_[kDrawnY] = rng_.uniform(r.y[0], r.y[1]);
+  drawn_[kDrawnYaw] = rng_.uniform(r.yaw_deg[0], r.yaw_deg[1]) * kDeg;
+  drawn_[kDrawnSpeed] = rng_.uniform(r.speed[0], r.speed[1]);
+  for (size_t i = 0; i < r.parameters.size(); ++i)
+    drawn_[kDrawnParameters + i] = rng_.uniform(r.parameters[i].lo, r.parameters[i].hi);
   std::shared_ptr<const Model> model;
   State s = initialState(&model);
   // the agent drives its vehicle from rest: no scripted drive of the scene
@@ -105,6 +103,7 @@ void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
   if (model != sim_->modelPtr()) {
     sim_ = std::make_unique<Simulator>(model, std::move(s));
     probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+    sensors_ = resolveSensors(*ctx_, sim_->model());
   } else {
     sim_->restore(s);
   }
@@ -151,7 +150,7 @@ void Env::applyAction() {
 
 bool stepsBatched(const TaskContext& c) {
   const scenario::TaskSpec& t = c.task();
-  if (!t.parameters.empty() || BatchStep::unsupported(*c.scene.built.model) != nullptr) return false;
+  if (!t.randomize.parameters.empty() || BatchStep::unsupported(*c.scene.built.model) != nullptr) return false;
   for (scenario::Feature f : t.observation)
     if (f == scenario::Feature::WheelContact || f == scenario::Feature::WheelSlip) return false;
   return true;
@@ -254,115 +253,12 @@ void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::
 }
 
 void Env::observe(float* obs) {
-  const TaskSpec& t = ctx_->task();
-  const Model& m = sim_->model();
-  const State& st = sim_->state();
-  const Eigen::VectorXd& y = st.y;
-  const Workspace& ws = sim_->workspace();
-  const int b = ctx_->body, rc = ctx_->road_car;
-  const Vec3 c = bodyPos(y, b);
-  const Mat3 R = rotation(y, b);
-  const Vec3 v = bodyVel(y, b);
-  const Vec3 fwd = R.col(0);
-  const double fh = std::hypot(fwd.x(), fwd.y());
-  // the heading: the forward axis on the ground plane (+x when it points straight up)
-  const double hc = fh > 0.0 ? fwd.x() / fh : 1.0, hs = fh > 0.0 ? fwd.y() / fh : 0.0;
-  const int base = m.auxBase();
-  const bool fresh = steps_ == 0;  // nothing has touched the ground yet this episode
-  feature_.clear();
-  auto put = [&](double x) { feature_.push_back(x); };
-  for (Feature f : t.observation) {
-    switch (f) {
-      case Feature::Position:
-        for (int i = 0; i < 3; ++i) put(c[i]);
-        break;
-      case Feature::Heading:
-        put(hc);
-        put(hs);
-        break;
-      case Feature::UpBody: {
-        const Vec3 u = R.row(2).transpose();  // R^T e_z
-        for (int i = 0; i < 3; ++i) put(u[i]);
-        break;
-      }
-      case Feature::VelocityBody: {
-        const Vec3 vb = R.transpose() * v;
-        for (int i = 0; i < 3; ++i) put(vb[i]);
-        break;
-      }
-      case Feature::AngularVelocityBody: {
-        const Vec3 wb = R.transpose() * omegaWorld(m, y, b);
-        for (int i = 0; i < 3; ++i) put(wb[i]);
-        break;
-      }
-      case Feature::Speed:
-        put(v.norm());
-        break;
-      case Feature::WheelSpin:
-        for (int k = 0; k < 4; ++k) {
-          if (rc >= 0) {
-            put(y[base + m.road_cars[static_cast<size_t>(rc)].aux + roadAux(k, 2)]);
-            continue;
-          }
-          const int wi = ctx_->wheels[static_cast<size_t>(k)];
-          if (wi < 0) {
-            put(0.0);
-            continue;
-          }
-          const Wheel& wh = m.wheels[static_cast<size_t>(wi)];
-          Vec3 rel = omegaWorld(m, y, wh.body);
-          if (wh.carrier >= 0) rel -= omegaWorld(m, y, wh.carrier);
-          put(rel.dot(rotation(y, wh.body) * wh.axis));
-        }
-        break;
-      case Feature::WheelContact:
-        for (int k = 0; k < 4; ++k) {
-          if (fresh) put(0.0);
-          else if (rc >= 0) put(ws.road[static_cast<size_t>(rc)].wheel[static_cast<size_t>(k)].contact ? 1.0 : 0.0);
-          else {
-            const int wi = ctx_->wheels[static_cast<size_t>(k)];
-            put(wi >= 0 && ws.wheel_normal[static_cast<size_t>(wi)] > 0.0 ? 1.0 : 0.0);
-          }
-        }
-        break;
-      case Feature::WheelSlip:
-        for (int k = 0; k < 4; ++k) {
-          if (fresh) put(0.0);
-          else if (rc >= 0) put(ws.road[static_cast<size_t>(rc)].wheel[static_cast<size_t>(k)].slip_ratio);
-          else {
-            const int wi = ctx_->wheels[static_cast<size_t>(k)];
-            put(wi >= 0 ? ws.wheel_slip[static_cast<size_t>(wi)] : 0.0);
-          }
-        }
-        break;
-      case Feature::SuspensionTravel:
-        for (int k = 0; k < 4; ++k) put(y[base + m.road_cars[static_cast<size_t>(rc)].aux + roadAux(k, 0)]);
-        break;
-      case Feature::HeightSamples:
-        for (double a : t.height_ahead)
-          for (double lat : t.height_lateral) {
-            const double px = c.x() + a * hc - lat * hs, py = c.y() + a * hs + lat * hc;
-            Vec3 p, normal;
-            put(groundPointBelow(*probe_, px, py, &p, &normal) ? p.z() - c.z() : 0.0);
-          }
-        break;
-      case Feature::GoalBody: {
-        const Vec3 d = R.transpose() * Vec3(t.goal[0] - c.x(), t.goal[1] - c.y(), 0.0);
-        put(d.x());
-        put(d.y());
-        break;
-      }
-      case Feature::GoalDistance:
-        put(std::hypot(t.goal[0] - c.x(), t.goal[1] - c.y()));
-        break;
-      case Feature::PreviousAction:
-        for (float a : previous_) put(a);
-        break;
-      case Feature::Time:
-        put(static_cast<double>(steps_) * ctx_->control_dt);
-        break;
-    }
-  }
+  SensorInputs in;
+  in.probe = probe_.get();
+  in.previous_action = previous_.data();
+  in.time = static_cast<double>(steps_) * ctx_->control_dt;
+  in.fresh = steps_ == 0;  // nothing has touched the ground yet this episode
+  readSensors(sensors_, *ctx_, sim_->model(), sim_->state(), sim_->workspace(), in, feature_.data());
   for (size_t i = 0; i < feature_.size(); ++i) last_obs_[i] = toFloat(feature_[i]);
   if (obs != last_obs_.data()) std::copy(last_obs_.begin(), last_obs_.end(), obs);
 }
@@ -387,19 +283,28 @@ EnvSnapshot Env::save() const {
   s.needs_reset = needs_reset_;
   s.previous_action = previous_;
   s.drawn = drawn_;
+  s.ranges = rangesJson(ranges_).dump();
   s.observation = last_obs_;
   return s;
 }
 
 void Env::load(const EnvSnapshot& s, float* obs) {
   auto bad = [](const std::string& why) { throw ExperimentError("snapshot", why); };
-  const TaskSpec& t = ctx_->task();
-  if (s.drawn.size() != 4 + t.parameters.size())
-    bad(std::to_string(s.drawn.size()) + " drawn values, this task draws " + std::to_string(4 + t.parameters.size()));
-  for (size_t i = 0; i < t.parameters.size(); ++i) {
-    const double v = s.drawn[4 + i];
-    if (!(v >= t.parameters[i].lo && v <= t.parameters[i].hi))
-      bad("drawn value of " + t.parameters[i].path + " outside its range");
+  // the snapshot's ranges, checked as a curriculum's (a snapshot's checksum
+  // guards against corruption, not against a crafted file)
+  scenario::Randomization ranges;
+  try {
+    ranges = curriculumRanges(*ctx_, s.ranges, ctx_->task().randomize);
+  } catch (const scenario::ScenarioError& e) {
+    bad("its randomisation ranges do not fit this task: " + e.lines("; "));
+  }
+  const size_t nparams = ranges.parameters.size();
+  if (s.drawn.size() != kDrawnParameters + nparams)
+    bad(std::to_string(s.drawn.size()) + " drawn values, this task draws " + std::to_string(kDrawnParameters + nparams));
+  for (size_t i = 0; i < nparams; ++i) {
+    const double v = s.drawn[kDrawnParameters + i];
+    if (!(v >= ranges.parameters[i].lo && v <= ranges.parameters[i].hi))
+      bad("drawn value of " + ranges.parameters[i].path + " outside its range");
   }
   if (s.previous_action.size() != action_.size()) bad("previous action of the wrong size");
   if (s.observation.size() != last_obs_.size()) bad("observation of the wrong size");
@@ -408,7 +313,7 @@ void Env::load(const EnvSnapshot& s, float* obs) {
   // the model of the drawn parameters (the shared one without any)
   const std::vector<double> keep = drawn_;
   std::shared_ptr<const Model> model = ctx_->scene.built.model;
-  if (!t.parameters.empty()) {
+  if (nparams > 0) {
     drawn_ = s.drawn;
     try {
       State unused = initialState(&model);
@@ -431,9 +336,11 @@ void Env::load(const EnvSnapshot& s, float* obs) {
   if (model != sim_->modelPtr()) {
     sim_ = std::make_unique<Simulator>(model, s.state);
     probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+    sensors_ = resolveSensors(*ctx_, sim_->model());
   } else {
     sim_->restore(s.state);
   }
+  ranges_ = std::move(ranges);
   rng_.setState(s.rng);
   episode_ = s.episode;
   steps_ = s.episode_steps;

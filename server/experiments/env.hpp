@@ -13,6 +13,7 @@
 
 #include "experiments/batch_env.hpp"
 #include "experiments/rng.hpp"
+#include "experiments/sensors.hpp"
 #include "experiments/snapshot.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
@@ -50,6 +51,14 @@ std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const s
 // batched steps do not fill it). Decided by the task alone.
 bool stepsBatched(const TaskContext& c);
 
+// Env::drawn(): what reset drew, in this order, then one value per task
+// parameter (TaskSpec::parameters).
+inline constexpr int kDrawnX = 0;          // m    start offset
+inline constexpr int kDrawnY = 1;          // m
+inline constexpr int kDrawnYaw = 2;        // rad
+inline constexpr int kDrawnSpeed = 3;      // m/s
+inline constexpr int kDrawnParameters = 4;
+
 class Env {
  public:
   // Seeded with `seed` and reset; the first step() then starts episode 1
@@ -78,7 +87,12 @@ class Env {
   void load(const EnvSnapshot& s, float* obs);
 
   const Simulator& simulator() const { return *sim_; }
+  // What the last reset drew (kDrawn* order, yaw in rad).
   const std::vector<double>& drawn() const { return drawn_; }
+  // The ranges the next resets draw from: the task's, or a curriculum's
+  // (validated by curriculumRanges, task_context.hpp).
+  const scenario::Randomization& randomization() const { return ranges_; }
+  void setRandomization(scenario::Randomization r) { ranges_ = std::move(r); }
 
  private:
   void begin(float* obs);
@@ -92,10 +106,12 @@ class Env {
   std::unique_ptr<Simulator> sim_;
   std::unique_ptr<GroundProbe> probe_;  // height samples, on the simulator's ground
   Rng rng_;
-  std::vector<double> drawn_;       // dx, dy, dyaw (rad), dspeed, then each parameter
+  std::vector<Sensor> sensors_;     // the observation, resolved on the simulator's model
+  scenario::Randomization ranges_;  // what reset draws from
+  std::vector<double> drawn_;       // kDrawn* order
   std::vector<float> action_, previous_;
   std::vector<float> last_obs_;
-  std::vector<double> feature_;     // scratch of one observation, in double
+  std::vector<double> feature_;     // one observation in double, before rounding to float
   std::int64_t episode_ = 0, steps_ = 0;
   double return_ = 0.0;
   double bump_ = 0.0;  // m/s: velocity change given to the task's vehicle by hits this action

@@ -10,6 +10,8 @@
 
 namespace groundsim::experiments {
 
+constexpr std::size_t kMaxRangesText = 1 << 15;
+
 std::uint64_t fnv1a64(const void* data, std::size_t n, std::uint64_t h) {
   const auto* p = static_cast<const unsigned char*>(data);
   for (std::size_t i = 0; i < n; ++i) {
@@ -202,6 +204,7 @@ std::string encodeSnapshot(const std::string& scenario_hash, const EnvSnapshot& 
   for (float v : s.previous_action) w.f32(v);
   w.count(s.drawn.size());
   for (double v : s.drawn) w.f64(v);
+  w.bytes(s.ranges);
   w.count(s.observation.size());
   for (float v : s.observation) w.f32(v);
   w.u64(fnv1a64(w.str().data(), w.str().size()));
@@ -261,6 +264,8 @@ EnvSnapshot decodeSnapshot(const std::string& bytes, const std::string& scenario
   for (float& v : s.previous_action) v = r.f32();
   s.drawn.resize(r.count(8, "drawn values"));
   for (double& v : s.drawn) v = r.f64();
+  // 64 parameters of 256-character paths fit in 24 KiB
+  s.ranges = r.bytes(kMaxRangesText, "randomisation ranges");
   s.observation.resize(r.count(4, "observation"));
   for (float& v : s.observation) v = r.f32();
   if (r.pos() != end) bad(std::to_string(end - r.pos()) + " unexpected bytes after the payload");

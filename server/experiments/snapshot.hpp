@@ -8,9 +8,11 @@
 //   payload EnvSnapshot: the physics State (y, time, tick, step, energy
 //           bookkeeping, wheel and road-car controls, road-car runtime,
 //           health), the random stream, episode counters, the previous
-//           action, the drawn initial offsets and parameters, and the last
-//           observation; doubles as their IEEE-754 bits, vectors as a u32
-//           count then the elements
+//           action, the drawn initial offsets and parameters, the ranges
+//           the next resets draw from (the task's `randomize` as JSON
+//           text: a curriculum may have changed them) and the last
+//           observation; doubles as their IEEE-754 bits, vectors and text
+//           as a u32 count then the elements
 //   check   u64      FNV-1a 64 of every byte before it
 //
 // decodeSnapshot checks the magic, version, hash, checksum and that every
@@ -26,7 +28,8 @@
 
 namespace groundsim::experiments {
 
-inline constexpr std::uint32_t kSnapshotVersion = 1;
+// 2: the ranges (a curriculum's) travel with the env
+inline constexpr std::uint32_t kSnapshotVersion = 2;
 
 struct EnvSnapshot {
   State state;
@@ -36,6 +39,7 @@ struct EnvSnapshot {
   bool diverged = false, needs_reset = false;
   std::vector<float> previous_action;
   std::vector<double> drawn;
+  std::string ranges;               // JSON, the task's `randomize` schema
   std::vector<float> observation;
 };
 

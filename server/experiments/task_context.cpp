@@ -1,11 +1,13 @@
 // A validated scenario with a task -> the context its environments share:
 // the base scene, the buffers' layout (names, bounds), the scenario hash.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "experiments/env.hpp"
 #include "experiments/task_context.hpp"
+#include "scenario/json_limits.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
 
@@ -63,6 +65,8 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
       for (int w : scene.cars[v].wheels) n += w >= 0 ? 1 : 0;
     l.wheel_counts.push_back(n);
   }
+  l.drawn = {"x", "y", "yaw", "speed"};  // experiments/env.hpp kDrawn* order
+  for (const scenario::ParameterRange& p : t.randomize.parameters) l.drawn.push_back(p.path);
   if (t.action == scenario::ActionKind::CarControls) {
     addAction(l, "throttle", 0.0f, 1.0f);
     addAction(l, "brake", 0.0f, 1.0f);
@@ -119,6 +123,67 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
   return l;
 }
 
+namespace {
+
+// Both ends of one parameter range validate with the context's scenario;
+// else ScenarioError at `pointer`.
+void checkRangeEnds(const TaskContext& ctx, const scenario::ParameterRange& range, const std::string& pointer) {
+  for (double v : {range.lo, range.hi}) {
+    nlohmann::json doc = ctx.base_document;
+    try {
+      scenario::applyOverride(doc, overrideText(range.path, v), ctx.budget);
+      scenario::parseScenario(std::move(doc), ctx.budget, ctx.files);
+    } catch (const scenario::ScenarioError& e) {
+      throw scenario::ScenarioError({scenario::Issue{pointer, "the value " + scenario::formatNumber(v) + " for " +
+                                                                  scenario::quote(range.path) +
+                                                                  " does not validate: " + e.lines("; ")}});
+    }
+  }
+}
+
+}  // namespace
+
+void checkParameterEnds(const TaskContext& ctx, const std::vector<scenario::ParameterRange>& ranges,
+                        const std::string& pointer) {
+  for (size_t i = 0; i < ranges.size(); ++i)
+    checkRangeEnds(ctx, ranges[i], pointer + "/" + std::to_string(i) + "/range");
+}
+
+scenario::Randomization curriculumRanges(const TaskContext& ctx, const std::string& randomize_json,
+                                         const scenario::Randomization& current) {
+  nlohmann::json doc;
+  {
+    scenario::IssueList issues;
+    scenario::scanText(randomize_json, ctx.budget, issues);  // depth, size, duplicate keys
+    issues.throwIfAny();
+    doc = nlohmann::json::parse(randomize_json, nullptr, false);
+    if (doc.is_discarded()) throw scenario::ScenarioError({scenario::Issue{"/randomize", "not valid JSON"}});
+  }
+  // where each path sits in the caller's list, for the pointer of a refusal
+  std::vector<std::string> listed;
+  if (doc.is_object() && doc.contains("parameters") && doc["parameters"].is_array())
+    for (const nlohmann::json& p : doc["parameters"])
+      listed.push_back(p.is_object() && p.contains("path") && p["path"].is_string() ? p["path"].get<std::string>() : "");
+  scenario::Randomization next = scenario::readCurriculum(std::move(doc), current);
+  // only the changed parameter ranges cost a validation
+  for (size_t i = 0; i < next.parameters.size(); ++i) {
+    const scenario::ParameterRange& a = next.parameters[i];
+    const scenario::ParameterRange& b = current.parameters[i];
+    if (a.lo == b.lo && a.hi == b.hi) continue;
+    const size_t k = static_cast<size_t>(std::find(listed.begin(), listed.end(), a.path) - listed.begin());
+    checkRangeEnds(ctx, a, "/randomize/parameters/" + std::to_string(k) + "/range");
+  }
+  return next;
+}
+
+nlohmann::json rangesJson(const scenario::Randomization& r) {
+  nlohmann::json j = {{"x", r.x}, {"y", r.y}, {"yaw_deg", r.yaw_deg}, {"speed", r.speed}};
+  j["parameters"] = nlohmann::json::array();
+  for (const scenario::ParameterRange& p : r.parameters)
+    j["parameters"].push_back({{"path", p.path}, {"range", {p.lo, p.hi}}});
+  return j;
+}
+
 std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const scenario::Budget& budget,
                                                     const scenario::FileAccess& files) {
   if (!s.task)
@@ -130,21 +195,7 @@ std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const s
   ctx->base_document = s.document;
   ctx->base_document.erase("task");
   const TaskSpec& t = *s.task;
-  // each drawn parameter's ends must validate, so a reset never meets a
-  // document the scenario layer refuses for a value inside the range
-  for (size_t i = 0; i < t.parameters.size(); ++i)
-    for (double v : {t.parameters[i].lo, t.parameters[i].hi}) {
-      nlohmann::json doc = ctx->base_document;
-      try {
-        scenario::applyOverride(doc, overrideText(t.parameters[i].path, v), budget);
-        scenario::parseScenario(std::move(doc), budget, files);
-      } catch (const scenario::ScenarioError& e) {
-        throw scenario::ScenarioError({scenario::Issue{"/task/randomize/parameters/" + std::to_string(i) + "/range",
-                                                        "the value " + scenario::formatNumber(v) + " for " +
-                                                            scenario::quote(t.parameters[i].path) +
-                                                            " does not validate: " + e.lines("; ")}});
-      }
-    }
+  checkParameterEnds(*ctx, t.randomize.parameters, "/task/randomize/parameters");
   ctx->vehicle = t.vehicle;
   ctx->body = ctx->scene.cars.at(static_cast<size_t>(t.vehicle)).body;
   ctx->wheels = ctx->scene.cars[static_cast<size_t>(t.vehicle)].wheels;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,5 +19,19 @@ std::string scenarioHash(const nlohmann::json& document);
 Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene);
 // "path=value", the value in 17 significant digits (%.17g: reads back exactly).
 std::string overrideText(const std::string& path, double value);
+
+struct TaskContext;
+// Throws ScenarioError (at `pointer`/i/range) unless both ends of every
+// parameter range validate with the context's scenario, so that a reset
+// never meets a document the scenario layer refuses.
+void checkParameterEnds(const TaskContext& ctx, const std::vector<scenario::ParameterRange>& ranges,
+                        const std::string& pointer);
+// A curriculum (the task's `randomize` schema as JSON text, every key
+// optional): the ranges that replace `current` at the next resets. Throws
+// ScenarioError naming the field (/randomize/...).
+scenario::Randomization curriculumRanges(const TaskContext& ctx, const std::string& randomize_json,
+                                         const scenario::Randomization& current);
+// Ranges as the task's `randomize` JSON, and back (snapshots carry them).
+nlohmann::json rangesJson(const scenario::Randomization& r);
 
 }  // namespace groundsim::experiments

@@ -18,6 +18,7 @@
 
 #include "experiments/env.hpp"
 #include "experiments/snapshot.hpp"
+#include "experiments/task_context.hpp"
 #include "experiments/thread_pool.hpp"
 #include "physics/kernels/batch_step.hpp"
 #include "scenario/object_reader.hpp"
@@ -30,6 +31,22 @@ constexpr std::uint64_t kSeedLimit = 1ull << 63;
 void checkSeed(std::optional<std::uint64_t> seed) {
   if (seed && *seed >= kSeedLimit)
     throw ExperimentError("seed", "must be in [0, 2^63), got " + std::to_string(*seed));
+}
+
+bool sameRanges(const scenario::Randomization& a, const scenario::Randomization& b) {
+  if (a.x != b.x || a.y != b.y || a.yaw_deg != b.yaw_deg || a.speed != b.speed) return false;
+  for (size_t i = 0; i < a.parameters.size(); ++i)
+    if (a.parameters[i].lo != b.parameters[i].lo || a.parameters[i].hi != b.parameters[i].hi) return false;
+  return true;
+}
+
+// A refused curriculum as the experiments API words errors: the field is
+// the first issue's pointer without its leading slash ("randomize/x").
+ExperimentError curriculumError(const scenario::ScenarioError& e) {
+  if (e.issues().empty()) return ExperimentError("randomize", e.lines("; "));
+  const scenario::Issue& first = e.issues().front();
+  const std::string field = first.path.empty() ? "randomize" : first.path.substr(1);
+  return ExperimentError(field, e.issues().size() == 1 && e.omitted() == 0 ? first.message : e.lines("; "));
 }
 
 void checkBuffer(const void* p, const char* name) {
@@ -109,6 +126,31 @@ class VecEnv final : public BatchEnv {
     checkEnv(env);
     checkBuffer(obs_row, "obs");
     envs_[static_cast<size_t>(env)]->load(decodeSnapshot(bytes, layout_.scenario_hash), obs_row);
+  }
+
+  void setRandomization(int env, const std::string& randomize_json) override {
+    if (env != -1) checkEnv(env);
+    // each env's ranges may differ (an earlier curriculum): each is checked
+    // against its own, and all of them before any changes
+    const size_t begin = env < 0 ? 0 : static_cast<size_t>(env), end = env < 0 ? envs_.size() : begin + 1;
+    std::vector<scenario::Randomization> next;
+    next.reserve(end - begin);
+    try {
+      for (size_t i = begin; i < end; ++i) {
+        const scenario::Randomization& was = envs_[i]->randomization();
+        if (i > begin && sameRanges(was, envs_[i - 1]->randomization())) next.push_back(next.back());
+        else next.push_back(curriculumRanges(*ctx_, randomize_json, was));
+      }
+    } catch (const scenario::ScenarioError& e) {
+      throw curriculumError(e);
+    }
+    for (size_t i = begin; i < end; ++i) envs_[i]->setRandomization(std::move(next[i - begin]));
+  }
+
+  void drawn(double* out) const override {
+    checkBuffer(out, "drawn");
+    const size_t d = static_cast<size_t>(layout_.drawnSize());
+    for (size_t i = 0; i < envs_.size(); ++i) std::copy_n(envs_[i]->drawn().begin(), d, out + i * d);
   }
 
  private:

@@ -213,6 +213,8 @@ groundsim::env_layout_t toMessage(const experiments::Layout& l) {
   m.nvehicles = static_cast<int32_t>(l.wheel_counts.size());
   m.wheel_counts.assign(l.wheel_counts.begin(), l.wheel_counts.end());
   m.scenario_hash = l.scenario_hash;
+  m.ndrawn = static_cast<int32_t>(l.drawn.size());
+  m.drawn = l.drawn;
   return m;
 }
 

@@ -145,36 +145,52 @@ void readTermination(ObjectReader r, TaskSpec& t) {
   r.finish();
 }
 
-void readRandomize(ObjectReader r, TaskSpec& t) {
-  t.random_x = interval(r, "x", Range::closed(-1e4, 1e4));
-  t.random_y = interval(r, "y", Range::closed(-1e4, 1e4));
-  t.random_yaw_deg = interval(r, "yaw_deg", Range::closed(-360.0, 360.0));
-  t.random_speed = interval(r, "speed", Range::closed(-1e3, 1e3));
+ParameterRange readParameter(ObjectReader& p) {
+  ParameterRange pr;
+  if (auto path = p.requiredString("path")) {
+    pr.path = *path;
+    const bool bad_chars = std::any_of(pr.path.begin(), pr.path.end(), [](unsigned char c) {
+      return c < 0x20 || c == 0x7f || c == '=';
+    });
+    if (pr.path.empty() || pr.path.size() > 256 || bad_chars || pr.path.front() == '.' || pr.path.back() == '.' ||
+        pr.path.find("..") != std::string::npos)
+      p.issue("path", "expected a dotted scenario path such as \"ground.amplitude\", got " + quote(pr.path));
+    else if (pr.path == "task" || pr.path.rfind("task.", 0) == 0)
+      p.issue("path", "the task itself cannot be randomised, got " + quote(pr.path));
+  }
+  const auto range = interval(p, "range", Range::any());
+  pr.lo = range[0];
+  pr.hi = range[1];
+  p.finish();
+  return pr;
+}
+
+std::vector<ObjectReader> parameterReaders(ObjectReader& r) {
   if (!r.has("parameters")) r.allow("parameters");
   std::vector<ObjectReader> params = r.objects("parameters");
   if (params.size() > static_cast<size_t>(kMaxTaskParameters)) {
     r.issue("parameters", std::to_string(params.size()) + " parameters, at most " + std::to_string(kMaxTaskParameters));
     params.clear();
   }
-  for (ObjectReader& p : params) {
-    ParameterRange pr;
-    if (auto path = p.requiredString("path")) {
-      pr.path = *path;
-      const bool bad_chars = std::any_of(pr.path.begin(), pr.path.end(), [](unsigned char c) {
-        return c < 0x20 || c == 0x7f || c == '=';
-      });
-      if (pr.path.empty() || pr.path.size() > 256 || bad_chars || pr.path.front() == '.' || pr.path.back() == '.' ||
-          pr.path.find("..") != std::string::npos)
-        p.issue("path", "expected a dotted scenario path such as \"ground.amplitude\", got " + quote(pr.path));
-      else if (pr.path == "task" || pr.path.rfind("task.", 0) == 0)
-        p.issue("path", "the task itself cannot be randomised, got " + quote(pr.path));
-    }
-    const auto range = interval(p, "range", Range::any());
-    pr.lo = range[0];
-    pr.hi = range[1];
-    p.finish();
-    t.parameters.push_back(std::move(pr));
-  }
+  return params;
+}
+
+// The offsets' ranges within the schema's limits. A task's absent keys
+// are filled in with [0, 0] (the validated document shows them); a
+// curriculum's keep `current`.
+void readOffsets(ObjectReader& r, const Randomization& current, Randomization& out, bool curriculum) {
+  auto range = [&](const char* key, Range each, const std::array<double, 2>& was) {
+    return r.has(key) || !curriculum ? interval(r, key, each) : (r.allow(key), was);
+  };
+  out.x = range("x", Range::closed(-1e4, 1e4), current.x);
+  out.y = range("y", Range::closed(-1e4, 1e4), current.y);
+  out.yaw_deg = range("yaw_deg", Range::closed(-360.0, 360.0), current.yaw_deg);
+  out.speed = range("speed", Range::closed(-1e3, 1e3), current.speed);
+}
+
+void readRandomize(ObjectReader r, TaskSpec& t) {
+  readOffsets(r, Randomization{}, t.randomize, false);
+  for (ObjectReader& p : parameterReaders(r)) t.randomize.parameters.push_back(readParameter(p));
   r.finish();
 }
 
@@ -220,6 +236,38 @@ TaskSpec readTask(ObjectReader r, const std::vector<VehicleSpec>& vehicles) {
   if (v && v->lone_wheel)
     r.issue("vehicle", "vehicle " + quote(v->name) + " is a lone wheel; a task drives a car (kind \"car\" or \"road_car\")");
   return t;
+}
+
+Randomization readCurriculum(nlohmann::json randomize, const Randomization& current) {
+  IssueList issues;
+  if (!randomize.is_object()) {
+    issues.add("/randomize", "expected an object such as {\"x\": [-2, 2]}, got " + std::string(randomize.type_name()));
+    issues.throwIfAny();
+  }
+  Randomization out = current;
+  {
+    ObjectReader r(randomize, "/randomize", issues);
+    readOffsets(r, current, out, true);
+    for (ObjectReader& p : parameterReaders(r)) {
+      // a curriculum's parameter says its new range: no default of [0, 0]
+      if (!p.has("range")) p.issue("range", "missing required key ([low, high])");
+      const ParameterRange pr = readParameter(p);
+      auto it = std::find_if(out.parameters.begin(), out.parameters.end(),
+                             [&](const ParameterRange& q) { return q.path == pr.path; });
+      if (it != out.parameters.end()) {
+        it->lo = pr.lo;
+        it->hi = pr.hi;
+      } else if (!pr.path.empty()) {
+        std::string known;
+        for (const ParameterRange& q : current.parameters) known += (known.empty() ? "" : ", ") + quote(q.path);
+        p.issue("path", quote(pr.path) + " is not randomised by this task (a curriculum changes ranges, it adds "
+                        "no parameter); the task's: " + (known.empty() ? "none" : known));
+      }
+    }
+    r.finish();
+  }
+  issues.throwIfAny();
+  return out;
 }
 
 }  // namespace groundsim::scenario

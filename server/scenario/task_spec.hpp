@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace groundsim::scenario {
 
 // Observation features, in the order the task lists them; each contributes
@@ -44,6 +46,16 @@ struct ParameterRange {
   double lo = 0.0, hi = 0.0;
 };
 
+// What a reset draws, uniformly in [lo, hi]: the initial state's offsets,
+// then each parameter. A curriculum may change the ranges while training
+// (readCurriculum), never which parameters there are.
+struct Randomization {
+  std::array<double, 2> x{0.0, 0.0}, y{0.0, 0.0};  // m
+  std::array<double, 2> yaw_deg{0.0, 0.0};           // deg
+  std::array<double, 2> speed{0.0, 0.0};             // m/s
+  std::vector<ParameterRange> parameters;
+};
+
 struct RewardWeights {
   double progress_to_goal = 0.0;    // per metre the goal distance shrank during the action
   double progress_along = 0.0;      // per metre moved along `direction`
@@ -76,12 +88,15 @@ struct TaskSpec {
   bool has_region = false;          // terminate when the body centre leaves [min, max] (x, y)
   std::array<double, 2> region_min{0.0, 0.0}, region_max{0.0, 0.0};
   double goal_radius = 0.0;         // terminate within this distance of the goal; 0 = never
-  // initial state: offsets drawn uniformly in [lo, hi] at each reset
-  std::array<double, 2> random_x{0.0, 0.0}, random_y{0.0, 0.0};  // m
-  std::array<double, 2> random_yaw_deg{0.0, 0.0};                 // deg
-  std::array<double, 2> random_speed{0.0, 0.0};                   // m/s
-  std::vector<ParameterRange> parameters;
+  Randomization randomize;
 };
+
+// A curriculum's `randomize` object (the task's schema, every key
+// optional): new ranges for the offsets given, and for parameters named by
+// path, each one of `current`'s. Throws ScenarioError (pointers under
+// /randomize) for anything else; the parameters' ends are checked against
+// the scenario by the experiments layer.
+Randomization readCurriculum(nlohmann::json randomize, const Randomization& current);
 
 // Most parameters a task may randomise, and most height samples.
 inline constexpr int kMaxTaskParameters = 64;

@@ -574,7 +574,7 @@ bool SessionService::stopVec(const Request& r) {
 void SessionService::handleVecRequest(VecRequest r) {
   try {
     if (r.op == VecOp::Create) return createVec(r);
-    if (r.op < VecOp::Create || r.op > VecOp::Restore)
+    if (r.op < VecOp::Create || r.op > VecOp::Drawn)
       return failVec(r, ErrorCode::BadRequest, "op", "unknown op " + std::to_string(static_cast<int>(r.op)));
     auto v = findVec(r.session_id);
     if (!v) {

@@ -31,6 +31,8 @@ const char* vecOpName(VecOp op) {
     case VecOp::ResetEnv: return "reset_env";
     case VecOp::Snapshot: return "snapshot";
     case VecOp::Restore: return "restore";
+    case VecOp::Randomize: return "randomize";
+    case VecOp::Drawn: return "drawn";
   }
   return "?";
 }

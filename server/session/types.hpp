@@ -163,7 +163,8 @@ struct Event {
 };
 
 // A request to a vectorised session (vec_request_t), numbered as its OP_*.
-enum class VecOp : int { Create = 1, Step = 2, Reset = 3, ResetEnv = 4, Snapshot = 5, Restore = 6 };
+enum class VecOp : int { Create = 1, Step = 2, Reset = 3, ResetEnv = 4, Snapshot = 5, Restore = 6, Randomize = 7,
+                         Drawn = 8 };
 const char* vecOpName(VecOp op);
 
 struct VecRequest {
@@ -172,10 +173,10 @@ struct VecRequest {
   std::string client_id;
   std::string session_id;
   std::string token;
-  std::string scenario_json;      // Create: a scenario with a `task`
+  std::string scenario_json;      // Create: a scenario with a `task`; Randomize: the `randomize` object
   int num_envs = 0;               // Create
   std::vector<float> actions;     // Step: [num_envs x action_size], row-major
-  int env = 0;                    // ResetEnv, Snapshot, Restore
+  int env = 0;                    // ResetEnv, Snapshot, Restore, Randomize (-1: every env)
   bool has_seed = false;          // Reset, ResetEnv
   std::int64_t seed = 0;          // checked: [0, 2^63); env i of a Reset gets seed + i
   std::string snapshot;           // Restore
@@ -204,7 +205,7 @@ struct VecReply {
   std::vector<double> rewards;
   std::vector<std::uint8_t> terminated, truncated;
   std::vector<experiments::EnvInfo> infos;
-  std::string snapshot;           // Snapshot
+  std::string snapshot;           // Snapshot; Drawn: float64 LE [num_envs x drawnSize]
 };
 
 // Reply to a request, remembered until the request has been carried out.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "answers.hpp"
 #include "token.hpp"
@@ -61,7 +62,10 @@ std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layo
       }
       return "";
     case VecOp::Snapshot:
-      return envInRange();
+    case VecOp::Drawn:
+      return r.op == VecOp::Snapshot ? envInRange() : "";
+    case VecOp::Randomize:
+      return r.env == -1 ? "" : envInRange();
     case VecOp::Restore: {
       const std::string why = envInRange();
       if (!why.empty()) return why;
@@ -248,6 +252,20 @@ void VecSession::apply(const VecRequest& r) {
         env_->restore(r.env, r.snapshot, obs_.data() + static_cast<std::size_t>(r.env) * o);
         fillEnvs(reply, r.env, 1, obs_.data() + static_cast<std::size_t>(r.env) * o);
         break;
+      case VecOp::Randomize:
+        env_->setRandomization(r.env, r.scenario_json);
+        break;
+      case VecOp::Drawn: {
+        std::vector<double> d(static_cast<std::size_t>(n) * layout_->drawnSize());
+        env_->drawn(d.data());
+        reply.snapshot.resize(d.size() * sizeof(double));
+        for (std::size_t k = 0; k < d.size(); ++k) {  // float64 little-endian
+          std::uint64_t bits = 0;
+          std::memcpy(&bits, &d[k], sizeof bits);
+          for (int b = 0; b < 8; ++b) reply.snapshot[k * 8 + b] = static_cast<char>((bits >> (8 * b)) & 0xff);
+        }
+        break;
+      }
       case VecOp::Create:
         break;
     }

@@ -131,9 +131,12 @@ TEST_F(SnapshotErrors, BadChecksum) {
 }
 
 TEST_F(SnapshotErrors, WrongVersion) {
-  std::string s = good;
-  s[8] = 2;
-  EXPECT_NE(refusal(sealed(s)).find("version 2"), std::string::npos);
+  // version 1 (before curricula: no ranges) and a future one
+  for (const char v : {char{1}, static_cast<char>(kSnapshotVersion + 1)}) {
+    std::string s = good;
+    s[8] = v;
+    EXPECT_NE(refusal(sealed(s)).find("version " + std::to_string(static_cast<int>(v))), std::string::npos);
+  }
 }
 
 TEST_F(SnapshotErrors, SizesThatDoNotFitTheScenario) {

@@ -103,3 +103,26 @@ def test_remote_errors_name_the_field_and_a_dead_server_is_reported(server):
     time.sleep(0.1)
     with pytest.raises(groundsim.RemoteError, match="no heartbeat from groundsim-server"):
         remote.step(np.zeros_like(bad))
+
+
+def test_same_step_and_a_curriculum_are_the_same_remote_and_in_process(server):
+    local = groundsim.make_vec(SPEED, 4, num_threads=1, autoreset_mode="same_step", drawn_in_infos=True)
+    remote = groundsim.make_remote_vec(SPEED, 4, lcm_url=URL, autoreset_mode="same_step", drawn_in_infos=True)
+    assert list(remote.layout.drawn) == list(local.layout.drawn) == ["x", "y", "yaw", "speed", "ground.amplitude"]
+    curriculum = {"speed": [1, 3], "parameters": [{"path": "ground.amplitude", "range": [0.1, 0.12]}]}
+    for env in (local, remote):
+        env.reset(seed=2)
+        env.set_randomization(curriculum, envs=[0, 2])
+    seq = actions(local, 5)
+    for env in (local, remote):
+        env._out_run = [env.reset(seed=2)[1]["drawn"]]
+        for a in seq:
+            env._out_run.append(env.step(a)[0])
+    for u, v in zip(local._out_run, remote._out_run):
+        assert u.tobytes() == v.tobytes()
+    assert (local.drawn()[[0, 2], 4] >= 0.1).all() and (local.drawn()[[1, 3], 4] <= 0.08).all()
+    with pytest.raises(groundsim.ExperimentError) as e:
+        remote.set_randomization({"x": [2, 1]})
+    assert e.value.field == "randomize/x"
+    remote.close()
+    local.close()
