@@ -265,8 +265,9 @@ def main(argv=None):
     rng = np.random.default_rng(args.seed)
     log = (lambda *a, **k: None) if args.quiet else (lambda *a, **k: print(*a, **k, flush=True))
 
-    env = groundsim.make_vec(args.task, args.num_envs, args.num_threads)
-    eval_env = groundsim.make_vec(args.task, args.eval_episodes, args.num_threads)
+    # the rollout below is written for NEXT_STEP autoreset: asked for explicitly, not taken as the default
+    env = groundsim.make_vec(args.task, args.num_envs, args.num_threads, autoreset_mode="next_step")
+    eval_env = groundsim.make_vec(args.task, args.eval_episodes, args.num_threads, autoreset_mode="next_step")
     task = Task(args.task, env.layout, env.single_action_space, args.success_return)
     obs_size, act_size = env.layout.obs_size, env.layout.action_size
     agent = Agent(obs_size, act_size, args.hidden, args.init_logstd)
