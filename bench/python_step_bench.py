@@ -2,6 +2,7 @@
 """Throughput through Python, and Python's share of a batched step.
 
     PYTHONPATH=build/python python3 bench/python_step_bench.py [--envs 256] [--threads 1 2] [--copy 1 0]
+    ... --task configs/tasks/race.json    # two agents per env: agent-steps/s too
 
 For each thread count, steps of the fast-preset car task (8 physics steps
 per action) taken through VecEnv.step (Gymnasium's API), with the time
@@ -60,7 +61,7 @@ def main():
         layout = env.layout
         rng = np.random.default_rng(0)
         acts = [rng.uniform(env.single_action_space.low, env.single_action_space.high,
-                            (args.envs, layout.action_size)).astype(np.float32) for _ in range(16)]
+                            (env.num_envs, layout.action_size)).astype(np.float32) for _ in range(16)]
         env.reset(seed=0)
         for a in acts:  # warm-up: threads started, caches filled
             env.step(a)
@@ -76,7 +77,8 @@ def main():
             shares.append((total - timed.inside) / total)
             python_cpu.append((cpu - timed.inside_cpu) / args.steps)
         step, share = statistics.median(totals), statistics.median(shares)
-        print(f"{args.envs} envs, {threads} thread(s), copy={bool(copy)}, control period {layout.control_period}: "
+        agents = f" x {env.num_agents} agents ({env.num_envs / step:,.0f} agent-steps/s)" if env.num_agents > 1 else ""
+        print(f"{args.envs} envs{agents}, {threads} thread(s), copy={bool(copy)}, control period {layout.control_period}: "
               f"{args.envs / step:,.0f} env-steps/s ({args.envs * layout.control_period / step:,.0f} physics "
               f"steps/s) through VecEnv.step; {step * 1e6:.0f} us per step, Python {share * step * 1e6:.1f} us "
               f"= {100 * share:.2f}%, Python's CPU time {statistics.median(python_cpu) * 1e6:.1f} us "

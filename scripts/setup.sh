@@ -28,7 +28,8 @@ rest=(
   clang-14 libclang-rt-14-dev llvm-14            # libFuzzer targets (scripts/fuzz.sh), llvm-symbolizer
   python3-dev pybind11-dev python3-pybind11      # the Python package groundsim (its C++ module groundsim._core)
   python3-numpy python3-pytest python3-venv      # its arrays, its tests (pytest through ctest), the venv install test
-  python3-matplotlib                             # examples/train_goal.py's learning curve
+  python3-matplotlib                             # examples/train_goal.py's learning curve, examples/ppo_plot.py
+  python3-torch                                  # examples/ppo.py (PPO) and its smoke test
 )
 
 case "${1:-}" in

@@ -31,6 +31,8 @@ double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(
 Layout fromWire(const groundsim::env_layout_t& m) {
   Layout l;
   l.num_envs = m.num_envs;
+  l.num_agents = m.num_agents;
+  l.agents = m.agents;
   l.dt = m.dt;
   l.control_period = m.control_period;
   l.time_limit = m.time_limit;
@@ -92,10 +94,11 @@ RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, Remot
   session_id_ = r.session_id;
   token_ = r.token;
   layout_ = fromWire(r.sessions[0].layout[0]);
+  if (layout_.num_agents < 1) throw RemoteError("create: the server's layout has " + std::to_string(layout_.num_agents) + " agents");
   if (layout_.num_envs != num_envs)
     throw RemoteError("create: asked for " + std::to_string(num_envs) + " environments, the server made " +
                       std::to_string(layout_.num_envs));
-  infos_.assign(num_envs, EnvInfo{});
+  infos_.assign(static_cast<std::size_t>(layout_.rows()), EnvInfo{});
 }
 
 groundsim::vec_reply_t RemoteVecEnv::create(const std::string& scenario_text, int num_envs) {
@@ -233,7 +236,7 @@ void RemoteVecEnv::checkEnv(int env) const {
 void RemoteVecEnv::takeEnvs(const groundsim::vec_reply_t& r, float* obs, double* rewards, std::uint8_t* terminated,
                             std::uint8_t* truncated) {
   const int o = layout_.obsSize();
-  if (r.obs_size != o || r.env_begin < 0 || r.env_begin + r.env_count > layout_.num_envs)
+  if (r.obs_size != o || r.env_begin < 0 || r.env_begin + r.env_count > layout_.rows())
     throw RemoteError("reply of request " + std::to_string(r.request_id) + " does not fit the layout");
   if (obs && !r.obs.empty()) std::memcpy(obs, r.obs.data(), r.obs.size() * sizeof(float));
   for (int i = 0; i < r.env_count; ++i) {
@@ -245,6 +248,7 @@ void RemoteVecEnv::takeEnvs(const groundsim::vec_reply_t& r, float* obs, double*
     info.episode_steps = r.episode_steps[i];
     info.episode_return = r.episode_return[i];
     info.diverged = r.diverged[i] != 0;
+    info.active = r.active[i] != 0;
   }
 }
 
@@ -275,13 +279,14 @@ void RemoteVecEnv::step(const float* actions, float* obs, double* rewards, std::
   checkOpen("step");
   groundsim::vec_request_t req{};
   req.op = groundsim::vec_request_t::OP_STEP;
-  req.actions.assign(actions, actions + static_cast<std::size_t>(layout_.num_envs) * layout_.actionSize());
+  req.actions.assign(actions, actions + static_cast<std::size_t>(layout_.rows()) * layout_.actionSize());
   takeEnvs(call(std::move(req), options_.timeout_s, "step"), obs, rewards, terminated, truncated);
 }
 
-EnvInfo RemoteVecEnv::info(int env) const {
-  checkEnv(env);
-  return infos_[env];
+EnvInfo RemoteVecEnv::info(int row) const {
+  if (row < 0 || row >= layout_.rows())
+    throw ExperimentError("row", std::to_string(row) + " is outside [0, " + std::to_string(layout_.rows() - 1) + "]");
+  return infos_[static_cast<std::size_t>(row)];
 }
 
 std::string RemoteVecEnv::snapshot(int env) const {

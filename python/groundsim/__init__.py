@@ -17,9 +17,11 @@ reinforcement learning. See docs/experiments.md.
 from ._errors import ExperimentError, RemoteError, ScenarioError, ScenarioIssue
 from ._gym import HAVE_GYMNASIUM, AutoresetMode, Box
 from .env import Env, make
+from .parallel import ParallelEnv, make_parallel
 from .registration import register_envs, task_ids
 from .vector import VecEnv, make_remote_vec, make_vec
 
 __version__ = "0.1.0"
-__all__ = ["AutoresetMode", "Box", "Env", "ExperimentError", "HAVE_GYMNASIUM", "RemoteError", "ScenarioError",
-           "ScenarioIssue", "VecEnv", "make", "make_remote_vec", "make_vec", "register_envs", "task_ids"]
+__all__ = ["AutoresetMode", "Box", "Env", "ExperimentError", "HAVE_GYMNASIUM", "ParallelEnv", "RemoteError",
+           "ScenarioError", "ScenarioIssue", "VecEnv", "make", "make_parallel", "make_remote_vec", "make_vec",
+           "register_envs", "task_ids"]

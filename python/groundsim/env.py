@@ -37,6 +37,11 @@ class Env(_GymEnv):
         scenario, files = task_source(task, files_dir)
         self._vec = make_vec(scenario, 1, num_threads, files_dir=files, copy=True, autoreset_mode="disabled",
                              episode_statistics=episode_statistics)
+        if self._vec.num_agents > 1:
+            agents = list(self._vec.layout.agents)
+            self._vec.close()
+            raise ExperimentError("task", f"task: {len(agents)} agents {agents}; one env drives one: use "
+                                          f"groundsim.make_parallel (PettingZoo) or make_vec (rows)")
         self.render_mode = None
         self.observation_space = self._vec.single_observation_space
         self.action_space = self._vec.single_action_space

@@ -19,6 +19,7 @@ TASKS = {
     "groundsim/Goal-v0": "goal.json",
     "groundsim/Speed-v0": "speed.json",
     "groundsim/FastCar-v0": "fast_car.json",
+    "groundsim/Race-v0": "race.json",  # two agents: make_parallel, or make_vec's rows
 }
 _SHORT = {path.rsplit(".", 1)[0]: env_id for env_id, path in TASKS.items()}
 
@@ -68,17 +69,23 @@ def make_vec_entry(num_envs=1, task="groundsim/Goal-v0", **kwargs):
     return make_vec(scenario, num_envs, files_dir=files_dir, **kwargs)
 
 
+# several agents: PettingZoo's API (make_parallel), not Gymnasium's registry
+_MULTI_AGENT = {"groundsim/Race-v0"}
+
+
 def register_envs():
-    """Registers every shipped task with gymnasium (when importable) as
-    gymnasium.make / make_vec ids; returns the ids. Safe to call twice."""
+    """Registers every shipped single-agent task with gymnasium (when
+    importable) as gymnasium.make / make_vec ids; returns those ids. Safe
+    to call twice."""
+    ids = [env_id for env_id in TASKS if env_id not in _MULTI_AGENT]
     if not HAVE_GYMNASIUM:
-        return task_ids()
+        return ids
     import gymnasium
 
-    for env_id in TASKS:
+    for env_id in ids:
         if env_id in gymnasium.registry:
             continue
         gymnasium.register(id=env_id, entry_point="groundsim.env:Env",
                            vector_entry_point="groundsim.registration:make_vec_entry",
                            kwargs={"task": env_id}, disable_env_checker=False)
-    return task_ids()
+    return ids

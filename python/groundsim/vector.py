@@ -71,8 +71,11 @@ class VecEnv(VectorEnv):
         self._copy = bool(copy)
         self._mode = mode
         layout = core.layout
-        n, obs_size, action_size = layout.num_envs, layout.obs_size, layout.action_size
+        # one row per agent of each environment ("world"): Gymnasium's num_envs is the rows
+        n, obs_size, action_size = layout.rows, layout.obs_size, layout.action_size
         self.num_envs = n
+        self.num_worlds = layout.num_envs
+        self.num_agents = layout.num_agents
         self.metadata = {"autoreset_mode": mode}
         self.render_mode = None
         self.spec = None
@@ -92,8 +95,11 @@ class VecEnv(VectorEnv):
         self._truncations = np.zeros(n, np.bool_)
         self._info_arrays = {"episode_index": np.zeros(n, np.int64), "episode_steps": np.zeros(n, np.int64),
                              "episode_return": np.zeros(n, np.float64), "diverged": np.zeros(n, np.bool_)}
+        # several agents: whether each row's agent took part in the last step (a finished one waits
+        # for its world's episode to end)
+        self._active = np.ones(n, np.bool_) if self.num_agents > 1 else None
         self._stats = EpisodeStatistics(n) if episode_statistics else None
-        self._drawn = np.zeros((n, len(layout.drawn)), np.float64) if drawn_in_infos else None
+        self._drawn = np.zeros((self.num_worlds, len(layout.drawn)), np.float64) if drawn_in_infos else None
         self._ended = np.zeros(n, np.bool_)  # DISABLED: episodes ended and not reset since
         self._views = tuple(_readonly(a) for a in (self._obs, self._rewards, self._terminations, self._truncations))
         # every env reports every key on every step: Gymnasium's "_key" masks are all true
@@ -119,18 +125,19 @@ class VecEnv(VectorEnv):
         options: None, {"env": i or [i, ...]} or Gymnasium's
         {"reset_mask": bool array of shape (num_envs,)}; the others keep
         their state. Returns every env's observation."""
-        envs = self._envs_to_reset(options)
+        rows = self._envs_to_reset(options)
+        worlds = None if rows is None else self._worlds_of(rows, "options")
         seeds = self._seeds(seed)
         if options is not None and "randomize" in options:
-            self.set_randomization(options["randomize"], envs)
-        if envs is None and not isinstance(seeds, list):
+            self.set_randomization(options["randomize"], worlds)
+        if worlds is None and not isinstance(seeds, list):
             self._core.reset(seeds, self._obs)
         else:
-            for i in range(self.num_envs) if envs is None else envs:
-                self._core.reset_env(i, seeds[i] if isinstance(seeds, list) else
-                                     (None if seeds is None else seeds + i), self._obs)
-        self._core.fill_infos(*self._info_arrays.values())
-        chosen = slice(None) if envs is None else envs
+            for w in range(self.num_worlds) if worlds is None else worlds:
+                self._core.reset_env(w, seeds[w] if isinstance(seeds, list) else
+                                     (None if seeds is None else seeds + w), self._obs)
+        self._fill_infos()
+        chosen = slice(None) if worlds is None else self._rows(worlds)
         self._ended[chosen] = False
         if self._stats is not None:
             self._stats.started(chosen)
@@ -160,22 +167,26 @@ class VecEnv(VectorEnv):
             raise ExperimentError("actions", f"actions: env {i} ended its episode and autoreset_mode is "
                                              f"DISABLED; reset it first (reset(options={{'reset_mask': mask}}))")
         self._core.step(a, self._obs, self._rewards, self._terminations, self._truncations)
-        self._core.fill_infos(*self._info_arrays.values())
+        self._fill_infos()
         dones = self._terminations | self._truncations
         extra = {}
         if dones.any():
             if self._stats is not None:
                 extra.update(self._stats.ended(dones, self._info_arrays))
-            if self._mode is AutoresetMode.SAME_STEP:
-                extra.update(self._reset_ended(dones))
+            # a world's episode ends when each of its agents has ended, now or before
+            over = dones if self._active is None else np.repeat(
+                (dones | ~self._active).reshape(self.num_worlds, self.num_agents).all(axis=1), self.num_agents)
+            if self._mode is AutoresetMode.SAME_STEP and over.any():
+                extra.update(self._reset_ended(dones, over))
             elif self._mode is AutoresetMode.DISABLED:
-                self._ended |= dones
+                self._ended |= over
         rewards, terminations, truncations = (self._out(v) for v in self._views[1:])
         return self._out(self._views[0]), rewards, terminations, truncations, self._infos_out(extra)
 
-    def _reset_ended(self, dones):
-        """SAME_STEP: the last observation and infos of the ended envs, then
-        their reset (each continues its own random stream)."""
+    def _reset_ended(self, dones, over):
+        """SAME_STEP: the last observation and infos of the rows that ended,
+        then the reset of the worlds whose episode ended (each continues
+        its own random stream)."""
         ended = np.flatnonzero(dones)
         final_obs = np.zeros_like(self._obs)
         final_obs[ended] = self._obs[ended]
@@ -183,13 +194,33 @@ class VecEnv(VectorEnv):
         for key, array in self._info_arrays.items():
             final_info[key] = np.where(dones, array, np.zeros_like(array))
             final_info["_" + key] = dones.copy()
-        for i in ended:
-            self._core.reset_env(int(i), None, self._obs)
-        self._core.fill_infos(*self._info_arrays.values())
+        worlds = list(dict.fromkeys(int(r) // self.num_agents for r in np.flatnonzero(over)))
+        for w in worlds:
+            self._core.reset_env(w, None, self._obs)
+        self._fill_infos()
         if self._stats is not None:
-            self._stats.started(ended)
+            self._stats.started(self._rows(worlds))
         return {"final_obs": final_obs, "_final_obs": dones.copy(), "final_info": final_info,
                 "_final_info": dones.copy()}
+
+    def _fill_infos(self):
+        self._core.fill_infos(*self._info_arrays.values(), self._active)
+
+    def _rows(self, worlds):
+        """The rows of the given worlds (environments)."""
+        a = self.num_agents
+        return [w * a + k for w in worlds for k in range(a)]
+
+    def _worlds_of(self, rows, field):
+        """The worlds whose rows these are: every agent of a world together."""
+        a = self.num_agents
+        if a == 1:
+            return rows
+        worlds = list(dict.fromkeys(r // a for r in rows))
+        if sorted(rows) != sorted(self._rows(worlds)):
+            raise ExperimentError(field, f"{field}: the {a} rows of an environment (its agents) are reset "
+                                         f"together; choose all of rows w*{a} .. w*{a}+{a - 1}")
+        return worlds
 
     def _out(self, view):
         return view.copy() if self._copy else view
@@ -201,10 +232,13 @@ class VecEnv(VectorEnv):
             infos = {key: value.copy() for key, value in self._infos.items()}
         else:
             infos = dict(self._infos)
+        if self._active is not None:
+            infos["active"] = self._active.copy()
+            infos["_active"] = np.ones(self.num_envs, np.bool_)
         if self._drawn is not None:
             self._core.drawn(self._drawn)
             infos["drawn"] = self._drawn.copy()
-            infos["_drawn"] = np.ones(self.num_envs, np.bool_)
+            infos["_drawn"] = np.ones(self.num_worlds, np.bool_)
         if extra:
             infos.update(extra)
         return infos
@@ -239,7 +273,7 @@ class VecEnv(VectorEnv):
         """What each env's last reset drew, float64 (num_envs,
         len(layout.drawn)): x, y (m), yaw (rad), speed (m/s), then each
         parameter, for a privileged critic."""
-        out = np.zeros((self.num_envs, len(self.layout.drawn)), np.float64)
+        out = np.zeros((self.num_worlds, len(self.layout.drawn)), np.float64)
         self._core.drawn(out)
         return out
 
@@ -247,28 +281,38 @@ class VecEnv(VectorEnv):
         if envs is None:
             return None
         if isinstance(envs, np.ndarray) and envs.dtype == np.bool_:
-            if envs.shape != (self.num_envs,):
-                raise ExperimentError("envs", f"envs: a bool mask needs shape ({self.num_envs},), got {envs.shape}")
+            if envs.shape != (self.num_worlds,):
+                raise ExperimentError("envs", f"envs: a bool mask needs shape ({self.num_worlds},), got {envs.shape}")
             return [int(i) for i in np.flatnonzero(envs)]
         chosen = [envs] if np.ndim(envs) == 0 else list(envs)
-        return list(dict.fromkeys(self._env_index(i, "envs") for i in chosen))
+        return list(dict.fromkeys(self._world_index(i, "envs") for i in chosen))
+
+    def _world_index(self, env, field):
+        i = _index(env, field)
+        if not 0 <= i < self.num_worlds:
+            raise ExperimentError(field, f"{field}: must be in [0, {self.num_worlds}), got {i}")
+        return i
 
     def snapshot(self, env):
-        """The full state of env (bytes), restorable bit for bit, also into
-        another process running the same scenario."""
-        return self._core.snapshot(self._env_index(env, "env"))
+        """The full state of env (bytes; with several agents, env is an
+        environment, not a row), restorable bit for bit, also into another
+        process running the same scenario."""
+        return self._core.snapshot(self._world_index(env, "env"))
 
     def restore(self, env, data):
-        """Restores env from snapshot(); returns its new observation."""
-        i = self._env_index(env, "env")
+        """Restores env from snapshot(); returns its new observation (its
+        agents' rows with several)."""
+        i = self._world_index(env, "env")
         if not isinstance(data, (bytes, bytearray, memoryview)):
             raise ExperimentError("snapshot", f"snapshot: must be bytes, got {type(data).__name__}")
         self._core.restore(i, bytes(data), self._obs)
-        self._core.fill_infos(*self._info_arrays.values())
-        self._ended[i] = False
+        self._fill_infos()
+        rows = self._rows([i])
+        self._ended[rows] = False
         if self._stats is not None:
-            self._stats.started([i])
-        return self._out(self._views[0][i])
+            self._stats.started(rows)
+        obs = self._views[0][i] if self.num_agents == 1 else self._views[0][rows[0]:rows[-1] + 1]
+        return self._out(obs)
 
     def close(self, **kwargs):
         if self.closed:
@@ -327,19 +371,20 @@ class VecEnv(VectorEnv):
         return [int(i) for i in np.flatnonzero(mask)]
 
     def _seeds(self, seed):
-        """None, an int s with s + num_envs - 1 < 2^63, or a list of
-        num_envs ints or Nones."""
+        """None, an int s with s + num_worlds - 1 < 2^63, or a list of
+        num_worlds ints or Nones (one per environment: with several agents,
+        its rows share it)."""
         if seed is None:
             return None
         if np.ndim(seed) == 0:
             s = _index(seed, "seed")
-            if not 0 <= s <= _SEED_END - self.num_envs:
+            if not 0 <= s <= _SEED_END - self.num_worlds:
                 raise ExperimentError("seed", f"seed: must be in [0, 2^63 - num_envs] (env i is seeded with "
                                               f"seed + i), got {s}")
             return s
         seeds = list(seed)
-        if len(seeds) != self.num_envs:
-            raise ExperimentError("seed", f"seed: a sequence of seeds needs one per env ({self.num_envs}), "
+        if len(seeds) != self.num_worlds:
+            raise ExperimentError("seed", f"seed: a sequence of seeds needs one per env ({self.num_worlds}), "
                                           f"got {len(seeds)}")
         for i, s in enumerate(seeds):
             if s is not None:

@@ -105,13 +105,17 @@ int envIndex(const EnvHandle& h, int env) {
   return env;
 }
 
-std::vector<py::ssize_t> obsShape(const Layout& l) { return {l.num_envs, l.obsSize()}; }
+// one row per agent of each environment (Layout::rows)
+std::vector<py::ssize_t> obsShape(const Layout& l) { return {l.rows(), l.obsSize()}; }
 
 }  // namespace
 
 void bindBatchEnv(py::module_& m) {
   py::class_<Layout>(m, "Layout", "What the buffers of a BatchEnv hold (experiments/batch_env.hpp)")
       .def_readonly("num_envs", &Layout::num_envs)
+      .def_readonly("num_agents", &Layout::num_agents, "agents per environment: buffers have num_envs x num_agents rows")
+      .def_readonly("agents", &Layout::agents, "the agents' vehicle names, the row order within an environment")
+      .def_property_readonly("rows", &Layout::rows)
       .def_readonly("dt", &Layout::dt, "physics step, s")
       .def_readonly("control_period", &Layout::control_period, "physics steps per action")
       .def_readonly("time_limit", &Layout::time_limit, "episode length before truncation, s; 0 = none")
@@ -154,7 +158,7 @@ void bindBatchEnv(py::module_& m) {
             float* o = buffer<float>(obs, "obs", obsShape(h.layout()), true);
             py::gil_scoped_release release;
             std::lock_guard lock(h.mutex());
-            h.env().resetEnv(i, s, o + static_cast<std::ptrdiff_t>(i) * h.layout().obsSize());
+            h.env().resetEnv(i, s, o + static_cast<std::ptrdiff_t>(i) * h.layout().num_agents * h.layout().obsSize());
           },
           py::arg("env"), py::arg("seed"), py::arg("obs"), "resets env with exactly seed; writes its row of obs")
       .def(
@@ -162,7 +166,7 @@ void bindBatchEnv(py::module_& m) {
           [](EnvHandle& h, const py::handle& actions, const py::handle& obs, const py::handle& rewards,
              const py::handle& terminations, const py::handle& truncations) {
             const Layout& l = h.layout();
-            const py::ssize_t n = l.num_envs;
+            const py::ssize_t n = l.rows();
             const float* a = buffer<float>(actions, "actions", {n, l.actionSize()}, false);
             float* o = buffer<float>(obs, "obs", obsShape(l), true);
             double* r = buffer<double>(rewards, "rewards", {n}, true);
@@ -177,12 +181,13 @@ void bindBatchEnv(py::module_& m) {
       .def(
           "fill_infos",
           [](EnvHandle& h, const py::handle& episode, const py::handle& episode_steps,
-             const py::handle& episode_return, const py::handle& diverged) {
-            const py::ssize_t n = h.layout().num_envs;
+             const py::handle& episode_return, const py::handle& diverged, const py::handle& active) {
+            const py::ssize_t n = h.layout().rows();
             auto* ep = buffer<std::int64_t>(episode, "episode", {n}, true);
             auto* steps = buffer<std::int64_t>(episode_steps, "episode_steps", {n}, true);
             auto* ret = buffer<double>(episode_return, "episode_return", {n}, true);
             auto* div = buffer<bool>(diverged, "diverged", {n}, true);
+            auto* act = active.is_none() ? nullptr : buffer<bool>(active, "active", {n}, true);
             py::gil_scoped_release release;
             std::lock_guard lock(h.mutex());
             BatchEnv& env = h.env();
@@ -192,10 +197,11 @@ void bindBatchEnv(py::module_& m) {
               steps[i] = info.episode_steps;
               ret[i] = info.episode_return;
               div[i] = info.diverged;
+              if (act) act[i] = info.active;
             }
           },
           py::arg("episode"), py::arg("episode_steps"), py::arg("episode_return"), py::arg("diverged"),
-          "writes every env's EnvInfo into the four arrays")
+          py::arg("active") = py::none(), "writes every row's EnvInfo into the arrays (active: optional)")
       .def(
           "snapshot",
           [](EnvHandle& h, int env) {
@@ -217,7 +223,7 @@ void bindBatchEnv(py::module_& m) {
             float* o = buffer<float>(obs, "obs", obsShape(h.layout()), true);
             py::gil_scoped_release release;
             std::lock_guard lock(h.mutex());
-            h.env().restore(i, data, o + static_cast<std::ptrdiff_t>(i) * h.layout().obsSize());
+            h.env().restore(i, data, o + static_cast<std::ptrdiff_t>(i) * h.layout().num_agents * h.layout().obsSize());
           },
           py::arg("env"), py::arg("snapshot"), py::arg("obs"), "restores env; writes its row of obs")
       .def(

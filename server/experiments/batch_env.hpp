@@ -6,8 +6,10 @@
 // the same seed and actions give bit-identical observations.
 //
 // Buffers are row-major, caller-owned and written in place (numpy arrays
-// without copies): obs [N x obs_size] float32, actions [N x action_size]
-// float32, rewards [N] float64, terminated/truncated [N] uint8.
+// without copies), one row per agent of each environment (R = N x
+// num_agents rows, environment-major): obs [R x obs_size] float32, actions
+// [R x action_size] float32, rewards [R] float64, terminated/truncated [R]
+// uint8. With one agent (the usual task) a row is an environment.
 //
 // Autoreset is Gymnasium's NEXT_STEP: an environment whose episode ended
 // (terminated or truncated) in step k is reset by step k+1, whose action
@@ -27,6 +29,8 @@ namespace groundsim::experiments {
 // create reply and the session info of a vectorised server session.
 struct Layout {
   int num_envs = 0;
+  int num_agents = 1;               // agents per environment: each buffer has num_envs x num_agents rows
+  std::vector<std::string> agents;  // their vehicles' names, the row order within an environment
   double dt = 0.0;                  // s      physics step
   int control_period = 1;           //        physics steps per action
   double time_limit = 0.0;          // s      truncation; 0 = none
@@ -40,6 +44,7 @@ struct Layout {
   int obsSize() const { return static_cast<int>(observation.size()); }
   int actionSize() const { return static_cast<int>(action.size()); }
   int drawnSize() const { return static_cast<int>(drawn.size()); }
+  int rows() const { return num_envs * num_agents; }
 };
 
 // Bad calls from a client: wrong shapes, NaN actions, out-of-range seeds or
@@ -61,6 +66,9 @@ struct EnvInfo {
   std::int64_t episode_steps = 0;   // actions taken in the current episode
   double episode_return = 0.0;      // sum of rewards in the current episode
   bool diverged = false;            // the physics diverged: the episode was terminated
+  // the agent of this row took part in the last step (its reward and flags
+  // are a transition); false once it finished, until the episode ends
+  bool active = true;
 };
 
 class BatchEnv {
@@ -72,16 +80,17 @@ class BatchEnv {
   // seed + i (seed in [0, 2^63)); without, each continues its own stream.
   virtual void reset(std::optional<std::uint64_t> seed, float* obs) = 0;
   // Resets one environment (options={"env": i} / reset to a chosen seed).
-  virtual void resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_row) = 0;
+  // obs_rows: the environment's num_agents rows of obs
+  virtual void resetEnv(int env, std::optional<std::uint64_t> seed, float* obs_rows) = 0;
   virtual void step(const float* actions, float* obs, double* rewards,
                     std::uint8_t* terminated, std::uint8_t* truncated) = 0;
-  virtual EnvInfo info(int env) const = 0;
+  virtual EnvInfo info(int row) const = 0;
 
   // A full environment state (physics state, episode counters, random
   // stream, drawn parameters), restored bit for bit, also into another
   // process running the same scenario.
   virtual std::string snapshot(int env) const = 0;
-  virtual void restore(int env, const std::string& snapshot, float* obs_row) = 0;
+  virtual void restore(int env, const std::string& snapshot, float* obs_rows) = 0;
 
   // A curriculum: new randomisation ranges for env (every env when env is
   // -1), drawn from at its next resets on. randomize_json: the task's

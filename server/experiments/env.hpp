@@ -20,6 +20,14 @@
 
 namespace groundsim::experiments {
 
+// One agent: the vehicle it drives, found in the scene.
+struct Agent {
+  int vehicle = 0;                  // index among the scenario's vehicles
+  int body = -1;                    // its chassis body
+  int road_car = -1;                // its index among the road cars, -1 for the report's car
+  std::array<int, 4> wheels{};      // report car: its wheels (model indices)
+};
+
 // Everything the environments of one scenario share, read-only once built.
 struct TaskContext {
   scenario::Scenario scenario;      // validated, with its task
@@ -28,10 +36,7 @@ struct TaskContext {
   scenario::Budget budget;
   scenario::FileAccess files;
   Layout layout;
-  int vehicle = 0;                  // the task's vehicle
-  int body = -1;                    // its chassis body
-  int road_car = -1;                // its index among the road cars, -1 for the report's car
-  std::array<int, 4> wheels{};      // report car: its wheels (model indices)
+  std::vector<Agent> agents;        // the task's agents (one unless it lists `agents`)
   double control_dt = 0.0;          // s   control_period * dt
   std::int64_t max_steps = 0;       // actions per episode before truncation; 0 = none
 
@@ -51,14 +56,21 @@ std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const s
 // batched steps do not fill it). Decided by the task alone.
 bool stepsBatched(const TaskContext& c);
 
-// Env::drawn(): what reset drew, in this order, then one value per task
-// parameter (TaskSpec::parameters).
+// Env::drawn(): what reset drew: per agent, in agent order, these four
+// (kDrawnPerAgent values from kDrawnPerAgent * agent), then one value per
+// task parameter (TaskSpec::randomize.parameters).
 inline constexpr int kDrawnX = 0;          // m    start offset
 inline constexpr int kDrawnY = 1;          // m
 inline constexpr int kDrawnYaw = 2;        // rad
 inline constexpr int kDrawnSpeed = 3;      // m/s
-inline constexpr int kDrawnParameters = 4;
+inline constexpr int kDrawnPerAgent = 4;
 
+// One environment: its agents (one unless the task lists `agents`) act
+// together; each has an observation row, an action row, a reward and flags.
+// An agent that terminated stays out (its car brakes to rest, its rows read
+// reward 0 and no flags, and it is not active) until the episode ends: when
+// every agent has terminated, at the time limit, or when the physics
+// diverges.
 class Env {
  public:
   // Seeded with `seed` and reset; the first step() then starts episode 1
@@ -66,20 +78,23 @@ class Env {
   Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed);
 
   // A new episode (seeded first when a seed is given); writes the first
-  // observation.
+  // observation of every agent (rows of obs).
   void reset(std::optional<std::uint64_t> seed, float* obs);
-  // The action to take, already checked finite; clipped to the bounds here.
-  void setAction(const float* action);
-  // Takes the action set (or resets, when the last episode ended).
+  // The actions to take, one row per agent, already checked finite; clipped
+  // to the bounds here.
+  void setAction(const float* actions);
+  // Takes the actions set (or resets, when the last episode ended); one
+  // value (or obs row) per agent.
   void step(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
   // step() in two halves around the physics, for VecEnv's batched path
-  // (physics/kernels/batch_step.hpp): beginStep resets an ended episode (and returns
-  // false: nothing to step) or applies the action; the caller then advances
-  // physicsState() by control_period steps; finishStep evaluates the task.
+  // (physics/kernels/batch_step.hpp, one agent only): beginStep resets an
+  // ended episode (and returns false: nothing to step) or applies the
+  // action; the caller then advances physicsState() by control_period
+  // steps; finishStep evaluates the task.
   bool beginStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
   void finishStep(float* obs, double* reward, std::uint8_t* terminated, std::uint8_t* truncated);
   State& physicsState() { return sim_->batchState(); }
-  EnvInfo info() const;
+  EnvInfo info(int agent = 0) const;
 
   EnvSnapshot save() const;
   // Throws ExperimentError("snapshot", ...) when the payload does not fit
@@ -95,29 +110,33 @@ class Env {
   void setRandomization(scenario::Randomization r) { ranges_ = std::move(r); }
 
  private:
+  int agents() const { return static_cast<int>(ctx_->agents.size()); }
   void begin(float* obs);
   // Rebuilds the model for drawn parameters (or takes the shared one) and
-  // returns the initial state for the drawn placement.
+  // returns the initial state for the drawn placements.
   State initialState(std::shared_ptr<const Model>* model) const;
-  void applyAction();
+  void useModel(std::shared_ptr<const Model> model, State s);
+  void applyActions();
   void observe(float* obs);
+  void addBumps();
 
   std::shared_ptr<const TaskContext> ctx_;
   std::unique_ptr<Simulator> sim_;
   std::unique_ptr<GroundProbe> probe_;  // height samples, on the simulator's ground
   Rng rng_;
-  std::vector<Sensor> sensors_;     // the observation, resolved on the simulator's model
+  std::vector<std::vector<Sensor>> sensors_;  // per agent, resolved on the simulator's model
   scenario::Randomization ranges_;  // what reset draws from
   std::vector<double> drawn_;       // kDrawn* order
-  std::vector<float> action_, previous_;
-  std::vector<float> last_obs_;
+  std::vector<float> action_, previous_;  // [agents x action_size]
+  std::vector<float> last_obs_;     // [agents x obs_size]
   std::vector<double> feature_;     // one observation in double, before rounding to float
   std::int64_t episode_ = 0, steps_ = 0;
-  double return_ = 0.0;
-  double bump_ = 0.0;  // m/s: velocity change given to the task's vehicle by hits this action
-  void addBump();
+  std::vector<double> return_;      // per agent
+  std::vector<double> bump_;        // per agent, m/s: velocity change given to its vehicle by hits this action
+  std::vector<std::uint8_t> done_;  // per agent: terminated this episode
+  std::vector<std::uint8_t> active_;  // per agent: took part in the last step (or episode just began)
+  std::vector<Vec3> before_;        // per agent: chassis position when the current action was applied
   bool diverged_ = false, needs_reset_ = false;
-  Vec3 before_ = Vec3::Zero();      // chassis position when the current action was applied
 };
 
 }  // namespace groundsim::experiments

@@ -24,15 +24,15 @@ Vec3 omegaWorld(const Model& m, const Eigen::VectorXd& y, int b) {
 // The four wheels of the task's vehicle for a per-wheel feature: a road
 // car's (by road-car index), or the model wheels of a report car (Zero
 // where it has fewer than four).
-void perWheel(const TaskContext& ctx, int slot, Kind road, Kind wheel, std::vector<Sensor>& out) {
+void perWheel(const Agent& agent, int slot, Kind road, Kind wheel, std::vector<Sensor>& out) {
   for (int k = 0; k < 4; ++k) {
     Sensor s;
     s.slot = slot + k;
     s.wheel = k;
-    const int wi = ctx.wheels[static_cast<size_t>(k)];
-    if (ctx.road_car >= 0) {
+    const int wi = agent.wheels[static_cast<size_t>(k)];
+    if (agent.road_car >= 0) {
       s.kind = road;
-      s.index = ctx.road_car;
+      s.index = agent.road_car;
     } else if (wi >= 0) {
       s.kind = wheel;
       s.index = wi;
@@ -43,8 +43,9 @@ void perWheel(const TaskContext& ctx, int slot, Kind road, Kind wheel, std::vect
 
 }  // namespace
 
-std::vector<Sensor> resolveSensors(const TaskContext& ctx, const Model& m) {
+std::vector<Sensor> resolveSensors(const TaskContext& ctx, int agent, const Model& m) {
   const scenario::TaskSpec& t = ctx.task();
+  const Agent& me = ctx.agents[static_cast<size_t>(agent)];
   std::vector<Sensor> out;
   int slot = 0;
   auto add = [&](Kind kind, int width, int index = 0) {
@@ -58,7 +59,7 @@ std::vector<Sensor> resolveSensors(const TaskContext& ctx, const Model& m) {
   // a road car's per-wheel state entries: spin (2) or strut travel (0)
   auto roadEntries = [&](int which) {
     for (int k = 0; k < 4; ++k)
-      add(Kind::StateEntry, 1, m.auxBase() + m.road_cars[static_cast<size_t>(ctx.road_car)].aux + roadAux(k, which));
+      add(Kind::StateEntry, 1, m.auxBase() + m.road_cars[static_cast<size_t>(me.road_car)].aux + roadAux(k, which));
   };
   for (Feature f : t.observation) {
     switch (f) {
@@ -69,18 +70,18 @@ std::vector<Sensor> resolveSensors(const TaskContext& ctx, const Model& m) {
       case Feature::AngularVelocityBody: add(Kind::AngularVelocityBody, 3); break;
       case Feature::Speed: add(Kind::Speed, 1); break;
       case Feature::WheelSpin:
-        if (ctx.road_car >= 0) roadEntries(2);
+        if (me.road_car >= 0) roadEntries(2);
         else {
-          perWheel(ctx, slot, Kind::Zero, Kind::WheelSpin, out);
+          perWheel(me, slot, Kind::Zero, Kind::WheelSpin, out);
           slot += 4;
         }
         break;
       case Feature::WheelContact:
-        perWheel(ctx, slot, Kind::RoadContact, Kind::WheelContact, out);
+        perWheel(me, slot, Kind::RoadContact, Kind::WheelContact, out);
         slot += 4;
         break;
       case Feature::WheelSlip:
-        perWheel(ctx, slot, Kind::RoadSlip, Kind::WheelSlip, out);
+        perWheel(me, slot, Kind::RoadSlip, Kind::WheelSlip, out);
         slot += 4;
         break;
       case Feature::SuspensionTravel: roadEntries(0); break;  // validation: road cars only
@@ -101,16 +102,20 @@ std::vector<Sensor> resolveSensors(const TaskContext& ctx, const Model& m) {
         for (int k = 0; k < ctx.layout.actionSize(); ++k) add(Kind::PreviousAction, 1, k);
         break;
       case Feature::Time: add(Kind::Time, 1); break;
+      case Feature::AgentsBody:
+        for (int other = 0; other < static_cast<int>(ctx.agents.size()); ++other)
+          if (other != agent) add(Kind::OtherAgent, 4, other);
+        break;
     }
   }
   return out;
 }
 
-void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, const Model& m, const State& st,
-                 const Workspace& ws, const SensorInputs& in, double* out) {
+void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int agent, const Model& m,
+                 const State& st, const Workspace& ws, const SensorInputs& in, double* out) {
   const scenario::TaskSpec& t = ctx.task();
   const Eigen::VectorXd& y = st.y;
-  const int b = ctx.body;
+  const int b = ctx.agents[static_cast<size_t>(agent)].body;
   // the frame every body-relative sensor shares
   const Vec3 c = bodyPos(y, b);
   const Mat3 R = rotation(y, b);
@@ -161,6 +166,12 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, con
       case Kind::GoalDistance: o[0] = std::hypot(t.goal[0] - c.x(), t.goal[1] - c.y()); break;
       case Kind::PreviousAction: o[0] = in.previous_action[s.index]; break;
       case Kind::Time: o[0] = in.time; break;
+      case Kind::OtherAgent: {
+        const int ob = ctx.agents[static_cast<size_t>(s.index)].body;
+        const Vec3 d = R.transpose() * Vec3(bodyPos(y, ob) - c), dv = R.transpose() * Vec3(bodyVel(y, ob) - v);
+        o[0] = d.x(), o[1] = d.y(), o[2] = dv.x(), o[3] = dv.y();
+        break;
+      }
     }
   }
 }

@@ -39,6 +39,7 @@ struct Sensor {
     GoalDistance,    // 1
     PreviousAction,  // 1  component `index` of the previous action
     Time,            // 1
+    OtherAgent,      // 4  agent `index` relative to this one: position x, y and velocity x, y in the body frame
   };
   Kind kind = Kind::Zero;
   int slot = 0;          // first output component
@@ -47,9 +48,9 @@ struct Sensor {
   double ahead = 0.0, lateral = 0.0;  // HeightSample, m
 };
 
-// The sensors of the context's task on model m (the context's vehicle, in
-// the order and with the slots of its Layout).
-std::vector<Sensor> resolveSensors(const TaskContext& ctx, const Model& m);
+// The sensors of agent `agent` of the context's task on model m (in the
+// order and with the slots of the Layout).
+std::vector<Sensor> resolveSensors(const TaskContext& ctx, int agent, const Model& m);
 
 // What a sensor reads besides the physics.
 struct SensorInputs {
@@ -59,8 +60,9 @@ struct SensorInputs {
   bool fresh = false;     // no step taken yet this episode: contact and slip read 0
 };
 
-// Writes every sensor's components into out (doubles; Layout order).
-void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, const Model& m, const State& s,
-                 const Workspace& ws, const SensorInputs& in, double* out);
+// Writes every sensor's components of agent `agent` into out (doubles;
+// Layout order).
+void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int agent, const Model& m,
+                 const State& s, const Workspace& ws, const SensorInputs& in, double* out);
 
 }  // namespace groundsim::experiments

@@ -197,7 +197,12 @@ std::string encodeSnapshot(const std::string& scenario_hash, const EnvSnapshot& 
   w.u64(s.rng);
   w.i64(s.episode);
   w.i64(s.episode_steps);
-  w.f64(s.episode_return);
+  w.count(s.returns.size());
+  for (double v : s.returns) w.f64(v);
+  w.count(s.done.size());
+  for (std::uint8_t v : s.done) w.u8(v);
+  w.count(s.active.size());
+  for (std::uint8_t v : s.active) w.u8(v);
   w.u8(s.diverged ? 1 : 0);
   w.u8(s.needs_reset ? 1 : 0);
   w.count(s.previous_action.size());
@@ -257,7 +262,12 @@ EnvSnapshot decodeSnapshot(const std::string& bytes, const std::string& scenario
   s.rng = r.u64();
   s.episode = r.i64();
   s.episode_steps = r.i64();
-  s.episode_return = r.f64();
+  s.returns.resize(r.count(8, "returns"));
+  for (double& v : s.returns) v = r.f64();
+  s.done.resize(r.count(1, "finished flags"));
+  for (std::uint8_t& v : s.done) v = r.flag("finished") ? 1 : 0;
+  s.active.resize(r.count(1, "active flags"));
+  for (std::uint8_t& v : s.active) v = r.flag("active") ? 1 : 0;
   s.diverged = r.flag("diverged");
   s.needs_reset = r.flag("needs_reset");
   s.previous_action.resize(r.count(4, "previous action"));

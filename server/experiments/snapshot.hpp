@@ -7,7 +7,8 @@
 //   hash    u32 length + bytes: Layout::scenario_hash of the scenario
 //   payload EnvSnapshot: the physics State (y, time, tick, step, energy
 //           bookkeeping, wheel and road-car controls, road-car runtime,
-//           health), the random stream, episode counters, the previous
+//           health), the random stream, episode counters (the returns,
+//           finished and active flags per agent), the previous
 //           action, the drawn initial offsets and parameters, the ranges
 //           the next resets draw from (the task's `randomize` as JSON
 //           text: a curriculum may have changed them) and the last
@@ -28,14 +29,15 @@
 
 namespace groundsim::experiments {
 
-// 2: the ranges (a curriculum's) travel with the env
+// 2: the ranges (a curriculum's) and the agents' counters travel with the env
 inline constexpr std::uint32_t kSnapshotVersion = 2;
 
 struct EnvSnapshot {
   State state;
   std::uint64_t rng = 0;
   std::int64_t episode = 0, episode_steps = 0;
-  double episode_return = 0.0;
+  std::vector<double> returns;      // per agent: the episode's return so far
+  std::vector<std::uint8_t> done, active;  // per agent: terminated; took part in the last step
   bool diverged = false, needs_reset = false;
   std::vector<float> previous_action;
   std::vector<double> drawn;

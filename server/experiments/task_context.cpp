@@ -7,6 +7,7 @@
 
 #include "experiments/env.hpp"
 #include "experiments/task_context.hpp"
+#include "scenario/footprint.hpp"
 #include "scenario/json_limits.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/scenario.hpp"
@@ -65,7 +66,11 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
       for (int w : scene.cars[v].wheels) n += w >= 0 ? 1 : 0;
     l.wheel_counts.push_back(n);
   }
-  l.drawn = {"x", "y", "yaw", "speed"};  // experiments/env.hpp kDrawn* order
+  // experiments/env.hpp kDrawn* order, per agent (named by it when there are several)
+  for (int v : t.agents) {
+    const std::string prefix = t.agents.size() > 1 ? s.vehicles[static_cast<size_t>(v)].name + "." : "";
+    for (const char* d : {"x", "y", "yaw", "speed"}) l.drawn.push_back(prefix + d);
+  }
   for (const scenario::ParameterRange& p : t.randomize.parameters) l.drawn.push_back(p.path);
   if (t.action == scenario::ActionKind::CarControls) {
     addAction(l, "throttle", 0.0f, 1.0f);
@@ -117,8 +122,15 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
       case Feature::PreviousAction:
         for (size_t k = 0; k < l.action.size(); ++k) add(l, name + "." + l.action[k], l.action_low[k], l.action_high[k]);
         break;
+      case Feature::AgentsBody:
+        // the others in agent order, from each agent's own view: "the k-th other"
+        for (size_t k = 1; k < t.agents.size(); ++k)
+          for (const char* c : {"x", "y", "vx", "vy"}) add(l, name + "." + std::to_string(k - 1) + "." + c);
+        break;
     }
   }
+  for (int v : t.agents) l.agents.push_back(s.vehicles[static_cast<size_t>(v)].name);
+  l.num_agents = static_cast<int>(t.agents.size());
   l.scenario_hash = scenarioHash(s.document);
   return l;
 }
@@ -139,6 +151,30 @@ void checkRangeEnds(const TaskContext& ctx, const scenario::ParameterRange& rang
                                                                   " does not validate: " + e.lines("; ")}});
     }
   }
+}
+
+// Several agents: the drawn offsets must not bring two of them into each
+// other (the scene builder would refuse that start at a reset, in the
+// middle of a training run). Each may move by up to `reach` (the largest
+// offset in x and y); two placed d apart come no closer than d - 2 reach.
+void checkAgentsApart(const scenario::Scenario& s, const std::vector<int>& agents, const scenario::Randomization& r,
+                      const std::string& pointer) {
+  const double reach = std::hypot(std::max(std::abs(r.x[0]), std::abs(r.x[1])),
+                                  std::max(std::abs(r.y[0]), std::abs(r.y[1])));
+  for (size_t i = 0; i < agents.size(); ++i)
+    for (size_t j = i + 1; j < agents.size(); ++j) {
+      const scenario::VehicleSpec& a = s.vehicles[static_cast<size_t>(agents[i])];
+      const scenario::VehicleSpec& b = s.vehicles[static_cast<size_t>(agents[j])];
+      const Vec3 d = b.placement.position - a.placement.position;
+      const double apart = std::hypot(d.x(), d.y());
+      const double need = scenario::vehicleFootprint(a) + scenario::vehicleFootprint(b);
+      if (apart - 2.0 * reach < need)
+        throw scenario::ScenarioError({scenario::Issue{
+            pointer, "agents " + scenario::quote(a.name) + " and " + scenario::quote(b.name) + " start " +
+                         scenario::formatNumber(apart) + " m apart and may each be moved up to " +
+                         scenario::formatNumber(reach) + " m (x, y): they could be drawn into each other (their "
+                         "footprints need " + scenario::formatNumber(need) + " m)"}});
+    }
 }
 
 }  // namespace
@@ -165,6 +201,7 @@ scenario::Randomization curriculumRanges(const TaskContext& ctx, const std::stri
     for (const nlohmann::json& p : doc["parameters"])
       listed.push_back(p.is_object() && p.contains("path") && p["path"].is_string() ? p["path"].get<std::string>() : "");
   scenario::Randomization next = scenario::readCurriculum(std::move(doc), current);
+  checkAgentsApart(ctx.scenario, ctx.task().agents, next, "/randomize");
   // only the changed parameter ranges cost a validation
   for (size_t i = 0; i < next.parameters.size(); ++i) {
     const scenario::ParameterRange& a = next.parameters[i];
@@ -196,13 +233,17 @@ std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const s
   ctx->base_document.erase("task");
   const TaskSpec& t = *s.task;
   checkParameterEnds(*ctx, t.randomize.parameters, "/task/randomize/parameters");
-  ctx->vehicle = t.vehicle;
-  ctx->body = ctx->scene.cars.at(static_cast<size_t>(t.vehicle)).body;
-  ctx->wheels = ctx->scene.cars[static_cast<size_t>(t.vehicle)].wheels;
-  ctx->road_car = -1;
-  for (size_t c = 0; c < ctx->scene.built.model->road_cars.size(); ++c)
-    if (ctx->scene.built.model->road_cars[c].vehicle == ctx->scene.cars[static_cast<size_t>(t.vehicle)].vehicle)
-      ctx->road_car = static_cast<int>(c);
+  checkAgentsApart(s, t.agents, t.randomize, "/task/randomize");
+  for (int v : t.agents) {
+    Agent a;
+    a.vehicle = v;
+    a.body = ctx->scene.cars.at(static_cast<size_t>(v)).body;
+    a.wheels = ctx->scene.cars[static_cast<size_t>(v)].wheels;
+    for (size_t c = 0; c < ctx->scene.built.model->road_cars.size(); ++c)
+      if (ctx->scene.built.model->road_cars[c].vehicle == ctx->scene.cars[static_cast<size_t>(v)].vehicle)
+        a.road_car = static_cast<int>(c);
+    ctx->agents.push_back(a);
+  }
   ctx->control_dt = s.options.dt * t.control_period;
   ctx->max_steps = t.time_limit > 0.0 ? static_cast<std::int64_t>(std::ceil(t.time_limit / ctx->control_dt - 1e-9)) : 0;
   ctx->layout = makeLayout(s, ctx->scene);

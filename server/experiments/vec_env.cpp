@@ -96,7 +96,7 @@ class VecEnv final : public BatchEnv {
     checkBuffer(rewards, "rewards");
     checkBuffer(terminated, "terminated");
     checkBuffer(truncated, "truncated");
-    const int n = layout_.num_envs, k = layout_.actionSize();
+    const int n = layout_.rows(), k = layout_.actionSize();
     // refuse before anything moves: a NaN in the last row leaves every
     // environment as it was
     for (int i = 0; i < n; ++i)
@@ -107,14 +107,16 @@ class VecEnv final : public BatchEnv {
                                 std::string("must be finite, got ") + (std::isnan(a) ? "nan" : a > 0 ? "inf" : "-inf") +
                                     " (" + layout_.action[static_cast<size_t>(j)] + ")");
       }
-    for (int i = 0; i < n; ++i) envs_[static_cast<size_t>(i)]->setAction(actions + static_cast<size_t>(i) * k);
+    const size_t per_env = static_cast<size_t>(layout_.num_agents) * k;
+    for (size_t i = 0; i < envs_.size(); ++i) envs_[i]->setAction(actions + i * per_env);
     Job job{this, obs, rewards, terminated, truncated, std::nullopt, false};
     pool_.run(&VecEnv::runJob, &job);
   }
 
-  EnvInfo info(int env) const override {
-    checkEnv(env);
-    return envs_[static_cast<size_t>(env)]->info();
+  EnvInfo info(int row) const override {
+    if (row < 0 || row >= layout_.rows())
+      throw ExperimentError("row", "must be in [0, " + std::to_string(layout_.rows()) + "), got " + std::to_string(row));
+    return envs_[static_cast<size_t>(row / layout_.num_agents)]->info(row % layout_.num_agents);
   }
 
   std::string snapshot(int env) const override {
@@ -169,7 +171,9 @@ class VecEnv final : public BatchEnv {
     VecEnv& v = *j.self;
     const long long n = v.layout_.num_envs, threads = v.pool_.threads();
     const long long begin = n * t / threads, end = n * (t + 1) / threads;
-    const size_t m = static_cast<size_t>(v.layout_.obsSize());
+    // env i owns rows [i A, (i + 1) A): obs rows of m floats, one reward and two flags each
+    const long long agents = v.layout_.num_agents;
+    const size_t m = static_cast<size_t>(v.layout_.obsSize() * agents);
     if (!j.reset && !v.lanes_.empty()) {
       Lanes& l = v.lanes_[static_cast<size_t>(t)];
       l.cars.clear();
@@ -190,7 +194,7 @@ class VecEnv final : public BatchEnv {
       Env& e = *v.envs_[static_cast<size_t>(i)];
       float* row = j.obs + static_cast<size_t>(i) * m;
       if (j.reset) e.reset(j.seed ? std::optional<std::uint64_t>(*j.seed + static_cast<std::uint64_t>(i)) : std::nullopt, row);
-      else e.step(row, j.rewards + i, j.terminated + i, j.truncated + i);
+      else e.step(row, j.rewards + i * agents, j.terminated + i * agents, j.truncated + i * agents);
     }
   }
 

@@ -214,6 +214,9 @@ groundsim::env_layout_t toMessage(const experiments::Layout& l) {
   m.wheel_counts.assign(l.wheel_counts.begin(), l.wheel_counts.end());
   m.scenario_hash = l.scenario_hash;
   m.ndrawn = static_cast<int32_t>(l.drawn.size());
+  m.num_agents = l.num_agents;
+  m.agents = l.agents;
+  m.agents.resize(static_cast<std::size_t>(std::max(0, l.num_agents)));  // lcm: the array has num_agents entries
   m.drawn = l.drawn;
   return m;
 }
@@ -254,6 +257,7 @@ groundsim::vec_reply_t toMessage(const session::VecReply& r, std::int64_t seq) {
     m.episode_steps.push_back(i.episode_steps);
     m.episode_return.push_back(finiteOr0(i.episode_return));
     m.diverged.push_back(i.diverged ? 1 : 0);
+    m.active.push_back(i.active ? 1 : 0);
   }
   m.snapshot_total = static_cast<int32_t>(r.snapshot.size());
   m.snapshot_offset = 0;

@@ -24,6 +24,7 @@ vec_reply_t headerOf(const vec_reply_t& w) {
   h.episode_steps.clear();
   h.episode_return.clear();
   h.diverged.clear();
+  h.active.clear();
   h.snapshot_offset = 0;
   h.nsnapshot = 0;
   h.snapshot.clear();
@@ -45,7 +46,7 @@ void append(std::vector<T>& to, const std::vector<T>& from) {
 }  // namespace
 
 std::size_t vecBytesPerEnv(int obs_size) {
-  return static_cast<std::size_t>(std::max(0, obs_size)) * sizeof(float) + 8 + 1 + 1 + 8 + 8 + 8 + 1;
+  return static_cast<std::size_t>(std::max(0, obs_size)) * sizeof(float) + 8 + 1 + 1 + 8 + 8 + 8 + 1 + 1;
 }
 
 std::vector<vec_reply_t> splitVecReply(const vec_reply_t& whole, std::size_t max_bytes) {
@@ -84,6 +85,7 @@ std::vector<vec_reply_t> splitVecReply(const vec_reply_t& whole, std::size_t max
     p.episode_steps = slice(whole.episode_steps, env, n_env);
     p.episode_return = slice(whole.episode_return, env, n_env);
     p.diverged = slice(whole.diverged, env, n_env);
+    p.active = slice(whole.active, env, n_env);
     p.snapshot_offset = static_cast<int32_t>(byte);
     p.nsnapshot = static_cast<int32_t>(n_byte);
     p.snapshot = slice(whole.snapshot, byte, n_byte);
@@ -169,6 +171,7 @@ vec_reply_t VecAssembler::take() {
       append(w.episode_steps, p->episode_steps);
       append(w.episode_return, p->episode_return);
       append(w.diverged, p->diverged);
+      append(w.active, p->active);
     }
   }
   std::vector<const vec_reply_t*> by_byte(order);

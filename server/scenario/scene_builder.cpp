@@ -11,6 +11,7 @@
 #include "physics/checks/stability.hpp"
 #include "physics/integrators/integrator.hpp"
 #include "scenario/object_reader.hpp"
+#include "scenario/footprint.hpp"
 #include "scenario/scenario.hpp"
 #include "scenario/scenario_error.hpp"
 
@@ -50,15 +51,7 @@ std::string vehiclePath(const Scenario& s, size_t i) {
   return s.document.contains("vehicles") ? "/vehicles/" + std::to_string(i) : "/vehicle";
 }
 
-// Radius of the vehicle's footprint about its centre, in the ground plane.
-double footprint(const VehicleSpec& v) {
-  if (v.road_car) {
-    const RoadCarParams& p = v.road;
-    return std::hypot(std::max(p.cg_to_front, p.wheelbase - p.cg_to_front) + p.wheel_radius, 0.5 * p.track + 0.2);
-  }
-  const CarParams& p = v.params;
-  return std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length);
-}
+double footprint(const VehicleSpec& v) { return vehicleFootprint(v); }
 
 bool overlap(const VehicleSpec& a, const VehicleSpec& b, double* dist, double* need) {
   *need = footprint(a) + footprint(b);
@@ -233,6 +226,16 @@ bool stepScene(const Scene& scene, Simulator& sim, long long n) {
     if (!sim.step()) return false;
   }
   return true;
+}
+
+// Radius of the vehicle's footprint about its centre, in the ground plane.
+double vehicleFootprint(const VehicleSpec& v) {
+  if (v.road_car) {
+    const RoadCarParams& p = v.road;
+    return std::hypot(std::max(p.cg_to_front, p.wheelbase - p.cg_to_front) + p.wheel_radius, 0.5 * p.track + 0.2);
+  }
+  const CarParams& p = v.params;
+  return std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length);
 }
 
 }  // namespace groundsim::scenario

@@ -13,7 +13,8 @@ const std::vector<std::string>& featureNames() {
   static const std::vector<std::string> names = {
       "position",     "heading",       "up_body",    "velocity_body", "angular_velocity_body",
       "speed",        "wheel_spin",    "wheel_contact", "wheel_slip", "suspension_travel",
-      "height_samples", "goal_body",   "goal_distance", "previous_action", "time"};
+      "height_samples", "goal_body",   "goal_distance", "previous_action", "time",
+      "agents_body"};
   return names;
 }
 
@@ -48,6 +49,48 @@ int vehicleIndex(ObjectReader& r, const std::vector<VehicleSpec>& vehicles) {
   for (const VehicleSpec& v : vehicles) names.push_back(v.name);
   r.issue("vehicle", "no vehicle named " + quote(name) + "; vehicles: " + knownList(names));
   return -1;
+}
+
+// `agents`: the names of the vehicles the agents drive, in the order of
+// the batched rows; all cars of one kind (so that they share the spaces).
+void readAgents(ObjectReader& r, const std::vector<VehicleSpec>& vehicles, TaskSpec& t) {
+  if (r.has("vehicle")) r.issue("agents", "give `vehicle` (one agent) or `agents`, not both");
+  else r.allow("vehicle");
+  nlohmann::json* arr = r.array("agents");
+  if (!arr) return;
+  if (arr->empty() || arr->size() > static_cast<size_t>(kMaxAgents)) {
+    r.issue("agents", "expected 1 to " + std::to_string(kMaxAgents) + " vehicle names, got " + std::to_string(arr->size()));
+    return;
+  }
+  std::vector<std::string> names;
+  for (const VehicleSpec& v : vehicles) names.push_back(v.name);
+  std::vector<int> agents;
+  for (size_t i = 0; i < arr->size(); ++i) {
+    const std::string path = r.pathOf("agents") + "/" + std::to_string(i);
+    const nlohmann::json& item = (*arr)[i];
+    const auto it = item.is_string() ? std::find(names.begin(), names.end(), item.get<std::string>()) : names.end();
+    if (it == names.end()) {
+      r.issues().add(path, (item.is_string() ? "no vehicle named " + quote(item.get<std::string>())
+                                             : "expected a vehicle name, got " + jsonTypeName(item)) +
+                               "; vehicles: " + knownList(names));
+      continue;
+    }
+    const int v = static_cast<int>(it - names.begin());
+    if (std::find(agents.begin(), agents.end(), v) != agents.end()) {
+      r.issues().add(path, "vehicle " + quote(*it) + " is listed twice");
+      continue;
+    }
+    const VehicleSpec& spec = vehicles[static_cast<size_t>(v)];
+    if (spec.lone_wheel) r.issues().add(path, "vehicle " + quote(*it) + " is a lone wheel; an agent drives a car");
+    else if (!agents.empty() && spec.road_car != vehicles[static_cast<size_t>(agents[0])].road_car)
+      r.issues().add(path, "vehicle " + quote(*it) + " is not of the first agent's kind (agents share their "
+                           "observation and action spaces: all road cars, or all cars)");
+    agents.push_back(v);
+  }
+  if (agents.size() == arr->size()) {
+    t.agents = agents;
+    t.vehicle = agents.front();
+  }
 }
 
 void readObservation(ObjectReader& r, TaskSpec& t, const VehicleSpec* v) {
@@ -198,7 +241,12 @@ void readRandomize(ObjectReader r, TaskSpec& t) {
 
 TaskSpec readTask(ObjectReader r, const std::vector<VehicleSpec>& vehicles) {
   TaskSpec t;
-  t.vehicle = vehicleIndex(r, vehicles);
+  if (r.has("agents")) readAgents(r, vehicles, t);
+  else {
+    r.allow("agents");
+    t.vehicle = vehicleIndex(r, vehicles);
+    t.agents = {t.vehicle};
+  }
   const VehicleSpec* v = t.vehicle >= 0 ? &vehicles[static_cast<size_t>(t.vehicle)] : nullptr;
   readObservation(r, t, v);
   readHeightSamples(r.object("height_samples"), t);

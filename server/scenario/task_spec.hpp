@@ -30,6 +30,8 @@ enum class Feature {
   GoalDistance,         // 1  horizontal distance to the goal (m)
   PreviousAction,       // k  the last action taken (after clipping), 0 after a reset
   Time,                 // 1  time since the episode started (s)
+  AgentsBody,           // 4(A-1) each other agent's position (x, y) and velocity (x, y) relative to
+                        //    this one, in its body frame (m, m/s); A = number of agents
 };
 
 // Feature names as written in a task, in enum order.
@@ -69,7 +71,8 @@ struct RewardWeights {
 };
 
 struct TaskSpec {
-  int vehicle = 0;                  // index among the scenario's vehicles
+  int vehicle = 0;                  // index among the scenario's vehicles (agents[0])
+  std::vector<int> agents{0};       // the vehicles an agent each drives: {vehicle}, or the task's `agents`
   std::vector<Feature> observation;
   std::vector<double> height_ahead{2.0, 4.0, 6.0};  // m  grid distances along the heading
   std::vector<double> height_lateral{0.0};          // m  offsets to the left (+) / right (-)
@@ -98,8 +101,9 @@ struct TaskSpec {
 // the scenario by the experiments layer.
 Randomization readCurriculum(nlohmann::json randomize, const Randomization& current);
 
-// Most parameters a task may randomise, and most height samples.
+// Most parameters a task may randomise, most height samples, most agents.
 inline constexpr int kMaxTaskParameters = 64;
+inline constexpr int kMaxAgents = 16;
 inline constexpr int kMaxHeightSamples = 1024;
 
 }  // namespace groundsim::scenario

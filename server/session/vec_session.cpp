@@ -25,7 +25,7 @@ std::string reasonOf(const ExperimentError& e) {
 }
 
 std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layout, std::string& field) {
-  const int n = layout.num_envs;
+  const int n = layout.num_envs, rows = layout.rows();
   const int a = layout.actionSize();
   auto envInRange = [&]() -> std::string {
     if (r.env >= 0 && r.env < n) return "";
@@ -34,11 +34,11 @@ std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layo
   };
   switch (r.op) {
     case VecOp::Step: {
-      const std::size_t want = static_cast<std::size_t>(n) * static_cast<std::size_t>(a);
+      const std::size_t want = static_cast<std::size_t>(rows) * static_cast<std::size_t>(a);
       if (r.actions.size() != want) {
         field = "actions";
-        return std::to_string(r.actions.size()) + " values, the session needs num_envs x action_size = " +
-               std::to_string(n) + " x " + std::to_string(a) + " = " + std::to_string(want);
+        return std::to_string(r.actions.size()) + " values, the session needs rows (num_envs x num_agents) x "
+               "action_size = " + std::to_string(rows) + " x " + std::to_string(a) + " = " + std::to_string(want);
       }
       for (std::size_t k = 0; k < want; ++k)
         if (!std::isfinite(r.actions[k])) {
@@ -90,11 +90,11 @@ VecSession::VecSession(VecSetup setup, std::unique_ptr<experiments::BatchEnv> en
       env_(std::move(env)),
       layout_(std::make_shared<const experiments::Layout>(env_->layout())),
       last_activity_(now) {
-  const int n = layout_->num_envs;
-  obs_.assign(static_cast<std::size_t>(n) * layout_->obsSize(), 0.0f);
-  rewards_.assign(n, 0.0);
-  terminated_.assign(n, 0);
-  truncated_.assign(n, 0);
+  const int n = layout_->num_envs, rows = layout_->rows();
+  obs_.assign(static_cast<std::size_t>(rows) * layout_->obsSize(), 0.0f);
+  rewards_.assign(rows, 0.0);
+  terminated_.assign(rows, 0);
+  truncated_.assign(rows, 0);
   info_.session_id = setup_.id;
   info_.name = setup_.name;
   info_.mode = Mode::Vectorised;
@@ -183,7 +183,7 @@ VecReply VecSession::replyFor(const VecRequest& r) const {
   reply.request_id = r.request_id;
   reply.client_id = r.client_id;
   reply.session_id = setup_.id;
-  reply.num_envs = layout_->num_envs;
+  reply.num_envs = layout_->rows();  // the reply's arrays hold rows (environment x agent)
   reply.obs_size = layout_->obsSize();
   return reply;
 }
@@ -226,8 +226,9 @@ void VecSession::apply(const VecRequest& r) {
     const std::string why = checkVecRequest(r, *layout_, field);
     if (!why.empty()) return refuse(r, codeForField(field), field, why);
     VecReply reply = replyFor(r);
-    const int n = layout_->num_envs;
+    const int n = layout_->rows(), agents = layout_->num_agents;
     const int o = layout_->obsSize();
+    const std::size_t first = static_cast<std::size_t>(r.env) * agents;  // ResetEnv, Restore: the env's first row
     std::optional<std::uint64_t> seed;
     if (r.has_seed) seed = static_cast<std::uint64_t>(r.seed);
     switch (r.op) {
@@ -241,22 +242,22 @@ void VecSession::apply(const VecRequest& r) {
         fillEnvs(reply, 0, n, obs_.data());
         break;
       case VecOp::ResetEnv:
-        env_->resetEnv(r.env, seed, obs_.data() + static_cast<std::size_t>(r.env) * o);
-        fillEnvs(reply, r.env, 1, obs_.data() + static_cast<std::size_t>(r.env) * o);
+        env_->resetEnv(r.env, seed, obs_.data() + first * o);
+        fillEnvs(reply, static_cast<int>(first), agents, obs_.data() + first * o);
         break;
       case VecOp::Snapshot:
         reply.snapshot = env_->snapshot(r.env);
         reply.env_begin = r.env;
         break;
       case VecOp::Restore:
-        env_->restore(r.env, r.snapshot, obs_.data() + static_cast<std::size_t>(r.env) * o);
-        fillEnvs(reply, r.env, 1, obs_.data() + static_cast<std::size_t>(r.env) * o);
+        env_->restore(r.env, r.snapshot, obs_.data() + first * o);
+        fillEnvs(reply, static_cast<int>(first), agents, obs_.data() + first * o);
         break;
       case VecOp::Randomize:
         env_->setRandomization(r.env, r.scenario_json);
         break;
       case VecOp::Drawn: {
-        std::vector<double> d(static_cast<std::size_t>(n) * layout_->drawnSize());
+        std::vector<double> d(static_cast<std::size_t>(layout_->num_envs) * layout_->drawnSize());
         env_->drawn(d.data());
         reply.snapshot.resize(d.size() * sizeof(double));
         for (std::size_t k = 0; k < d.size(); ++k) {  // float64 little-endian

@@ -62,7 +62,7 @@ TEST(BadInput, SeedsEnvIndicesCountsAndBuffers) {
   EXPECT_EQ(fieldOf([&] { b.env->reset((1ull << 63) - 1, b.obs.data()); }), "(accepted)");
   EXPECT_EQ(fieldOf([&] { b.env->resetEnv(2, 0, b.obs.data()); }), "env");
   EXPECT_EQ(fieldOf([&] { b.env->resetEnv(-1, 0, b.obs.data()); }), "env");
-  EXPECT_EQ(fieldOf([&] { b.env->info(2); }), "env");
+  EXPECT_EQ(fieldOf([&] { b.env->info(2); }), "row");  // info is per row (environment x agent)
   EXPECT_EQ(fieldOf([&] { b.env->snapshot(-1); }), "env");
   EXPECT_EQ(fieldOf([&] { b.env->restore(5, "", b.obs.data()); }), "env");
   EXPECT_EQ(fieldOf([&] { b.env->step(nullptr, b.obs.data(), b.rew.data(), b.term.data(), b.trunc.data()); }),

@@ -126,3 +126,25 @@ def test_same_step_and_a_curriculum_are_the_same_remote_and_in_process(server):
     assert e.value.field == "randomize/x"
     remote.close()
     local.close()
+
+
+def test_two_agents_are_the_same_remote_and_in_process(server):
+    race = TASKS / "race.json"
+    local = groundsim.make_vec(race, 3, num_threads=1, autoreset_mode="same_step")
+    remote = groundsim.make_remote_vec(race, 3, lcm_url=URL, autoreset_mode="same_step")
+    assert remote.num_envs == local.num_envs == 6 and list(remote.layout.agents) == ["red", "blue"]
+    rng = np.random.default_rng(4)
+    seq = [rng.uniform([0, 0, -1], [1, 1, 1], (6, 3)).astype(np.float32) for _ in range(30)]
+    out = {}
+    for name, env in (("local", local), ("remote", remote)):
+        obs, infos = env.reset(seed=8)
+        run = [obs, infos["active"]]
+        for a in seq:
+            obs, rew, term, trunc, infos = env.step(a)
+            run += [obs, rew, term, trunc, infos["active"], infos["episode_return"]]
+        run.append(env.restore(1, env.snapshot(1)))
+        out[name] = run
+    for u, v in zip(out["local"], out["remote"]):
+        assert u.tobytes() == v.tobytes()
+    remote.close()
+    local.close()

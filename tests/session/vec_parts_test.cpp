@@ -36,6 +36,7 @@ vec_reply_t whole(int envs, int obs, int snapshot_bytes = 0) {
     w.episode_steps.push_back(2 * i);
     w.episode_return.push_back(u(rng));
     w.diverged.push_back(i % 7 == 0);
+    w.active.push_back(i % 4 != 0);
   }
   for (int i = 0; i < snapshot_bytes; ++i) w.snapshot.push_back(static_cast<uint8_t>(rng()));
   w.snapshot_total = w.nsnapshot = snapshot_bytes;
