@@ -54,20 +54,20 @@ def test_the_parallel_api(race_doc):
 def test_each_agent_sees_the_other_at_the_same_distance(race_doc):
     """agents_body = R_me^T (p_other - p_me): the two views are the same
     vector rotated into each car's frame, so their lengths agree, and on the
-    start grid (y = +-3, offsets up to 0.5 m, yaw within 5 deg) blue is to red's right."""
+    start grid (y = +-5, offsets up to 0.5 m, yaw within 5 deg) blue is to red's right."""
     env = groundsim.make_parallel(race(race_doc), files_dir=TASKS)
     obs, _ = env.reset(seed=11)
     x, y = column(env, "agents_body.0.x"), column(env, "agents_body.0.y")
     red, blue = obs["red"][[x, y]], obs["blue"][[x, y]]
     assert math.hypot(*red) == pytest.approx(math.hypot(*blue), rel=1e-5)
-    assert 6 - 1.5 < math.hypot(*red) < 6 + 1.5
+    assert 10 - 1.5 < math.hypot(*red) < 10 + 1.5
     assert red[1] < 0 < blue[1]
 
 
 def test_an_agent_that_reaches_the_goal_leaves_and_the_episode_goes_on(race_doc):
-    # the goal on red's start (radius 3) and blue 6 m from it, no randomisation:
+    # the goal on red's start (radius 3) and blue 10 m from it, no randomisation:
     # red terminates at the first step, blue drives on until the time limit
-    doc = race(race_doc, goal=[0.0, 3.0], randomize={}, time_limit=3 * 10 * 0.004)
+    doc = race(race_doc, goal=[0.0, 5.0], randomize={}, time_limit=3 * 10 * 0.004)
     doc["task"]["reward"] = {"goal": 10.0, "progress_to_goal": 1.0}
     env = groundsim.make_parallel(doc)
     env.reset(seed=0)
@@ -89,7 +89,7 @@ def test_an_agent_that_reaches_the_goal_leaves_and_the_episode_goes_on(race_doc)
 
 
 def test_the_batched_rows_mask_agents_that_left(race_doc):
-    doc = race(race_doc, goal=[0.0, 3.0], randomize={}, time_limit=3 * 10 * 0.004)
+    doc = race(race_doc, goal=[0.0, 5.0], randomize={}, time_limit=3 * 10 * 0.004)
     vec = groundsim.make_vec(doc, 2, 1, autoreset_mode="same_step")
     assert vec.num_envs == 4 and vec.num_worlds == 2 and vec.num_agents == 2
     assert list(vec.layout.agents) == ["red", "blue"]
@@ -173,11 +173,11 @@ def test_rows_do_not_depend_on_threads_and_snapshots_restore_both_agents():
 
 
 def test_starts_that_could_be_drawn_into_each_other_are_refused(race_doc):
-    doc = race(race_doc, randomize={"y": [-1.2, 1.2]})  # 6 m apart, each may move 1.2 m: 3.6 < 4.13 m
+    doc = race(race_doc, randomize={"y": [-3.2, 3.2]})  # 10 m apart, each may move 3.2 m: 3.6 < 4.13 m
     with pytest.raises(groundsim.ScenarioError) as e:
         groundsim.make_vec(doc, 1)
     assert e.value.issues[0].path == "/task/randomize" and "red" in e.value.issues[0].message
     env = groundsim.make_vec(RACE, 1)
     with pytest.raises(groundsim.ExperimentError) as e:
-        env.set_randomization({"x": [-2, 2]})
+        env.set_randomization({"x": [-2.5, 2.5], "y": [-2.5, 2.5]})
     assert e.value.field == "randomize"
