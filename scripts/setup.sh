@@ -30,6 +30,7 @@ rest=(
   python3-numpy python3-pytest python3-venv      # its arrays, its tests (pytest through ctest), the venv install test
   python3-matplotlib                             # examples/train_goal.py's learning curve, examples/ppo_plot.py
   python3-torch                                  # examples/ppo.py (PPO) and its smoke test
+  ffmpeg                                         # groundsim.record_video: frames to H.264 MP4
 )
 
 case "${1:-}" in

@@ -20,8 +20,9 @@ from .env import Env, make
 from .parallel import ParallelEnv, make_parallel
 from .registration import register_envs, task_ids
 from .vector import VecEnv, make_remote_vec, make_vec
+from .video import record_video
 
 __version__ = "0.1.0"
 __all__ = ["AutoresetMode", "Box", "Env", "ExperimentError", "HAVE_GYMNASIUM", "ParallelEnv", "RemoteError",
            "ScenarioError", "ScenarioIssue", "VecEnv", "make", "make_parallel", "make_remote_vec", "make_vec",
-           "register_envs", "task_ids"]
+           "record_video", "register_envs", "task_ids"]

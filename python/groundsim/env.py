@@ -27,22 +27,20 @@ class Env(_GymEnv):
     episode (off by default, so that gymnasium's RecordEpisodeStatistics
     wrapper, which refuses a duplicate, can be applied as usual)."""
 
-    metadata = {"render_modes": [], "render_fps": None}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": None}
 
-    def __init__(self, task="groundsim/Goal-v0", *, render_mode=None, files_dir=None, num_threads=1,
-                 episode_statistics=False):
-        if render_mode is not None:
-            raise ExperimentError("render_mode", f"render_mode: must be None (rendering is not available "
-                                                 f"in this version), got {render_mode!r}")
+    def __init__(self, task="groundsim/Goal-v0", *, render_mode=None, render_size=(128, 96), files_dir=None,
+                 num_threads=1, episode_statistics=False):
         scenario, files = task_source(task, files_dir)
         self._vec = make_vec(scenario, 1, num_threads, files_dir=files, copy=True, autoreset_mode="disabled",
-                             episode_statistics=episode_statistics)
+                             episode_statistics=episode_statistics, render_mode=render_mode,
+                             render_size=render_size)
         if self._vec.num_agents > 1:
             agents = list(self._vec.layout.agents)
             self._vec.close()
             raise ExperimentError("task", f"task: {len(agents)} agents {agents}; one env drives one: use "
                                           f"groundsim.make_parallel (PettingZoo) or make_vec (rows)")
-        self.render_mode = None
+        self.render_mode = render_mode
         self.observation_space = self._vec.single_observation_space
         self.action_space = self._vec.single_action_space
         control_dt = self.layout.dt * self.layout.control_period
@@ -111,8 +109,12 @@ class Env(_GymEnv):
         return obs[0], float(rew[0]), terminated, truncated, self._info(infos)
 
     def render(self):
-        raise ExperimentError("render_mode", "render: this env was made with render_mode=None; nothing to "
-                                             "render")
+        """With render_mode="rgb_array": the frame, uint8 (height, width, 3),
+        from behind the car (the same state gives the same bytes)."""
+        if self.render_mode is None:
+            raise ExperimentError("render_mode", "render: this env was made with render_mode=None; nothing to "
+                                                 "render")
+        return self._vec.render([0])[0]
 
     def close(self):
         self._vec.close()

@@ -25,16 +25,13 @@ class ParallelEnv:
     """PettingZoo's ParallelEnv contract (a pettingzoo.ParallelEnv when
     PettingZoo is importable is not needed: the API is duck-typed)."""
 
-    metadata = {"name": "groundsim_parallel_v0", "render_modes": [], "is_parallelizable": True}
+    metadata = {"name": "groundsim_parallel_v0", "render_modes": ["rgb_array"], "is_parallelizable": True}
 
-    def __init__(self, task, *, files_dir=None, num_threads=1, render_mode=None):
-        if render_mode is not None:
-            raise ExperimentError("render_mode", f"render_mode: must be None (rendering is not available in "
-                                                 f"this version), got {render_mode!r}")
+    def __init__(self, task, *, files_dir=None, num_threads=1, render_mode=None, render_size=(128, 96)):
         scenario, files = task_source(task, files_dir)
         self._vec = make_vec(scenario, 1, num_threads, files_dir=files, copy=True, autoreset_mode="disabled",
-                             episode_statistics=False)
-        self.render_mode = None
+                             episode_statistics=False, render_mode=render_mode, render_size=render_size)
+        self.render_mode = render_mode
         self.possible_agents = list(self._vec.layout.agents)
         self.agents = []
         self.observation_spaces = {a: self._vec.single_observation_space for a in self.possible_agents}
@@ -107,7 +104,10 @@ class ParallelEnv:
         return self._vec._obs.reshape(-1).copy()
 
     def render(self):
-        raise ExperimentError("render_mode", "render: this env was made with render_mode=None; nothing to render")
+        """With render_mode="rgb_array": the frame from behind the first agent's car."""
+        if self.render_mode is None:
+            raise ExperimentError("render_mode", "render: this env was made with render_mode=None; nothing to render")
+        return self._vec.render([0])[0]
 
     def close(self):
         self._vec.close()

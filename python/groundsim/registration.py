@@ -61,10 +61,6 @@ def make_vec_entry(num_envs=1, task="groundsim/Goal-v0", **kwargs):
 
     if kwargs.pop("max_episode_steps", None) is not None:
         raise ExperimentError("max_episode_steps", "max_episode_steps: set the task's time_limit instead")
-    render_mode = kwargs.pop("render_mode", None)
-    if render_mode is not None:
-        raise ExperimentError("render_mode", f"render_mode: must be None (rendering is not available in this "
-                                             f"version), got {render_mode!r}")
     scenario, files_dir = task_source(task, kwargs.pop("files_dir", None))
     return make_vec(scenario, num_envs, files_dir=files_dir, **kwargs)
 

@@ -18,6 +18,7 @@ from ._episodes import EpisodeStatistics, autoreset_mode_of
 from ._errors import ExperimentError
 from ._gym import AutoresetMode, Box, VectorEnv, batch_space
 from .registration import task_source
+from .video import render_frames, render_options
 
 _SEED_END = 2**63  # seeds are in [0, 2^63)
 
@@ -64,7 +65,7 @@ class VecEnv(VectorEnv):
     ``snapshot(env)`` and ``restore(env, data)``."""
 
     def __init__(self, core, name="groundsim", *, copy=True, autoreset_mode=AutoresetMode.NEXT_STEP,
-                 episode_statistics=True, drawn_in_infos=False):
+                 episode_statistics=True, drawn_in_infos=False, render_mode=None, render_size=(128, 96)):
         mode = autoreset_mode_of(autoreset_mode)
         self._core = core
         self._name = name
@@ -76,8 +77,9 @@ class VecEnv(VectorEnv):
         self.num_envs = n
         self.num_worlds = layout.num_envs
         self.num_agents = layout.num_agents
-        self.metadata = {"autoreset_mode": mode}
-        self.render_mode = None
+        self.render_mode, self._render_size = render_options(render_mode, render_size)
+        control_dt = core.layout.dt * core.layout.control_period
+        self.metadata = {"autoreset_mode": mode, "render_modes": ["rgb_array"], "render_fps": 1.0 / control_dt}
         self.spec = None
         self.closed = False
         self.single_observation_space = Box(np.asarray(layout.observation_low, np.float32),
@@ -269,6 +271,16 @@ class VecEnv(VectorEnv):
         for i in chosen:
             self._core.set_randomization(i, text)
 
+    def render(self, envs=None):
+        """uint8 frames (k, height, width, 3) of the chosen environments
+        (None: every one; an index, a list or a bool mask), each from behind
+        its first agent's car, with render_mode="rgb_array"."""
+        if self.render_mode != "rgb_array":
+            raise ExperimentError("render_mode", "render: this env was made with render_mode=None; make it with "
+                                                 "render_mode='rgb_array'")
+        worlds = range(self.num_worlds) if envs is None else self._chosen_envs(envs)
+        return render_frames(self._core, worlds, self._render_size)
+
     def drawn(self):
         """What each env's last reset drew, float64 (num_envs,
         len(layout.drawn)): x, y (m), yaw (rad), speed (m/s), then each
@@ -417,6 +429,8 @@ def _scenario_source(scenario):
 
 
 _OPTIONS_DOC = """
+    render_mode: None or "rgb_array" (render() returns frames);
+    render_size: (width, height) of a frame, default (128, 96).
     copy: True (default) returns fresh arrays from reset() and step(); False
     returns read-only views of buffers the next call overwrites.
     autoreset_mode: "next_step" (default), "same_step" or "disabled" (or a
@@ -428,7 +442,7 @@ _OPTIONS_DOC = """
 
 
 def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, autoreset_mode="next_step",
-             episode_statistics=True, drawn_in_infos=False):
+             episode_statistics=True, drawn_in_infos=False, render_mode=None, render_size=(128, 96)):
     """num_envs environments of a scenario with a ``task`` section, stepped
     in this process on num_threads threads (0: one per core, 1: the calling
     thread) with the GIL released.
@@ -440,7 +454,9 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
     Raises ScenarioError for a bad scenario or task, ExperimentError for bad
     arguments. The result does not depend on num_threads, bit for bit."""
     options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
-               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos}
+               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos,
+               "render_mode": render_mode, "render_size": render_size}
+    render_options(render_mode, render_size)
     n = _index(num_envs, "num_envs")
     threads = _index(num_threads, "num_threads")
     if not 1 <= n < 2**31:
@@ -457,7 +473,7 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
 
 
 def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, copy=True,
-                    autoreset_mode="next_step", episode_statistics=True, drawn_in_infos=False):
+                    autoreset_mode="next_step", episode_statistics=True, drawn_in_infos=False, render_mode=None):
     """num_envs environments of a scenario with a ``task`` section, run in a
     vectorised session of groundsim-server over LCM (docs/protocol.md),
     with the same API and the same results, bit for bit, as make_vec.
@@ -471,6 +487,9 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
     server names the field: num_envs above its --max-envs is "num_envs"),
     RemoteError when the server is gone or parts of a reply are missing.
     close() stops the session."""
+    if render_mode is not None:
+        raise ExperimentError("render_mode", "render_mode: a remote environment does not render (its state lives "
+                                             "in the server); make_vec with the same seed runs the same bits and renders")
     options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
                "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos}
     n = _index(num_envs, "num_envs")

@@ -58,6 +58,7 @@ const char* dtypeName() {
   if constexpr (std::is_same_v<T, float>) return "float32";
   else if constexpr (std::is_same_v<T, double>) return "float64";
   else if constexpr (std::is_same_v<T, bool>) return "bool";
+  else if constexpr (std::is_same_v<T, std::uint8_t>) return "uint8";
   else return "int64";
 }
 
@@ -247,6 +248,21 @@ void bindBatchEnv(py::module_& m) {
             h.env().drawn(o);
           },
           py::arg("out"), "writes what each env's last reset drew, [num_envs x len(layout.drawn)]")
+      .def(
+          "render",
+          [](EnvHandle& h, int env, const py::handle& out) {
+            const int i = envIndex(h, env);
+            if (!py::isinstance<py::array>(out) || py::reinterpret_borrow<py::array>(out).ndim() != 3 ||
+                py::reinterpret_borrow<py::array>(out).shape(2) != 3)
+              throw ExperimentError("rgb", "expected a (height, width, 3) uint8 array");
+            const py::array a = py::reinterpret_borrow<py::array>(out);
+            const int height = static_cast<int>(a.shape(0)), width = static_cast<int>(a.shape(1));
+            auto* rgb = buffer<std::uint8_t>(out, "rgb", {height, width, 3}, true);
+            py::gil_scoped_release release;
+            std::lock_guard lock(h.mutex());
+            h.env().render(i, width, height, rgb);
+          },
+          py::arg("env"), py::arg("out"), "writes a frame of env (a (height, width, 3) uint8 array)")
       .def(
           "close",
           [](EnvHandle& h) {

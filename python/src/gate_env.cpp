@@ -76,6 +76,9 @@ class GateEnv final : public BatchEnv {
   // draws nothing (Layout::drawn is empty)
   void setRandomization(int, const std::string&) override {}
   void drawn(double*) const override {}
+  void render(int, int, int, std::uint8_t*) const override {
+    throw ExperimentError("render_mode", "the gate test double has no scene to render");
+  }
 
  private:
   Layout layout_;

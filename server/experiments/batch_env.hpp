@@ -101,6 +101,12 @@ class BatchEnv {
   // What each env's last reset drew, row-major [num_envs x Layout::drawnSize()]
   // (yaw in rad), for a privileged critic.
   virtual void drawn(double* out) const = 0;
+  // A frame of env's scene (render/frame.hpp: a chase camera behind its
+  // first agent's car, the page's ground and colours), height x width x 3
+  // bytes, top row first. Throws ExperimentError("render_mode") where the
+  // state is not at hand (a remote environment: render the same seed in
+  // process, bit for bit the same run).
+  virtual void render(int env, int width, int height, std::uint8_t* rgb) const = 0;
   virtual void close() {}
 };
 

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "experiments/task_context.hpp"
+#include "render/frame.hpp"
 #include "physics/kernels/batch_step.hpp"
 
 namespace groundsim::experiments {
@@ -54,6 +55,7 @@ Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std:
 void Env::useModel(std::shared_ptr<const Model> model, State s) {
   sim_ = std::make_unique<Simulator>(std::move(model), std::move(s));
   probe_ = std::make_unique<GroundProbe>(*sim_->model().ground);
+  frames_.reset();  // a drawn parameter may change the ground the frames sampled
   sensors_.clear();
   for (int a = 0; a < agents(); ++a) sensors_.push_back(resolveSensors(*ctx_, a, sim_->model()));
 }
@@ -311,6 +313,16 @@ void Env::observe(float* obs) {
     for (size_t i = 0; i < o; ++i) last_obs_[a * o + i] = toFloat(feature_[i]);
   }
   if (obs != last_obs_.data()) std::copy(last_obs_.begin(), last_obs_.end(), obs);
+}
+
+Env::~Env() = default;
+
+void Env::render(int width, int height, std::uint8_t* rgb) {
+  render::FrameOptions o;
+  o.width = width;
+  o.height = height;
+  if (!frames_) frames_ = std::make_unique<render::FrameCache>();
+  render::renderFrame(sim_->model(), sim_->state(), *probe_, ctx_->agents.front().body, o, *frames_, rgb);
 }
 
 EnvInfo Env::info(int agent) const {

@@ -18,6 +18,10 @@
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
+namespace groundsim::render {
+struct FrameCache;
+}
+
 namespace groundsim::experiments {
 
 // One agent: the vehicle it drives, found in the scene.
@@ -76,6 +80,7 @@ class Env {
   // Seeded with `seed` and reset; the first step() then starts episode 1
   // (as an autoreset: its action is ignored).
   Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed);
+  ~Env();
 
   // A new episode (seeded first when a seed is given); writes the first
   // observation of every agent (rows of obs).
@@ -102,6 +107,8 @@ class Env {
   void load(const EnvSnapshot& s, float* obs);
 
   const Simulator& simulator() const { return *sim_; }
+  // A frame from behind the first agent's car (render/frame.hpp).
+  void render(int width, int height, std::uint8_t* rgb);
   // What the last reset drew (kDrawn* order, yaw in rad).
   const std::vector<double>& drawn() const { return drawn_; }
   // The ranges the next resets draw from: the task's, or a curriculum's
@@ -123,6 +130,7 @@ class Env {
   std::shared_ptr<const TaskContext> ctx_;
   std::unique_ptr<Simulator> sim_;
   std::unique_ptr<GroundProbe> probe_;  // height samples, on the simulator's ground
+  std::unique_ptr<render::FrameCache> frames_;  // render(): buffers and the ground patch, made on first use
   Rng rng_;
   std::vector<std::vector<Sensor>> sensors_;  // per agent, resolved on the simulator's model
   scenario::Randomization ranges_;  // what reset draws from

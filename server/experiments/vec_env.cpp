@@ -149,6 +149,15 @@ class VecEnv final : public BatchEnv {
     for (size_t i = begin; i < end; ++i) envs_[i]->setRandomization(std::move(next[i - begin]));
   }
 
+  void render(int env, int width, int height, std::uint8_t* rgb) const override {
+    checkEnv(env);
+    checkBuffer(rgb, "rgb");
+    if (width < 16 || height < 16 || width > 4096 || height > 4096)
+      throw ExperimentError("render_size", "width and height must be in [16, 4096] px, got " + std::to_string(width) +
+                                               " x " + std::to_string(height));
+    envs_[static_cast<size_t>(env)]->render(width, height, rgb);
+  }
+
   void drawn(double* out) const override {
     checkBuffer(out, "drawn");
     const size_t d = static_cast<size_t>(layout_.drawnSize());

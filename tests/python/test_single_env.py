@@ -86,7 +86,7 @@ def test_bad_actions_and_rendering_are_refused_naming_the_field():
         env.render()
     assert e.value.field == "render_mode"
     with pytest.raises(groundsim.ExperimentError) as e:
-        groundsim.make("goal", render_mode="rgb_array")
+        groundsim.make("goal", render_mode="human")
     assert e.value.field == "render_mode"
     with pytest.raises(groundsim.ExperimentError) as e:
         env.reset(options={"reset_mask": [True]})

@@ -1,0 +1,157 @@
+#include "render/frame.hpp"
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "physics/collision/collision.hpp"
+#include "render/raster.hpp"
+
+namespace groundsim::render {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kRound = 12;  // segments of a round shape's circle
+
+// web/src/main.js: the vehicles' colours in order, the sky; objects.js, vehicle.js
+constexpr std::uint32_t kVehicleColours[] = {0xd94f3d, 0x3d7dd9, 0x4fbf5a, 0xe0a030,
+                                             0xa05fd0, 0x40c0c0, 0xc0c040, 0xd070a0};
+constexpr std::uint32_t kSky = 0x9fc4e0, kTyre = 0x222222, kCone = 0xff6a13, kStatic = 0x8a8f96,
+                        kMovable = 0x3f7fbf;
+
+using Tri = std::array<Vec3, 3>;
+
+// The triangles of a shape in its own frame (boxes without their rounding).
+void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
+  auto ring = [](double r, double z, int k) {
+    const double a = 2.0 * kPi * k / kRound;
+    return Vec3(r * std::cos(a), r * std::sin(a), z);
+  };
+  // a frustum along z from (r0 at z0) to (r1 at z1), capped
+  auto frustum = [&](double r0, double z0, double r1, double z1) {
+    for (int k = 0; k < kRound; ++k) {
+      const Vec3 a = ring(r0, z0, k), b = ring(r0, z0, k + 1), c = ring(r1, z1, k + 1), d = ring(r1, z1, k);
+      out.push_back({a, b, c});
+      if (r1 > 0.0) out.push_back({a, c, d});
+      out.push_back({Vec3(0, 0, z0), b, a});
+      if (r1 > 0.0) out.push_back({Vec3(0, 0, z1), d, c});
+    }
+  };
+  auto sphere = [&](double r, const Vec3& centre) {
+    const int rows = kRound / 2;
+    auto at = [&](int i, int k) {
+      const double th = kPi * i / rows, a = 2.0 * kPi * k / kRound;
+      return Vec3(centre + r * Vec3(std::sin(th) * std::cos(a), std::sin(th) * std::sin(a), std::cos(th)));
+    };
+    for (int i = 0; i < rows; ++i)
+      for (int k = 0; k < kRound; ++k) {
+        out.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1)});
+        out.push_back({at(i, k), at(i + 1, k + 1), at(i, k + 1)});
+      }
+  };
+  switch (s.kind) {
+    case ShapeKind::Box: {
+      const Vec3 h = s.half;
+      auto corner = [&](int i) { return Vec3((i & 1 ? 1 : -1) * h.x(), (i & 2 ? 1 : -1) * h.y(), (i & 4 ? 1 : -1) * h.z()); };
+      static const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+      for (const auto& f : faces) {
+        out.push_back({corner(f[0]), corner(f[1]), corner(f[2])});
+        out.push_back({corner(f[0]), corner(f[2]), corner(f[3])});
+      }
+      break;
+    }
+    case ShapeKind::Sphere: sphere(s.radius, Vec3::Zero()); break;
+    case ShapeKind::Cylinder: frustum(s.radius, -s.half_height, s.radius, s.half_height); break;
+    case ShapeKind::Capsule:
+      frustum(s.radius, -s.half_height, s.radius, s.half_height);
+      sphere(s.radius, Vec3(0, 0, -s.half_height));
+      sphere(s.radius, Vec3(0, 0, s.half_height));
+      break;
+    case ShapeKind::Cone: frustum(s.radius, -s.half_height, s.top_radius, s.half_height); break;
+  }
+}
+
+Rgb colourOf(const Model& m, const Collider& c) {
+  const CollisionGroup& g = m.groups[static_cast<size_t>(c.group)];
+  if (g.vehicle >= 0)
+    return rgbOf(c.shape.kind == ShapeKind::Cylinder ? kTyre : kVehicleColours[g.vehicle % 8]);
+  if (c.shape.kind == ShapeKind::Cone) return rgbOf(kCone);
+  return rgbOf(g.mass > 0.0 ? kMovable : kStatic);
+}
+
+}  // namespace
+
+FrameCache::FrameCache() = default;
+FrameCache::~FrameCache() = default;
+
+void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow, const FrameOptions& o,
+                 FrameCache& cache, std::uint8_t* rgb) {
+  const Eigen::VectorXd& y = s.y;
+  const Vec3 c = bodyPos(y, follow);
+  const Mat3 R = Quat(bodyRot(y, follow)).normalized().toRotationMatrix();
+  Vec3 heading(R(0, 0), R(1, 0), 0.0);
+  heading = heading.norm() > 1e-9 ? Vec3(heading.normalized()) : Vec3(Vec3::UnitX());
+  const Vec3 target = c + 2.0 * heading + Vec3(0, 0, 0.5);
+  const Vec3 eye = c - o.behind * heading + Vec3(0, 0, o.above);
+
+  if (!cache.raster || cache.raster->width() != o.width || cache.raster->height() != o.height ||
+      cache.raster->fov() != o.fov_deg)
+    cache.raster = std::make_unique<Raster>(o.width, o.height, o.fov_deg);
+  Raster& raster = *cache.raster;
+  raster.look(eye, target);
+  raster.clear(rgbOf(kSky));
+
+  // the ground: a patch sampled on a grid fixed to the world (so it does not
+  // swim as the camera moves), centred ahead of the car
+  const double step = o.ground_step;
+  const int n = std::max(2, static_cast<int>(std::ceil(o.ground_extent / step)) + 1);
+  const Vec3 centre = c + 0.4 * o.ground_extent * heading;
+  const double x0 = std::floor(centre.x() / step - 0.5 * (n - 1)) * step;
+  const double y0 = std::floor(centre.y() / step - 0.5 * (n - 1)) * step;
+  if (cache.n != n || cache.step != step || cache.x0 != x0 || cache.y0 != y0) {
+    cache.n = n;
+    cache.step = step;
+    cache.x0 = x0;
+    cache.y0 = y0;
+    cache.ground.assign(static_cast<size_t>(n) * n, Vec3::Zero());
+    cache.found.assign(cache.ground.size(), 0);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        Vec3 point, normal;
+        const size_t k = static_cast<size_t>(i) * n + j;
+        cache.found[k] = groundPointBelow(ground, x0 + j * step, y0 + i * step, &point, &normal) ? 1 : 0;
+        cache.ground[k] = point;
+      }
+  }
+  const std::vector<Vec3>& p = cache.ground;
+  const std::vector<unsigned char>& found = cache.found;
+  const Rgb white{1.0, 1.0, 1.0};
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j + 1 < n; ++j) {
+      const size_t a = static_cast<size_t>(i) * n + j, b = a + 1, cc = a + n, d = cc + 1;
+      if (!(found[a] && found[b] && found[cc] && found[d])) continue;
+      raster.triangle(p[a], p[b], p[d], white, true);
+      raster.triangle(p[a], p[d], p[cc], white, true);
+    }
+
+  // every collider in its body's pose (static ones in the world)
+  std::vector<Tri> tris;
+  for (const Collider& col : m.colliders) {
+    Mat3 rot = col.rot;
+    Vec3 pos = col.pos;
+    if (col.body >= 0) {
+      const Mat3 Rb = Quat(bodyRot(y, col.body)).normalized().toRotationMatrix();
+      rot = Rb * col.rot;
+      pos = Vec3(bodyPos(y, col.body)) + Rb * col.pos;
+    }
+    // far beyond the fog: nothing to draw
+    if ((pos - eye).norm() > 80.0 + col.shape.bound()) continue;
+    tris.clear();
+    shapeTriangles(col.shape, tris);
+    const Rgb colour = colourOf(m, col);
+    for (const Tri& t : tris) raster.triangle(pos + rot * t[0], pos + rot * t[1], pos + rot * t[2], colour);
+  }
+  raster.write(rgb);
+}
+
+}  // namespace groundsim::render

@@ -1,0 +1,47 @@
+// Off-screen frames of a scene: a chase camera behind a body, the ground
+// as the page draws it (grass with its 1 m grid, sky, fog), and every body
+// and object by its collision shapes in the page's colours (vehicle i in
+// the i-th colour of web/src/main.js, tyres dark, cones orange). The same
+// model and state give the same bytes.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "physics/core/model.hpp"
+#include "physics/core/state.hpp"
+#include "physics/ground/ground.hpp"
+
+namespace groundsim::render {
+
+struct FrameOptions {
+  int width = 128, height = 96;    // px
+  double fov_deg = 60.0;           // vertical
+  double behind = 7.0, above = 2.5;  // m   the camera, from the followed body along its heading
+  double ground_extent = 48.0;     // m   side of the ground patch drawn around the camera's target
+  double ground_step = 2.0;        // m   its sampling (the grid lines come from each pixel's x, y)
+};
+
+class Raster;
+
+// What one viewer keeps between its frames: the raster's buffers, and the
+// ground patch last sampled (the ground does not move: it is sampled again
+// only when the patch's cell origin moves). A frame does not depend on
+// what is in here, only its cost does.
+struct FrameCache {
+  FrameCache();
+  ~FrameCache();
+  std::unique_ptr<Raster> raster;
+  double x0 = 0.0, y0 = 0.0, step = 0.0;
+  int n = 0;
+  std::vector<Vec3> ground;
+  std::vector<unsigned char> found;
+};
+
+// Writes height x width x 3 bytes (RGB, the top row first) into rgb.
+// `follow`: the body the camera chases (its heading on the ground plane).
+void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow, const FrameOptions& o,
+                 FrameCache& cache, std::uint8_t* rgb);
+
+}  // namespace groundsim::render
