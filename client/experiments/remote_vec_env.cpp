@@ -339,6 +339,11 @@ void RemoteVecEnv::drawn(double* out) const {
   }
 }
 
+void RemoteVecEnv::render(int, int, int, std::uint8_t*) const {
+  throw ExperimentError("render_mode", "a remote environment does not render: its state lives in the server; "
+                                       "run the same seed with make_vec in process (bit for bit the same run) to render it");
+}
+
 void RemoteVecEnv::close() {
   if (closed_ || session_id_.empty()) return;
   closed_ = true;

@@ -66,6 +66,7 @@ class RemoteVecEnv final : public BatchEnv {
   void restore(int env, const std::string& snapshot, float* obs_row) override;
   void setRandomization(int env, const std::string& randomize_json) override;
   void drawn(double* out) const override;
+  void render(int env, int width, int height, std::uint8_t* rgb) const override;
   // Stops the session (request_t OP_STOP); later calls throw. Idempotent.
   void close() override;
 
