@@ -36,6 +36,7 @@ def main():
     p.add_argument("--starts", type=int, default=1)
     p.add_argument("--hidden", type=int, default=64)
     p.add_argument("--size", type=int, nargs=2, default=[320, 240])
+    p.add_argument("--crf", type=int, default=30, help="x264 quality: higher is smaller")
     args = p.parse_args()
 
     ppo = load_ppo()
@@ -54,7 +55,7 @@ def main():
     out.parent.mkdir(parents=True, exist_ok=True)
     for i in range(args.starts):
         path = out.with_name(f"{out.name}_start{i}.mp4")
-        frames, ret = groundsim.record_video(env, policy, path, seed=ppo.HELDOUT_SEED + i)
+        frames, ret = groundsim.record_video(env, policy, path, seed=ppo.HELDOUT_SEED + i, crf=args.crf)
         print(f"{path}: {frames} frames, return {ret:.2f}")
 
 

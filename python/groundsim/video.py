@@ -37,12 +37,13 @@ def render_frames(core, worlds, size):
     return out
 
 
-def record_video(env, policy, path, *, steps=None, seed=None, fps=None):
+def record_video(env, policy, path, *, steps=None, seed=None, fps=None, crf=23):
     """Runs policy(observation) -> action on env (a groundsim.Env made with
     render_mode="rgb_array") from reset(seed) until the episode ends (or
     `steps` actions) and writes the frames to path as an H.264 MP4 with
     ffmpeg (Debian's; playable by browsers and common players). Returns
-    (frames written, episode return)."""
+    (frames written, episode return). crf: x264's quality (lower is better
+    and larger; 23 is its default)."""
     if getattr(env, "render_mode", None) != "rgb_array":
         raise ExperimentError("render_mode", "record_video: the env must be made with render_mode='rgb_array'")
     ffmpeg = shutil.which("ffmpeg")
@@ -53,7 +54,7 @@ def record_video(env, policy, path, *, steps=None, seed=None, fps=None):
     height, width = frame.shape[:2]
     rate = fps or env.metadata.get("render_fps") or 25
     cmd = [ffmpeg, "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{width}x{height}",
-           "-r", f"{rate:g}", "-i", "-", "-an", "-c:v", "libx264", "-pix_fmt", "yuv420p",
+           "-r", f"{rate:g}", "-i", "-", "-an", "-c:v", "libx264", "-crf", str(int(crf)), "-pix_fmt", "yuv420p",
            "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-movflags", "+faststart", str(path)]
     proc = subprocess.Popen(cmd, stdin=subprocess.PIPE)
     frames, total = 0, 0.0
