@@ -120,12 +120,13 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
     if (!(xl <= xr)) continue;
     const int x0 = std::max(0, static_cast<int>(std::floor(xl - 1.0)));
     const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(xr + 1.0)));
-    for (int px = x0; px <= x1; ++px) {
-      const double x = px + 0.5;
-      // barycentric weights from the edge functions; pixels on a shared
-      // edge belong to one triangle only (top-left rule by sign)
-      const double wa = ((b.x - x) * (c.y - y) - (b.y - y) * (c.x - x)) * inv_area;
-      const double wb = ((c.x - x) * (a.y - y) - (c.y - y) * (a.x - x)) * inv_area;
+    // barycentric weights from the edge functions, linear in x along the
+    // row: their values at the first pixel's centre, then a step per pixel
+    const double xs = x0 + 0.5;
+    const double dwa = (b.y - c.y) * inv_area, dwb = (c.y - a.y) * inv_area;
+    double wa = ((b.x - xs) * (c.y - y) - (b.y - y) * (c.x - xs)) * inv_area;
+    double wb = ((c.x - xs) * (a.y - y) - (c.y - y) * (a.x - xs)) * inv_area;
+    for (int px = x0; px <= x1; ++px, wa += dwa, wb += dwb) {
       const double wc = 1.0 - wa - wb;
       if (wa < 0.0 || wb < 0.0 || wc < 0.0) continue;
       const double inv_z = wa * a.inv_z + wb * b.inv_z + wc * c.inv_z;
