@@ -19,7 +19,8 @@ from ._gym import HAVE_GYMNASIUM, AutoresetMode, Box
 from .env import Env, make
 from .parallel import ParallelEnv, make_parallel
 from .registration import register_envs, task_ids
-from .vector import VecEnv, make_remote_vec, make_vec
+from .make import make_remote_vec, make_vec
+from .vector import VecEnv
 from .video import record_video
 
 __version__ = "0.1.0"

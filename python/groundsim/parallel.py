@@ -16,7 +16,7 @@ import numpy as np
 
 from ._errors import ExperimentError
 from .registration import task_source
-from .vector import make_vec
+from .make import make_vec
 
 _INFO_KEYS = ("episode_index", "episode_steps", "episode_return", "diverged")
 

@@ -57,7 +57,7 @@ def make_vec_entry(num_envs=1, task="groundsim/Goal-v0", **kwargs):
     """Gymnasium's vector entry point: make_vec(task, num_envs, **kwargs).
     Gymnasium passes max_episode_steps when the spec has one; the task's
     own time_limit governs truncation, so it must be None."""
-    from .vector import make_vec
+    from .make import make_vec
 
     if kwargs.pop("max_episode_steps", None) is not None:
         raise ExperimentError("max_episode_steps", "max_episode_steps: set the task's time_limit instead")

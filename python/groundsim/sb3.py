@@ -17,7 +17,7 @@ import numpy as np
 from ._errors import ExperimentError
 from ._gym import AutoresetMode
 from .registration import task_source
-from .vector import make_vec
+from .make import make_vec
 
 try:
     from stable_baselines3.common.vec_env import VecEnv as _SB3VecEnv

@@ -8,16 +8,13 @@ same arrays, overwritten by the next call (no copy: keep what you need with
 
 import json
 import operator
-import os
 from collections.abc import Mapping
 
 import numpy as np
 
-from . import _core
 from ._episodes import EpisodeStatistics, autoreset_mode_of
 from ._errors import ExperimentError
 from ._gym import AutoresetMode, Box, VectorEnv, batch_space
-from .registration import task_source
 from .video import render_frames, render_options
 
 _SEED_END = 2**63  # seeds are in [0, 2^63)
@@ -404,109 +401,3 @@ class VecEnv(VectorEnv):
                 if not 0 <= seeds[i] < _SEED_END:
                     raise ExperimentError(f"seed[{i}]", f"seed[{i}]: must be in [0, 2^63), got {seeds[i]}")
         return seeds
-
-
-def _scenario_source(scenario):
-    """(text, path, name) of a scenario given as a dict, JSON text (str or
-    bytes) or a path to a file: text is None for a file, path None otherwise."""
-    if isinstance(scenario, Mapping):
-        try:
-            text = json.dumps(scenario, allow_nan=False)
-        except (TypeError, ValueError) as e:
-            raise ExperimentError("scenario", f"scenario: not representable as JSON ({e})") from None
-        return text, None, str(scenario.get("name", "scenario"))
-    if isinstance(scenario, (bytes, bytearray)):
-        return bytes(scenario).decode("utf-8", errors="replace"), None, "scenario"
-    if isinstance(scenario, str) and scenario.lstrip().startswith("{"):
-        return scenario, None, "scenario"
-    if isinstance(scenario, (str, os.PathLike)):
-        path = os.fspath(scenario)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"scenario: no such file: {path!r}")
-        return None, path, os.path.splitext(os.path.basename(path))[0]
-    raise ExperimentError("scenario", "scenario: must be a path, a JSON string or a dict, got "
-                                      f"{type(scenario).__name__}")
-
-
-_OPTIONS_DOC = """
-    render_mode: None or "rgb_array" (render() returns frames);
-    render_size: (width, height) of a frame, default (128, 96).
-    copy: True (default) returns fresh arrays from reset() and step(); False
-    returns read-only views of buffers the next call overwrites.
-    autoreset_mode: "next_step" (default), "same_step" or "disabled" (or a
-    gymnasium AutoresetMode); see VecEnv.
-    episode_statistics: put Gymnasium's ``episode`` / ``_episode`` in the
-    infos of a step where episodes end (default True).
-    drawn_in_infos: put what each env's last reset drew in ``infos["drawn"]``
-    (num_envs, len(layout.drawn)) every step (default False)."""
-
-
-def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, autoreset_mode="next_step",
-             episode_statistics=True, drawn_in_infos=False, render_mode=None, render_size=(128, 96)):
-    """num_envs environments of a scenario with a ``task`` section, stepped
-    in this process on num_threads threads (0: one per core, 1: the calling
-    thread) with the GIL released.
-
-    scenario: a shipped task's id ("groundsim/Goal-v0", groundsim.task_ids())
-    or short name ("goal"), a path to a JSON file (the heightfields it names
-    are read next to it), a JSON string, or a dict. For the last two, files_dir says
-    where named files are read from (none are readable without it).
-    Raises ScenarioError for a bad scenario or task, ExperimentError for bad
-    arguments. The result does not depend on num_threads, bit for bit."""
-    options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
-               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos,
-               "render_mode": render_mode, "render_size": render_size}
-    render_options(render_mode, render_size)
-    n = _index(num_envs, "num_envs")
-    threads = _index(num_threads, "num_threads")
-    if not 1 <= n < 2**31:
-        raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
-    if not 0 <= threads < 2**31:
-        raise ExperimentError("num_threads", f"num_threads: must be >= 0 (0: one per core), got {threads}")
-    scenario, files_dir = task_source(scenario, files_dir)
-    text, path, name = _scenario_source(scenario)
-    if path is not None:
-        return VecEnv(_core.make_vec_env_from_file(path, n, threads), name, **options)
-    if files_dir is not None:
-        files_dir = os.fspath(files_dir)
-    return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name, **options)
-
-
-def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, copy=True,
-                    autoreset_mode="next_step", episode_statistics=True, drawn_in_infos=False, render_mode=None):
-    """num_envs environments of a scenario with a ``task`` section, run in a
-    vectorised session of groundsim-server over LCM (docs/protocol.md),
-    with the same API and the same results, bit for bit, as make_vec.
-
-    scenario: a path to a JSON file (the heightfields it names are read
-    next to it and sent with it, as make_vec reads them), a JSON string, or
-    a dict (files read relative to files_dir and sent; none without it,
-    unless the server has them under its --terrain-dir). lcm_url: the server's
-    (None: LCM_DEFAULT_URL or LCM's default). timeout: seconds to wait for
-    a reply. Raises ScenarioError or ExperimentError as make_vec does (the
-    server names the field: num_envs above its --max-envs is "num_envs"),
-    RemoteError when the server is gone or parts of a reply are missing.
-    close() stops the session."""
-    if render_mode is not None:
-        raise ExperimentError("render_mode", "render_mode: a remote environment does not render (its state lives "
-                                             "in the server); make_vec with the same seed runs the same bits and renders")
-    options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
-               "episode_statistics": episode_statistics, "drawn_in_infos": drawn_in_infos}
-    n = _index(num_envs, "num_envs")
-    if not 1 <= n < 2**31:
-        raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
-    if not (isinstance(timeout, (int, float)) and timeout > 0):
-        raise ExperimentError("timeout", f"timeout: must be a positive number of seconds, got {timeout!r}")
-    scenario, files_dir = task_source(scenario, files_dir)
-    text, path, name = _scenario_source(scenario)
-    if path is not None:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            text = f.read()
-        files_dir = os.path.dirname(os.path.abspath(path))
-    elif files_dir is not None:
-        files_dir = os.fspath(files_dir)
-    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir), name, **options)
-
-
-make_vec.__doc__ += _OPTIONS_DOC
-make_remote_vec.__doc__ += _OPTIONS_DOC
