@@ -49,7 +49,7 @@ struct Batch {
 
   explicit Batch(std::unique_ptr<BatchEnv> e) : env(std::move(e)) {
     const Layout& l = env->layout();
-    n = l.num_envs;
+    n = l.rows();  // one row per agent of each environment
     obs.assign(static_cast<size_t>(n * l.obsSize()), 0.0f);
     act.assign(static_cast<size_t>(n * l.actionSize()), 0.0f);
     rew.assign(static_cast<size_t>(n), 0.0);

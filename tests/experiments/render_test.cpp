@@ -1,0 +1,57 @@
+// Frames of an environment (render/frame.hpp through BatchEnv::render): the
+// sky's colour where nothing is drawn, the car's in the middle, the same
+// bytes for the same state, and sizes out of range refused.
+#include <gtest/gtest.h>
+
+#include "task_util.hpp"
+
+namespace groundsim::experiments::test {
+namespace {
+
+nlohmann::json task() { return {{"observation", {"position"}}}; }
+
+TEST(Render, SkyAboveTheCarInTheMiddleAndTheSameBytesForTheSameState) {
+  Batch b(roadCarDoc(plane(), task()), 2);
+  b.reset(0);
+  const int w = 128, h = 96;
+  std::vector<std::uint8_t> f(static_cast<size_t>(w * h * 3)), g(f.size());
+  b.env->render(0, w, h, f.data());
+  b.env->render(0, w, h, g.data());
+  EXPECT_EQ(f, g);
+  // the top left pixel: the page's sky, 0x9fc4e0
+  EXPECT_EQ((std::vector<int>{f[0], f[1], f[2]}), (std::vector<int>{0x9f, 0xc4, 0xe0}));
+  // the sedan (the first vehicle: the page's red, 0xd94f3d, lit) fills the middle
+  const size_t mid = (static_cast<size_t>(h / 2 + 10) * w + w / 2) * 3;
+  EXPECT_GT(f[mid], f[mid + 1] + 40);
+  EXPECT_GT(f[mid], f[mid + 2] + 40);
+  // another env in the same state renders the same frame; a step changes it
+  b.env->render(1, w, h, g.data());
+  EXPECT_EQ(f, g);
+  b.setAll({1.0f, 0.0f, 0.5f});
+  for (int k = 0; k < 20; ++k) b.step();
+  b.env->render(0, w, h, g.data());
+  EXPECT_NE(f, g);
+}
+
+TEST(Render, SizesOutOfRangeAreRefused) {
+  Batch b(roadCarDoc(plane(), task()), 1);
+  b.reset(0);
+  std::vector<std::uint8_t> f(16 * 16 * 3);
+  for (auto [w, h] : {std::pair{8, 16}, std::pair{16, 5000}}) {
+    try {
+      b.env->render(0, w, h, f.data());
+      ADD_FAILURE() << w << " x " << h << " accepted";
+    } catch (const ExperimentError& e) {
+      EXPECT_EQ(e.field(), "render_size");
+    }
+  }
+  try {
+    b.env->render(1, 16, 16, f.data());
+    ADD_FAILURE() << "env 1 of 1 accepted";
+  } catch (const ExperimentError& e) {
+    EXPECT_EQ(e.field(), "env");
+  }
+}
+
+}  // namespace
+}  // namespace groundsim::experiments::test
