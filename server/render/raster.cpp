@@ -15,8 +15,11 @@ const Vec3 kSun = Vec3(0.4, 0.3, 0.85).normalized();
 
 // The page's ground texture (web/src/ground.js): grass with a dark line at
 // every metre and a lighter one at every half metre.
+constexpr Rgb kGrass{0x6f / 255.0, 0x8f / 255.0, 0x5a / 255.0}, kEdge{0x2f / 255.0, 0x3f / 255.0, 0x28 / 255.0},
+    kHalf{0x4d / 255.0, 0x66 / 255.0, 0x40 / 255.0};
+
 Rgb groundAt(double x, double y) {
-  static const Rgb grass = rgbOf(0x6f8f5a), edge = rgbOf(0x2f3f28), half = rgbOf(0x4d6640);
+  const Rgb &grass = kGrass, &edge = kEdge, &half = kHalf;
   auto frac = [](double v) { return v - std::floor(v); };
   const double fx = frac(x), fy = frac(y);
   const double edge_w = 3.0 / 256.0, half_w = 1.0 / 256.0;  // the canvas' line widths over its 256 px
