@@ -21,9 +21,6 @@ using scenario::TaskSpec;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Body-to-world rotation of body b.
-Mat3 rotation(const Eigen::VectorXd& y, int b) { return bodyRot(y, b).normalized().toRotationMatrix(); }
-
 float toFloat(double v) {
   if (!std::isfinite(v)) return 0.0f;  // never published (only a diverged step's workspace could hold one)
   constexpr double most = std::numeric_limits<float>::max();
@@ -247,7 +244,7 @@ void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::
     const double gx = t.goal[0], gy = t.goal[1];
     const double dist_before = std::hypot(gx - before.x(), gy - before.y());
     const Vec3 c = bodyPos(y, b);
-    const Mat3 R = rotation(y, b);
+    const Mat3 R = bodyRotation(y, b);
     const double dist = std::hypot(gx - c.x(), gy - c.y());
     const double up_z = std::clamp(R(2, 2), -1.0, 1.0);
     const bool at_goal = t.goal_radius > 0.0 && dist <= t.goal_radius;
@@ -317,12 +314,10 @@ void Env::observe(float* obs) {
 
 Env::~Env() = default;
 
-void Env::render(int width, int height, std::uint8_t* rgb) {
-  render::FrameOptions o;
-  o.width = width;
-  o.height = height;
+void Env::render(render::Raster& raster, std::uint8_t* rgb) {
   if (!frames_) frames_ = std::make_unique<render::FrameCache>();
-  render::renderFrame(sim_->model(), sim_->state(), *probe_, ctx_->agents.front().body, o, *frames_, rgb);
+  render::renderFrame(sim_->model(), sim_->state(), *probe_, ctx_->agents.front().body, render::FrameOptions{}, raster,
+                      *frames_, rgb);
 }
 
 EnvInfo Env::info(int agent) const {

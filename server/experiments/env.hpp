@@ -20,6 +20,7 @@
 
 namespace groundsim::render {
 struct FrameCache;
+class Raster;
 }
 
 namespace groundsim::experiments {
@@ -107,8 +108,9 @@ class Env {
   void load(const EnvSnapshot& s, float* obs);
 
   const Simulator& simulator() const { return *sim_; }
-  // A frame from behind the first agent's car (render/frame.hpp).
-  void render(int width, int height, std::uint8_t* rgb);
+  // A frame from behind the first agent's car (render/frame.hpp), of the
+  // raster's size.
+  void render(render::Raster& raster, std::uint8_t* rgb);
   // What the last reset drew (kDrawn* order, yaw in rad).
   const std::vector<double>& drawn() const { return drawn_; }
   // The ranges the next resets draw from: the task's, or a curriculum's
@@ -130,7 +132,7 @@ class Env {
   std::shared_ptr<const TaskContext> ctx_;
   std::unique_ptr<Simulator> sim_;
   std::unique_ptr<GroundProbe> probe_;  // height samples, on the simulator's ground
-  std::unique_ptr<render::FrameCache> frames_;  // render(): buffers and the ground patch, made on first use
+  std::unique_ptr<render::FrameCache> frames_;  // render(): the ground patch, made on first use
   Rng rng_;
   std::vector<std::vector<Sensor>> sensors_;  // per agent, resolved on the simulator's model
   scenario::Randomization ranges_;  // what reset draws from

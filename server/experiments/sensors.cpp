@@ -14,10 +14,8 @@ namespace {
 using scenario::Feature;
 using Kind = Sensor::Kind;
 
-Mat3 rotation(const Eigen::VectorXd& y, int b) { return bodyRot(y, b).normalized().toRotationMatrix(); }
-
 Vec3 omegaWorld(const Model& m, const Eigen::VectorXd& y, int b) {
-  const Mat3 R = rotation(y, b);
+  const Mat3 R = bodyRotation(y, b);
   return R * (m.bodies[static_cast<size_t>(b)].inv_inertia * (R.transpose() * Vec3(bodyMom(y, b))));
 }
 
@@ -42,6 +40,8 @@ void perWheel(const Agent& agent, int slot, Kind road, Kind wheel, std::vector<S
 }
 
 }  // namespace
+
+Mat3 bodyRotation(const Eigen::VectorXd& y, int b) { return bodyRot(y, b).normalized().toRotationMatrix(); }
 
 std::vector<Sensor> resolveSensors(const TaskContext& ctx, int agent, const Model& m) {
   const scenario::TaskSpec& t = ctx.task();
@@ -118,7 +118,7 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int
   const int b = ctx.agents[static_cast<size_t>(agent)].body;
   // the frame every body-relative sensor shares
   const Vec3 c = bodyPos(y, b);
-  const Mat3 R = rotation(y, b);
+  const Mat3 R = bodyRotation(y, b);
   const Vec3 v = bodyVel(y, b);
   const Vec3 fwd = R.col(0);
   const double fh = std::hypot(fwd.x(), fwd.y());
@@ -131,7 +131,7 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int
     const Wheel& wh = m.wheels[static_cast<size_t>(wi)];
     Vec3 rel = omegaWorld(m, y, wh.body);
     if (wh.carrier >= 0) rel -= omegaWorld(m, y, wh.carrier);
-    return rel.dot(rotation(y, wh.body) * wh.axis);
+    return rel.dot(bodyRotation(y, wh.body) * wh.axis);
   };
   auto height = [&](const Sensor& s) {
     const double px = c.x() + s.ahead * hc - s.lateral * hs, py = c.y() + s.ahead * hs + s.lateral * hc;

@@ -48,6 +48,9 @@ struct Sensor {
   double ahead = 0.0, lateral = 0.0;  // HeightSample, m
 };
 
+// Body-to-world rotation of body b (its quaternion normalised).
+Mat3 bodyRotation(const Eigen::VectorXd& y, int b);
+
 // The sensors of agent `agent` of the context's task on model m (in the
 // order and with the slots of the Layout).
 std::vector<Sensor> resolveSensors(const TaskContext& ctx, int agent, const Model& m);

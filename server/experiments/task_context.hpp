@@ -29,8 +29,12 @@ void checkParameterEnds(const TaskContext& ctx, const std::vector<scenario::Para
 // A curriculum (the task's `randomize` schema as JSON text, every key
 // optional): the ranges that replace `current` at the next resets. Throws
 // ScenarioError naming the field (/randomize/...).
+// check_ends: validate the ends of the parameter ranges that differ from
+// `current` (each costs two scenario parses). Every range an env holds was
+// validated when it was set, so a caller applying one curriculum to many
+// envs checks the ends once, against the first env, and not again.
 scenario::Randomization curriculumRanges(const TaskContext& ctx, const std::string& randomize_json,
-                                         const scenario::Randomization& current);
+                                         const scenario::Randomization& current, bool check_ends = true);
 // Ranges as the task's `randomize` JSON, and back (snapshots carry them).
 nlohmann::json rangesJson(const scenario::Randomization& r);
 

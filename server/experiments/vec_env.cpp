@@ -21,6 +21,7 @@
 #include "experiments/task_context.hpp"
 #include "experiments/thread_pool.hpp"
 #include "physics/kernels/batch_step.hpp"
+#include "render/raster.hpp"
 #include "scenario/object_reader.hpp"
 
 namespace groundsim::experiments {
@@ -31,13 +32,6 @@ constexpr std::uint64_t kSeedLimit = 1ull << 63;
 void checkSeed(std::optional<std::uint64_t> seed) {
   if (seed && *seed >= kSeedLimit)
     throw ExperimentError("seed", "must be in [0, 2^63), got " + std::to_string(*seed));
-}
-
-bool sameRanges(const scenario::Randomization& a, const scenario::Randomization& b) {
-  if (a.x != b.x || a.y != b.y || a.yaw_deg != b.yaw_deg || a.speed != b.speed) return false;
-  for (size_t i = 0; i < a.parameters.size(); ++i)
-    if (a.parameters[i].lo != b.parameters[i].lo || a.parameters[i].hi != b.parameters[i].hi) return false;
-  return true;
 }
 
 // A refused curriculum as the experiments API words errors: the field is
@@ -132,17 +126,15 @@ class VecEnv final : public BatchEnv {
 
   void setRandomization(int env, const std::string& randomize_json) override {
     if (env != -1) checkEnv(env);
-    // each env's ranges may differ (an earlier curriculum): each is checked
-    // against its own, and all of them before any changes
+    // each env's ranges may differ (an earlier curriculum): each env's new
+    // ones are made from its own, all of them before any changes; the
+    // parameter ends are validated once, with the first env's
     const size_t begin = env < 0 ? 0 : static_cast<size_t>(env), end = env < 0 ? envs_.size() : begin + 1;
     std::vector<scenario::Randomization> next;
     next.reserve(end - begin);
     try {
-      for (size_t i = begin; i < end; ++i) {
-        const scenario::Randomization& was = envs_[i]->randomization();
-        if (i > begin && sameRanges(was, envs_[i - 1]->randomization())) next.push_back(next.back());
-        else next.push_back(curriculumRanges(*ctx_, randomize_json, was));
-      }
+      for (size_t i = begin; i < end; ++i)
+        next.push_back(curriculumRanges(*ctx_, randomize_json, envs_[i]->randomization(), i == begin));
     } catch (const scenario::ScenarioError& e) {
       throw curriculumError(e);
     }
@@ -155,7 +147,10 @@ class VecEnv final : public BatchEnv {
     if (width < 16 || height < 16 || width > 4096 || height > 4096)
       throw ExperimentError("render_size", "width and height must be in [16, 4096] px, got " + std::to_string(width) +
                                                " x " + std::to_string(height));
-    envs_[static_cast<size_t>(env)]->render(width, height, rgb);
+    // one raster for the batch (the calls take turns): a frame's buffers, not one per environment
+    if (!raster_ || raster_->width() != width || raster_->height() != height)
+      raster_ = std::make_unique<render::Raster>(width, height);
+    envs_[static_cast<size_t>(env)]->render(*raster_, rgb);
   }
 
   void drawn(double* out) const override {
@@ -214,6 +209,7 @@ class VecEnv final : public BatchEnv {
 
   std::shared_ptr<const TaskContext> ctx_;
   Layout layout_;
+  mutable std::unique_ptr<render::Raster> raster_;  // render(): made at the first frame, remade for another size
   std::vector<std::unique_ptr<Env>> envs_;
   ThreadPool pool_;
   // per thread, when the task is batched: its BatchStep (scratch of its own)

@@ -81,11 +81,8 @@ Rgb colourOf(const Model& m, const Collider& c) {
 
 }  // namespace
 
-FrameCache::FrameCache() = default;
-FrameCache::~FrameCache() = default;
-
 void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow, const FrameOptions& o,
-                 FrameCache& cache, std::uint8_t* rgb) {
+                 Raster& raster, FrameCache& cache, std::uint8_t* rgb) {
   const Eigen::VectorXd& y = s.y;
   const Vec3 c = bodyPos(y, follow);
   const Mat3 R = Quat(bodyRot(y, follow)).normalized().toRotationMatrix();
@@ -94,10 +91,6 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
   const Vec3 target = c + 2.0 * heading + Vec3(0, 0, 0.5);
   const Vec3 eye = c - o.behind * heading + Vec3(0, 0, o.above);
 
-  if (!cache.raster || cache.raster->width() != o.width || cache.raster->height() != o.height ||
-      cache.raster->fov() != o.fov_deg)
-    cache.raster = std::make_unique<Raster>(o.width, o.height, o.fov_deg);
-  Raster& raster = *cache.raster;
   raster.look(eye, target);
   raster.clear(rgbOf(kSky));
 

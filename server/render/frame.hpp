@@ -12,36 +12,34 @@
 #include "physics/core/model.hpp"
 #include "physics/core/state.hpp"
 #include "physics/ground/ground.hpp"
+#include "render/raster.hpp"
 
 namespace groundsim::render {
 
+// The frame's size and field of view are the raster's (raster.hpp).
 struct FrameOptions {
-  int width = 128, height = 96;    // px
-  double fov_deg = 60.0;           // vertical
   double behind = 7.0, above = 2.5;  // m   the camera, from the followed body along its heading
   double ground_extent = 48.0;     // m   side of the ground patch drawn around the camera's target
   double ground_step = 2.0;        // m   its sampling (the grid lines come from each pixel's x, y)
 };
 
-class Raster;
 
-// What one viewer keeps between its frames: the raster's buffers, and the
-// ground patch last sampled (the ground does not move: it is sampled again
-// only when the patch's cell origin moves). A frame does not depend on
-// what is in here, only its cost does.
+// What one scene keeps between its frames: the ground patch last sampled
+// (the ground does not move: it is sampled again only when the patch's
+// cell origin moves). A frame does not depend on what is in here, only its
+// cost does. The raster's buffers (a frame's size) belong to the caller,
+// one for any number of scenes drawn in turn.
 struct FrameCache {
-  FrameCache();
-  ~FrameCache();
-  std::unique_ptr<Raster> raster;
   double x0 = 0.0, y0 = 0.0, step = 0.0;
   int n = 0;
   std::vector<Vec3> ground;
   std::vector<unsigned char> found;
 };
 
-// Writes height x width x 3 bytes (RGB, the top row first) into rgb.
-// `follow`: the body the camera chases (its heading on the ground plane).
+// Writes raster.height() x raster.width() x 3 bytes (RGB, the top row
+// first) into rgb. `follow`: the body the camera chases (its heading on the
+// ground plane).
 void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow, const FrameOptions& o,
-                 FrameCache& cache, std::uint8_t* rgb);
+                 Raster& raster, FrameCache& cache, std::uint8_t* rgb);
 
 }  // namespace groundsim::render

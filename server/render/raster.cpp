@@ -37,7 +37,7 @@ Rgb rgbOf(std::uint32_t hex) {
 }
 
 Raster::Raster(int width, int height, double fov_deg)
-    : width_(width), height_(height), fov_deg_(fov_deg),
+    : width_(width), height_(height),
       focal_(0.5 * height / std::tan(0.5 * fov_deg * std::acos(-1.0) / 180.0)),
       colour_(static_cast<size_t>(width) * height),
       depth_(static_cast<size_t>(width) * height) {}

@@ -22,7 +22,7 @@ Rgb rgbOf(std::uint32_t hex);  // 0xRRGGBB
 
 class Raster {
  public:
-  Raster(int width, int height, double fov_deg);
+  Raster(int width, int height, double fov_deg = 60.0);  // px, vertical degrees
   // A camera at eye looking at target, z up.
   void look(const Vec3& eye, const Vec3& target);
   void clear(const Rgb& sky);
@@ -34,7 +34,6 @@ class Raster {
   void write(std::uint8_t* rgb) const;
   int width() const { return width_; }
   int height() const { return height_; }
-  double fov() const { return fov_deg_; }
 
  private:
   struct Vertex {
@@ -45,7 +44,6 @@ class Raster {
   Vertex project(const Vec3& camera, const Vec3& world) const;
 
   int width_, height_;
-  double fov_deg_;
   double focal_;          // px
   Vec3 eye_ = Vec3::Zero(), right_ = Vec3::UnitX(), up_ = Vec3::UnitZ(), forward_ = Vec3::UnitY();
   Rgb sky_;
