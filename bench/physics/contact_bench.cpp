@@ -3,7 +3,10 @@
 // and the same for 4 of the report's cars at the fast preset on a plane
 // (the specialised kernel while no pair may touch; it takes at most 16
 // wheels). The broad phase must
-// stay within 5% of "off". Run: build/bench/physics/contact_bench.
+// stay within 5% of "off". Also cars close but apart, as in a race: 8
+// sedans in two lanes 4.2 m apart, 12 m nose to nose, whose bounding
+// spheres overlap but whose boxes do not.
+// Run: build/bench/physics/contact_bench.
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -45,8 +48,27 @@ scenario::Scene fleet(bool road_cars, bool collisions) {
   return scenario::buildScene(scenario::parseScenario(doc, scenario::FileAccess::local(GROUNDSIM_CONFIGS)));
 }
 
-void Fleet(benchmark::State& st, bool road_cars, bool collisions) {
-  const scenario::Scene scene = fleet(road_cars, collisions);
+scenario::Scene lanes(bool collisions) {
+  nlohmann::json doc = scenario::loadScenarioDocument(std::string(GROUNDSIM_CONFIGS) + "/hills.json");
+  doc.erase("vehicle");
+  doc["name"] = "lanes";
+  doc["duration"] = 1e4;
+  doc["ground"] = {{"type", "plane"}};
+  doc["collisions"] = {{"enabled", collisions}};
+  doc["physics"] = {{"integrator", "semi_implicit_euler"}, {"dt", 0.004}};
+  nlohmann::json cars = nlohmann::json::array();
+  for (int i = 0; i < 8; ++i) {
+    const double x = 12.0 * (i / 2), y = i % 2 ? 2.1 : -2.1;
+    cars.push_back({{"name", "car" + std::to_string(i)},
+                    {"kind", "road_car"},
+                    {"initial", {{"position", {x, y, 0}}, {"speed", 15.0}}},
+                    {"controls", {{{"t", 0.0}, {"throttle", 0.1}}}}});
+  }
+  doc["vehicles"] = cars;
+  return scenario::buildScene(scenario::parseScenario(doc, scenario::FileAccess::local(GROUNDSIM_CONFIGS)));
+}
+
+void run(benchmark::State& st, const scenario::Scene& scene) {
   Simulator sim(scene.built.model, scene.built.initial);
   for (auto _ : st) {
     if (sim.state().t > 5.0) sim.restore(scene.built.initial);  // stay spread out
@@ -58,10 +80,15 @@ void Fleet(benchmark::State& st, bool road_cars, bool collisions) {
   st.counters["hits"] = static_cast<double>(sim.hits().size() + sim.takeEndedHits().size());
 }
 
+void Fleet(benchmark::State& st, bool road_cars, bool collisions) { run(st, fleet(road_cars, collisions)); }
+void Lanes(benchmark::State& st, bool collisions) { run(st, lanes(collisions)); }
+
 BENCHMARK_CAPTURE(Fleet, road_cars_hills_off, true, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(Fleet, road_cars_hills_on, true, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(Fleet, report_cars_fast_off, false, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(Fleet, report_cars_fast_on, false, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Lanes, sedans_two_lanes_off, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(Lanes, sedans_two_lanes_on, true)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace groundsim

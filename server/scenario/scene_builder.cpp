@@ -53,12 +53,20 @@ std::string vehiclePath(const Scenario& s, size_t i) {
 
 double footprint(const VehicleSpec& v) { return vehicleFootprint(v); }
 
-bool overlap(const VehicleSpec& a, const VehicleSpec& b, double* dist, double* need) {
-  *need = footprint(a) + footprint(b);
+// Placed on the ground, two vehicles overlap when their footprint
+// rectangles do; placed freely (z separates too), when their footprint
+// circles' spheres do.
+bool overlap(const VehicleSpec& a, const VehicleSpec& b, double* dist) {
   const Vec3 d = b.placement.position - a.placement.position;
-  // with on_ground only x and y count; placed freely, z separates too
-  *dist = (a.placement.on_ground || b.placement.on_ground) ? std::hypot(d.x(), d.y()) : d.norm();
-  return *dist < *need;
+  const bool flat = a.placement.on_ground && b.placement.on_ground;
+  *dist = flat || a.placement.on_ground || b.placement.on_ground ? std::hypot(d.x(), d.y()) : d.norm();
+  if (flat) return footprintsOverlap(a, b);
+  return *dist < footprint(a) + footprint(b);
+}
+
+std::string rectangle(const VehicleSpec& v) {
+  const Footprint f = vehicleRectangle(v);
+  return formatNumber(f.front + f.back) + " x " + formatNumber(2.0 * f.half_width) + " m";
 }
 
 // Cars placed inside each other start with huge spring and contact forces
@@ -94,11 +102,12 @@ void checkOverlaps(const Scenario& s, IssueList& issues) {
         const auto it = grid.find({cx + dx, cy + dy});
         if (it == grid.end()) continue;
         for (size_t i : it->second) {
-          double dist = 0.0, need = 0.0;
-          if (!overlap(s.vehicles[i], b, &dist, &need)) continue;
+          double dist = 0.0;
+          if (!overlap(s.vehicles[i], b, &dist)) continue;
           issues.add(vehiclePath(s, j) + "/initial/position",
-                     "overlaps vehicle " + quote(s.vehicles[i].name) + ": centres " + formatNumber(dist) +
-                         " m apart, need at least " + formatNumber(need) + " m");
+                     "overlaps vehicle " + quote(s.vehicles[i].name) + ": their footprints (" +
+                         rectangle(s.vehicles[i]) + " and " + rectangle(b) + ") meet, centres " +
+                         formatNumber(dist) + " m apart");
           found = true;
           break;
         }
@@ -226,16 +235,6 @@ bool stepScene(const Scene& scene, Simulator& sim, long long n) {
     if (!sim.step()) return false;
   }
   return true;
-}
-
-// Radius of the vehicle's footprint about its centre, in the ground plane.
-double vehicleFootprint(const VehicleSpec& v) {
-  if (v.road_car) {
-    const RoadCarParams& p = v.road;
-    return std::hypot(std::max(p.cg_to_front, p.wheelbase - p.cg_to_front) + p.wheel_radius, 0.5 * p.track + 0.2);
-  }
-  const CarParams& p = v.params;
-  return std::hypot(p.half_length + p.wheel_radius, p.half_width + p.axle_half_length);
 }
 
 }  // namespace groundsim::scenario

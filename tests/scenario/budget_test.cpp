@@ -195,7 +195,8 @@ TEST(Budget, VehiclesOnAGridDoNotOverlap) {
                              {"wheel_model", "circle"},
                              {"initial", {{"position", {6.0 * (i % 8), 6.0 * (i / 8), 0}}}}});
   EXPECT_NO_THROW(buildScene(parseScenario(d)));
-  d["vehicles"][63]["initial"]["position"] = {6.0 * 7 + 1.0, 6.0 * 7 - 2.0, 0};  // 2.2 m from v55
+  // 1 m across and 2 m along from v55: inside its 5 x 2.5 m footprint
+  d["vehicles"][63]["initial"]["position"] = {6.0 * 7 + 1.0, 6.0 * 6 + 2.0, 0};
   const Scenario s = parseScenario(d);
   try {
     buildScene(s);

@@ -65,6 +65,38 @@ TEST(Scene, OverlappingVehiclesAreRefused) {
   EXPECT_TRUE(hasIssue(buildIssues(d), "/vehicles/1/initial/position", "overlaps vehicle \"a\""));
 }
 
+// Footprints are rectangles along each heading: sedans (4.7 x 1.8 m body
+// box, centred on the axles' midpoint 0.15 m behind the centre of mass)
+// may stand side by side or nose to tail, not inside each other's box.
+TEST(Scene, RoadCarFootprintsAreTheirBodyBoxes) {
+  const auto pair = [](double x, double y, double yaw_deg) {
+    nlohmann::json d = {{"ground", {{"type", "plane"}}},
+                        {"vehicles",
+                         {{{"name", "a"}, {"kind", "road_car"}},
+                          {{"name", "b"},
+                           {"kind", "road_car"},
+                           {"initial", {{"position", {x, y, 0}}, {"yaw_deg", yaw_deg}}}}}}};
+    try {
+      buildScene(parseScenario(d));
+      return false;
+    } catch (const ScenarioError& e) {
+      EXPECT_TRUE(hasIssue(e.issues(), "/vehicles/1/initial/position", "overlaps vehicle \"a\""));
+      return true;
+    }
+  };
+  EXPECT_FALSE(pair(0.0, 1.85, 0));   // side by side, 5 cm apart
+  EXPECT_TRUE(pair(0.0, 1.75, 0));    // 5 cm into each other
+  EXPECT_FALSE(pair(4.75, 0.0, 0));   // nose to tail
+  EXPECT_TRUE(pair(4.65, 0.0, 0));
+  // turned across: b's tail (2.5 m behind its centre) meets a's side (0.9)
+  EXPECT_FALSE(pair(0.0, 3.45, 90));
+  EXPECT_TRUE(pair(0.0, 3.35, 90));
+  // turned 45 degrees: the footprints' circles (2.66 m each) overlap, the
+  // rectangles only once b's corner reaches a's side
+  EXPECT_FALSE(pair(0.0, 3.5, 45));
+  EXPECT_TRUE(pair(0.0, 3.1, 45));
+}
+
 TEST(Scene, EveryIntegratorBuildsWithAFrictionModelItCanIntegrate) {
   for (const char* name : {"semi_implicit_euler", "velocity_verlet", "rk4", "implicit_euler", "adaptive"}) {
     auto d = minimalDoc();

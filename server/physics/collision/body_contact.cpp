@@ -16,46 +16,62 @@ double reducedMass(const CollisionGroup& a, const CollisionGroup& b);
 
 bool live(const CollisionGroup& g) { return g.collider_begin < g.collider_end || g.probe_begin < g.probe_end; }
 
-template <class RefCom>
-void groupBoxes(const Model& m, Workspace& ws, RefCom com) {
+// Each group's world box for the sweep: for a movable group the overlap of
+// the box around its bounding sphere and the box around its oriented box,
+// both grown by `pad(group)` (what it can move in the step).
+template <class RefPose, class Pad>
+void groupBoxes(const Model& m, Workspace& ws, RefPose pose, Pad pad) {
   for (size_t i = 0; i < m.groups.size(); ++i) {
     const CollisionGroup& g = m.groups[i];
     if (g.ref_body < 0) {
       ws.group_lo[i] = g.lo;
       ws.group_hi[i] = g.hi;
-    } else {
-      const Vec3 c = com(g.ref_body);
-      ws.group_lo[i] = c - Vec3::Constant(g.bound);
-      ws.group_hi[i] = c + Vec3::Constant(g.bound);
+      ws.group_com[i] = 0.5 * (g.lo + g.hi);
+      ws.group_pad[i] = 0.0;
+      continue;
     }
+    const auto [c, R] = pose(g.ref_body);
+    const double p = pad(g);
+    OrientedBox& box = ws.group_box[i];
+    box.R = R;
+    box.c = c + R * g.box_c;
+    box.h = g.box_h + Vec3::Constant(p);
+    const Vec3 e = R.cwiseAbs() * box.h;
+    const Vec3 s = Vec3::Constant(g.bound + p);
+    ws.group_lo[i] = (c - s).cwiseMax(box.c - e);
+    ws.group_hi[i] = (c + s).cwiseMin(box.c + e);
+    ws.group_com[i] = c;
+    ws.group_pad[i] = p;
   }
 }
 
-// After the boxes overlap: two movable groups' spheres must overlap, and a
-// movable group's sphere must reach a static group's shape (its distance
-// function at the sphere's centre; long walls have large boxes).
+// After the world boxes overlap: two movable groups' bounding spheres and
+// oriented boxes must overlap; a movable group must reach a static group's
+// shape (its distance function within the sphere, and the shape's box
+// overlapping the oriented box: a long diagonal wall has a large world
+// box), or hold one of its points.
 bool closeEnough(const Model& m, int a, int b, const Workspace& ws) {
   const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
   const bool sa = ga.ref_body < 0, sb = gb.ref_body < 0;
   if (!sa && !sb) {
-    const double r = ga.bound + gb.bound;
-    const Vec3 ca = 0.5 * (ws.group_lo[a] + ws.group_hi[a]), cb = 0.5 * (ws.group_lo[b] + ws.group_hi[b]);
-    // the boxes' half widths: the bounds plus any padding
-    const double reach = 0.5 * ((ws.group_hi[a] - ws.group_lo[a]).x() + (ws.group_hi[b] - ws.group_lo[b]).x());
-    return (ca - cb).squaredNorm() <= std::max(r, reach) * std::max(r, reach);
+    const double r = ga.bound + ws.group_pad[a] + gb.bound + ws.group_pad[b];
+    if ((ws.group_com[a] - ws.group_com[b]).squaredNorm() > r * r) return false;
+    return overlap(ws.group_box[a], ws.group_box[b]);
   }
   const CollisionGroup& moving = sa ? gb : ga;
   const CollisionGroup& fixed = sa ? ga : gb;
   const int mi = sa ? b : a;
-  const Vec3 c = 0.5 * (ws.group_lo[mi] + ws.group_hi[mi]);  // the reference body's centre
-  const double reach = 0.5 * (ws.group_hi[mi] - ws.group_lo[mi]).x();  // the bound plus any padding
+  const Vec3& c = ws.group_com[mi];
+  const double reach = moving.bound + ws.group_pad[mi];
+  const OrientedBox& box = ws.group_box[mi];
   for (int i = fixed.collider_begin; i < fixed.collider_end; ++i) {
     const Collider& col = m.colliders[i];
-    if (col.shape.distance(col.rot.transpose() * (c - col.pos)) <= reach) return true;
+    if (col.shape.distance(col.rot.transpose() * (c - col.pos)) > reach) continue;
+    if (overlap(box, OrientedBox{col.pos, col.rot, col.shape.extents()})) return true;
   }
   // its probes (a static group's points) may still poke into the group
   for (int i = fixed.probe_begin; i < fixed.probe_end; ++i)
-    if ((m.probes[i].local - c).squaredNorm() <= reach * reach) return true;
+    if (contains(box, m.probes[i].local, 0.0)) return true;
   return false;
 }
 
@@ -251,17 +267,21 @@ int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
 
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspace& ws) {
   if (!m.collisions) return false;
-  groupBoxes(m, ws, [&](int body) { return Vec3(bodyPos(y, body)); });
-  // pad each movable group by twice what its reference body's speed covers
-  // in the step (and 1 cm): a pair that can meet during the step is a
-  // candidate from its start
-  for (size_t i = 0; i < m.groups.size(); ++i) {
-    const int b = m.groups[i].ref_body;
-    if (b < 0) continue;
-    const double pad = 2.0 * Vec3(bodyVel(y, b)).norm() * dt + 0.01;
-    ws.group_lo[i].array() -= pad;
-    ws.group_hi[i].array() += pad;
-  }
+  // pad each movable group by twice what its reference body's motion
+  // covers in the step (and 1 cm): its speed, and its turn rate (at most
+  // |L| times the largest inverse inertia, bounded by the Frobenius norm)
+  // times the bound. A pair that can meet during the step is a candidate
+  // from its start.
+  groupBoxes(
+      m, ws,
+      [&](int body) {
+        return std::pair<Vec3, Mat3>(bodyPos(y, body), Quat(bodyRot(y, body)).normalized().toRotationMatrix());
+      },
+      [&](const CollisionGroup& g) {
+        const int b = g.ref_body;
+        const double spin = m.bodies[b].inv_inertia.norm() * Vec3(bodyMom(y, b)).norm();
+        return 2.0 * (Vec3(bodyVel(y, b)).norm() + spin * g.bound) * dt + 0.01;
+      });
   sweep(m, ws);
   return !ws.pairs.empty();
 }
@@ -272,7 +292,8 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws) {
   ws.body_contact_depth = 0.0;
   if (!m.collisions) return;
   if (!ws.step_pairs) {
-    groupBoxes(m, ws, [&](int body) { return ws.com[body]; });
+    groupBoxes(
+        m, ws, [&](int body) { return std::pair<Vec3, Mat3>(ws.com[body], ws.R[body]); }, [](const CollisionGroup&) { return 0.0; });
     sweep(m, ws);
   }
   narrowPhase(m, apply, ws);

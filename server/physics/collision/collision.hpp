@@ -69,6 +69,9 @@ struct CollisionGroup {
   double mass = 0.0;                // kg     0: static (immovable)
   int ref_body = -1;                // body whose COM centres the group's bound; -1: static
   double bound = 0.0;               // m      radius about that COM holding every probe and shape
+  // a box in the reference body's frame, about its COM, holding every probe
+  // and shape with the bound's margin: the broad phase's closer check
+  Vec3 box_c = Vec3::Zero(), box_h = Vec3::Zero();  // m  centre and half extents
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // m  static groups: world box
   double friction = 0.5;            // -      Coulomb mu; a pair uses sqrt(mu_a mu_b)
   int probe_begin = 0, probe_end = 0;

@@ -30,14 +30,6 @@ void addWheelDisc(ModelBuilder& b, int group, int body, const Vec3& centre, cons
   b.addCollider(c);
 }
 
-Vec3 roadCarBodySize(const RoadCarParams& p) {
-  Vec3 s = p.body_size;
-  if (!(s.x() > 0.0)) s.x() = 1.74 * p.wheelbase;
-  if (!(s.y() > 0.0)) s.y() = 1.16 * p.track;
-  if (!(s.z() > 0.0)) s.z() = 2.64 * p.cg_height;
-  return s;
-}
-
 void addRoadCarCollision(ModelBuilder& b, int group, const RoadCar& rc, double spacing) {
   const RoadCarParams& p = rc.p;
   const Vec3 size = roadCarBodySize(p);
@@ -73,6 +65,14 @@ void addRoadCarCollision(ModelBuilder& b, int group, const RoadCar& rc, double s
 }
 
 }  // namespace
+
+Vec3 roadCarBodySize(const RoadCarParams& p) {
+  Vec3 s = p.body_size;
+  if (!(s.x() > 0.0)) s.x() = 1.74 * p.wheelbase;
+  if (!(s.y() > 0.0)) s.y() = 1.16 * p.track;
+  if (!(s.z() > 0.0)) s.z() = 2.64 * p.cg_height;
+  return s;
+}
 
 void addVehicleCollision(ModelBuilder& b, int vehicle) {
   const Model& m = b.model();
@@ -328,20 +328,54 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     }
     ++movable;
     const Vec3 ref = bodyPos(y, g.ref_body);
+    const Mat3 Rt = Quat(bodyRot(y, g.ref_body)).normalized().toRotationMatrix().transpose();
     double r = 0.0;
+    // the box in the reference body's frame
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    const auto hold = [&](const Vec3& centre, const Vec3& half) {
+      lo = lo.cwiseMin(centre - half);
+      hi = hi.cwiseMax(centre + half);
+    };
+    // Parts that turn relative to the reference body (wheels spin and
+    // steer, steered axle points, tyre particles) are held as the sphere
+    // they sweep about their centre of turning, so the box holds them in
+    // any pose; parts fixed to it as they are.
     for (int i = g.collider_begin; i < g.collider_end; ++i) {
       const Collider& c = m.colliders[i];
-      const Vec3 centre = Vec3(bodyPos(y, c.body)) + Quat(bodyRot(y, c.body)).normalized() * c.pos;
+      const Mat3 Rb = Quat(bodyRot(y, c.body)).normalized().toRotationMatrix();
+      const Vec3 centre = Vec3(bodyPos(y, c.body)) + Rb * c.pos;
       r = std::max(r, (centre - ref).norm() + c.shape.bound());
+      if (c.body == g.ref_body) hold(Rt * (centre - ref), (Rt * Rb * c.rot).cwiseAbs() * c.shape.extents());
+      else hold(Rt * (centre - ref), Vec3::Constant(c.shape.bound()));
     }
     for (int i = g.probe_begin; i < g.probe_end; ++i) {
       const Probe& p = m.probes[i];
-      if (p.wheel >= 0) r = std::max(r, (Vec3(bodyPos(y, p.body)) - ref).norm() + m.wheels[p.wheel].radius);
-      else r = std::max(r, (probeWorld(m, p, y) - ref).norm());
+      if (p.wheel >= 0) {
+        const double rw = m.wheels[p.wheel].radius;
+        r = std::max(r, (Vec3(bodyPos(y, p.body)) - ref).norm() + rw);
+        hold(Rt * (Vec3(bodyPos(y, p.body)) - ref), Vec3::Constant(rw));
+        continue;
+      }
+      const Vec3 w = probeWorld(m, p, y);
+      r = std::max(r, (w - ref).norm());
+      const Point* pt = p.point >= 0 ? &m.points[p.point] : nullptr;
+      Vec3 pivot = w;  // where the probe turns about (itself: it does not)
+      if (pt && pt->steer_wheel >= 0 && pt->body >= 0)
+        pivot = Vec3(bodyPos(y, pt->body)) + Quat(bodyRot(y, pt->body)).normalized() * pt->steer_pivot;
+      else if (pt && pt->body < 0 && pt->wheel >= 0)
+        pivot = bodyPos(y, m.wheels[pt->wheel].body);
+      else if (pt && pt->body >= 0 && pt->body != g.ref_body)
+        pivot = bodyPos(y, pt->body);
+      else if (!pt && p.body >= 0 && p.body != g.ref_body)
+        pivot = bodyPos(y, p.body);
+      hold(Rt * (pivot - ref), Vec3::Constant((w - pivot).norm()));
     }
     // suspension travel, tyre and spring deflection move parts relative
-    // to the reference body: a margin keeps them inside the bound
+    // to the reference body: a margin keeps them inside the bound, and the
+    // box gets the same margin on every side
     g.bound = 1.1 * r + 0.05;
+    g.box_c = 0.5 * (lo + hi);
+    g.box_h = 0.5 * (hi - lo) + Vec3::Constant(0.1 * r + 0.05);
   }
   for (CollisionGroup& g : m.groups) g.face_probes = faceProbes(m, g, y);
   m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));

@@ -23,6 +23,11 @@ namespace groundsim {
 //   tyre (bottom, front, back).
 void addVehicleCollision(ModelBuilder& b, int vehicle);
 
+// A road car's body box [length, width, height] (m): `body_size`, each zero
+// entry derived (1.74 wheelbase, 1.16 track, 2.64 cg_height). Lengthwise it
+// is centred on the axles' midpoint.
+Vec3 roadCarBodySize(const RoadCarParams& p);
+
 // An obstacle: mass 0 is static (a shape fixed in the world), else a rigid
 // body of uniform density whose surface probes also touch the ground.
 struct ObjectSpec {

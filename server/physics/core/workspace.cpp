@@ -32,6 +32,9 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   wheel_slip.assign(nw, 0.0);
   group_lo.assign(m.groups.size(), Vec3::Zero());
   group_hi.assign(m.groups.size(), Vec3::Zero());
+  group_com.assign(m.groups.size(), Vec3::Zero());
+  group_box.assign(m.groups.size(), OrientedBox{});
+  group_pad.assign(m.groups.size(), 0.0);
   sweep.resize(m.groups.size());
   for (size_t g = 0; g < m.groups.size(); ++g) sweep[g] = static_cast<int>(g);
   pairs.reserve(4 * m.groups.size());

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "physics/collision/obb.hpp"
 #include "physics/core/model.hpp"
 #include "physics/core/state.hpp"
 
@@ -90,6 +91,9 @@ struct Workspace {
 
   // contact between bodies (collision/body_contact.cpp)
   std::vector<Vec3> group_lo, group_hi;  // (ngroup) m, world boxes this evaluation
+  std::vector<Vec3> group_com;         // (ngroup) m, reference body's COM (static: box centre)
+  std::vector<OrientedBox> group_box;  // (ngroup) movable groups' oriented boxes, padded
+  std::vector<double> group_pad;       // (ngroup) m, padding for the motion in the step
   std::vector<int> sweep;              // groups sorted by group_lo.x (kept between steps)
   std::vector<std::pair<int, int>> pairs;  // candidate pairs of the broad phase
   // set by the Simulator for the length of one step: `pairs` came from
