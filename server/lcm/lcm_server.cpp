@@ -7,6 +7,8 @@
 
 #include <groundsim/asset_part_t.hpp>
 #include <groundsim/asset_want_t.hpp>
+#include <groundsim/resend_t.hpp>
+#include <groundsim/resent_t.hpp>
 #include <groundsim/scenario_t.hpp>
 
 #include "convert.hpp"
@@ -57,12 +59,14 @@ LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, 
   lcm_.subscribe(kVecRequestChannel, &LcmServer::onVecRequest, this)->setQueueCapacity(kDeepQueue);
   // parts come in bursts of up to 2 MiB (protocol/assets_client.cpp)
   lcm_.subscribe(kAssetChannel, &LcmServer::onAsset, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(kResendChannel, &LcmServer::onResend, this)->setQueueCapacity(kDeepQueue);
 }
 
 LcmServer::~LcmServer() { service_.reset(); }
 
 template <class T>
-void LcmServer::publish(const std::string& channel, const T& msg) {
+void LcmServer::publish(const std::string& channel, const T& msg, const std::string* keep_session,
+                        std::int64_t keep_seq) {
   // encode outside the lock; one reusable buffer per thread
   static thread_local std::vector<std::uint8_t> buf;
   const int size = msg.getEncodedSize();
@@ -70,19 +74,32 @@ void LcmServer::publish(const std::string& channel, const T& msg) {
   if (msg.encode(buf.data(), 0, size) < 0) return;
   std::lock_guard<std::mutex> lk(publish_mutex_);
   lcm_.publish(channel, buf.data(), static_cast<unsigned>(size));
+  if (keep_seq < 0) return;
+  if (keep_session) ring_.addFrame(*keep_session, keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
+  else ring_.addEvent(keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
+}
+
+void LcmServer::setResendLimits(const ResendLimits& limits) {
+  std::lock_guard<std::mutex> lk(publish_mutex_);
+  ring_ = ResendRing(limits);
+}
+
+ResendRing::Stats LcmServer::resendStats() {
+  std::lock_guard<std::mutex> lk(publish_mutex_);
+  return ring_.stats();
 }
 
 void LcmServer::publishState(const session::Frame& f) {
   try {
-    publish(stateChannel(f.session_id), toMessage(f));
+    publish(stateChannel(f.session_id), toMessage(f), &f.session_id, f.seq);
     ++frames_;
     if (LatencyTrace::on())
       LatencyTrace::line("spub %s %lld %lld %lld %lld", f.session_id.c_str(), static_cast<long long>(f.seq),
                          static_cast<long long>(LatencyTrace::nowUs()),
                          static_cast<long long>(LatencyTrace::us(f.drive_received)),
                          static_cast<long long>(LatencyTrace::us(f.drive_applied)));
-    if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f));
-    if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f));
+    if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f), &f.session_id, f.seq);
+    if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f), &f.session_id, f.seq);
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a state of %s: %s\n", f.session_id.c_str(), e.what());
@@ -146,7 +163,8 @@ void LcmServer::publishAssetWant(const session::AssetWant& w) {
 }
 
 void LcmServer::publishEvent(const session::Event& e) try {
-  publish(kEventChannel, toMessage(e, event_seq_++));
+  const std::int64_t seq = event_seq_++;
+  publish(kEventChannel, toMessage(e, seq), nullptr, seq);
   if (e.severity == session::Severity::Info) {
     if (verbose_)
       std::fprintf(stderr, "groundsim-server: %s%s%s\n", e.session_id.c_str(), e.session_id.empty() ? "" : ": ",
@@ -184,6 +202,10 @@ void LcmServer::onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 
+void LcmServer::onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+}
+
 // Handlers run inside lcm_handle(), which is C: an exception must stop here
 // (as Drake's DrakeLcm stores it) and become an event, never unwind.
 void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
@@ -194,6 +216,7 @@ void LcmServer::handleDatagram(const std::string& channel, const void* data, int
     else if (channel == kControlsChannel) handleControls(channel, data, size);
     else if (channel == kVecRequestChannel) handleVecRequest(channel, data, size);
     else if (channel == kAssetChannel) handleAsset(channel, data, size);
+    else if (channel == kResendChannel) handleResend(channel, data, size);
   } catch (const std::exception& e) {
     try {
       service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
@@ -304,7 +327,54 @@ void LcmServer::handleAsset(const std::string& channel, const void* data, int si
   service_->handleAssetPart(p, channel);
 }
 
+// A recorder's re-request: answered from the ring within the client's rate
+// limit (resend_ring.hpp), on the client's own channel so other
+// subscribers never see old messages again.
+void LcmServer::handleResend(const std::string& channel, const void* data, int size) {
+  groundsim::resend_t msg;
+  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.resend_t");
+  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  std::string why = badId("client_id", msg.client_id);
+  if (why.empty() && msg.client_id.empty()) why = "client_id: empty (answers go to " + std::string(kResentPrefix) + "<client_id>)";
+  if (why.empty()) why = badId("session_id", msg.session_id);
+  if (why.empty() && msg.stream != groundsim::resend_t::STREAM_SESSION && msg.stream != groundsim::resend_t::STREAM_EVENTS)
+    why = "stream: must be 1 (session) or 2 (events), got " + std::to_string(msg.stream);
+  if (why.empty() && msg.stream == groundsim::resend_t::STREAM_SESSION && msg.session_id.empty())
+    why = "session_id: empty for stream 1 (session)";
+  if (why.empty() && msg.from_seq < 0) why = "from_seq: must be >= 0, got " + std::to_string(msg.from_seq);
+  if (why.empty() && msg.to_seq < -1) why = "to_seq: must be >= -1 (-1: up to the newest), got " + std::to_string(msg.to_seq);
+  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "resend: " + why);
+  const std::string session = msg.stream == groundsim::resend_t::STREAM_EVENTS ? "" : msg.session_id;
+  std::vector<ResendRing::Message> answer;
+  {
+    std::lock_guard<std::mutex> lk(publish_mutex_);
+    answer = ring_.answer(msg.client_id, session, msg.from_seq, msg.to_seq);
+  }
+  const std::string out = kResentPrefix + msg.client_id;
+  groundsim::resent_t r{};
+  r.utime = wallMicros();
+  r.request_seq = msg.seq;
+  r.stream = msg.stream;
+  r.session_id = msg.session_id;
+  for (ResendRing::Message& m : answer) {
+    r.seq = m.seq;
+    r.last_seq = m.last_seq;
+    r.status = m.status == ResendRing::Status::Ok ? groundsim::resent_t::STATUS_OK
+               : m.status == ResendRing::Status::Gone ? groundsim::resent_t::STATUS_GONE
+               : m.status == ResendRing::Status::Limited ? groundsim::resent_t::STATUS_LIMITED
+                                                        : groundsim::resent_t::STATUS_UNKNOWN_SESSION;
+    r.channel = m.channel;
+    r.data.assign(m.bytes.begin(), m.bytes.end());
+    r.size = static_cast<std::int32_t>(r.data.size());
+    publish(out, r);
+  }
+}
+
 void LcmServer::heartbeat() {
+  {
+    std::lock_guard<std::mutex> lk(publish_mutex_);
+    ring_.expire(std::chrono::steady_clock::now());
+  }
   const session::ServiceStatus st = service_->status();
   groundsim::server_status_t m;
   m.utime = wallMicros();

@@ -11,6 +11,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "resend_ring.hpp"
 #include "session/service.hpp"
 
 namespace groundsim::net {
@@ -43,6 +44,9 @@ class LcmServer final : public session::Output {
   // hears the answers in the same process.
   lcm::LCM& lcm() { return lcm_; }
   int workers() const { return service_->config().workers; }
+  // Before run(): how much of what was published is kept for re-requests.
+  void setResendLimits(const ResendLimits& limits);
+  ResendRing::Stats resendStats();
   const session::ServiceConfig& config() const { return service_->config(); }
 
  private:
@@ -51,18 +55,24 @@ class LcmServer final : public session::Output {
   void onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void handleResend(const std::string& channel, const void* data, int size);
   void handleAsset(const std::string& channel, const void* data, int size);
   void handleVecRequest(const std::string& channel, const void* data, int size);
   void handleRequest(const std::string& channel, const void* data, int size);
   void handleDrive(const std::string& channel, const void* data, int size);
   void handleControls(const std::string& channel, const void* data, int size);
+  // keep_session: also keep the bytes in the resend ring as that session's
+  // frame keep_seq ("" and keep_seq >= 0: as event keep_seq)
   template <class T>
-  void publish(const std::string& channel, const T& msg);
+  void publish(const std::string& channel, const T& msg, const std::string* keep_session = nullptr,
+               std::int64_t keep_seq = -1);
 
   std::string url_;
   bool verbose_;
   lcm::LCM lcm_;
   std::mutex publish_mutex_;
+  ResendRing ring_;  // under publish_mutex_
   std::string server_id_;
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
       want_seq_{0};

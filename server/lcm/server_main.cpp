@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   std::string url = groundsim::net::defaultUrl();
   double slice_ms = cfg.slice * 1e3;
   bool quiet = false;
+  groundsim::net::ResendLimits resend;
 
   CLI::App app{"groundsim-server: simulation sessions over LCM"};
   app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
@@ -76,6 +77,13 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--max-work", b.max_work, "estimated work over a session's duration")->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app.add_option("--resend-frames", resend.frames_per_session,
+                 "recent frames per session kept for recorders' re-requests (docs/logging.md)")
+      ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+  app.add_option("--resend-session-bytes", resend.bytes_per_session, "bytes of recent frames kept per session")
+      ->capture_default_str()->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 32));
+  app.add_option("--resend-rate", resend.messages_per_s, "messages per second resent to one recorder")
+      ->capture_default_str()->check(CLI::Range(1.0, 1e7));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -96,6 +104,7 @@ int main(int argc, char** argv) {
 
   try {
     groundsim::net::LcmServer server(url, cfg, !quiet);
+    server.setResendLimits(resend);
     std::printf("groundsim-server ready on %s with %d workers, up to %d sessions\n", server.url().c_str(),
                 server.workers(), cfg.max_sessions);
     const auto& lim = server.config().budget;

@@ -27,6 +27,11 @@ inline constexpr const char* kAssetChannel = "GROUNDSIM_ASSET";
 inline constexpr const char* kAssetWantChannel = "GROUNDSIM_ASSET_WANT";
 inline constexpr const char* kCarStatePrefix = "GROUNDSIM_CAR_STATE_";  // + session id: car_state_t (road cars)
 
+// gap repair (docs/logging.md): resend_t in, resent_t out on
+// GROUNDSIM_RESENT_<client id>
+inline constexpr const char* kResendChannel = "GROUNDSIM_RESEND";
+inline constexpr const char* kResentPrefix = "GROUNDSIM_RESENT_";
+
 inline std::string stateChannel(const std::string& session_id) { return kStatePrefix + session_id; }
 inline std::string carStateChannel(const std::string& session_id) { return kCarStatePrefix + session_id; }
 inline constexpr const char* kContactPrefix = "GROUNDSIM_CONTACT_";  // + session id: contact_state_t (objects, hits)

@@ -36,6 +36,10 @@ std::optional<groundsim::session_info_t> ServerWatch::session(const std::string&
   return std::nullopt;
 }
 
+std::vector<groundsim::session_info_t> ServerWatch::sessions() const {
+  return last_ ? last_->sessions : std::vector<groundsim::session_info_t>{};
+}
+
 std::string ServerWatch::lostMessage(const std::string& url, Clock::time_point now) const {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.1f", silence(now));

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -35,6 +36,8 @@ class ServerWatch {
   long long heartbeats() const { return count_; }
   // The session as the last heartbeat listed it; nothing if it was not listed.
   std::optional<groundsim::session_info_t> session(const std::string& id) const;
+  // Every session the last heartbeat listed (running and recently ended).
+  std::vector<groundsim::session_info_t> sessions() const;
   // "no heartbeat from groundsim-server for 3.0 s on URL (killed or unreachable)"
   std::string lostMessage(const std::string& url, Clock::time_point now = Clock::now()) const;
 
