@@ -26,8 +26,10 @@ inline T springTension(T len2, T inv, T d_dot_e, K k, K c, K rest) {
 }
 
 // The same for loops that must stay branch-free to vectorise (the rims'
-// fans): the guard as a multiplication by 0 or 1, which `omp simd` keeps
-// in vector registers where a select on doubles may not be.
+// fans): the guard as a multiplication by 0 or 1. GCC if-converts the
+// compare (and so vectorises the loop) only where FP compares are assumed
+// not to trap: kernels/ring_car.cpp is built with -fno-trapping-math
+// (server/physics/CMakeLists.txt).
 inline double springTensionFan(double len2, double inv, double d_dot_e, double k, double c, double rest) {
   const double rate = d_dot_e * inv;
   const double t = (k * (len2 * inv - rest) + c * rate) * inv;
