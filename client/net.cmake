@@ -9,6 +9,10 @@ target_sources(groundsim PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/net/create.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/drive.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/log.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/net/record.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/record/ledger.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/record/message_json.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/record/recorder.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/session_commands.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/terminal.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/tokens.cpp
@@ -16,4 +20,4 @@ target_sources(groundsim PRIVATE
 )
 # commands.hpp and the CSV writer shared with `run` (run/telemetry_csv.hpp) are in client/
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
-target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario CLI11::CLI11 nlohmann_json::nlohmann_json)
+target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario groundsim_recording CLI11::CLI11 nlohmann_json::nlohmann_json)

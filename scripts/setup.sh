@@ -18,6 +18,7 @@ build=(
   libssl-dev                                     # SHA-256 (OpenSSL libcrypto): files sent with a scenario are content-addressed
   libcli11-dev                                   # command lines
   libboost-dev                                   # Boost.Beast + Asio (header-only): groundsim-web's HTTP and WebSocket
+  libzstd-dev                                    # MCAP recordings: zstd-compressed chunks (server/recording)
 )
 rest=(
   liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
@@ -25,6 +26,7 @@ rest=(
   libbenchmark-dev                               # benchmarks
   gnuplot-nox                                    # speed plots, accuracy plots
   iproute2 util-linux                            # ip + unshare: tests in private network namespaces
+  nftables                                       # frame loss between namespaced "hosts" (record.LossyLinkEndsComplete)
   clang-14 libclang-rt-14-dev llvm-14            # libFuzzer targets (scripts/fuzz.sh), llvm-symbolizer
   python3-dev pybind11-dev python3-pybind11      # the Python package groundsim (its C++ module groundsim._core)
   python3-numpy python3-pytest python3-venv      # its arrays, its tests (pytest through ctest), the venv install test

@@ -32,6 +32,7 @@ void registerNetworkCommands(CLI::App& app) {
   registerSessionCommands(app);
   registerWatchCommand(app);
   registerLogCommand(app);
+  registerRecordCommand(app);
   registerDriveCommand(app);
 }
 

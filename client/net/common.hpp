@@ -54,6 +54,7 @@ std::string stateLine(const groundsim::state_t& s);
 void registerSessionCommands(CLI::App& app);  // create list stop reset pause resume mode step
 void registerWatchCommand(CLI::App& app);
 void registerLogCommand(CLI::App& app);
+void registerRecordCommand(CLI::App& app);
 void registerDriveCommand(CLI::App& app);
 
 }  // namespace groundsim::cli

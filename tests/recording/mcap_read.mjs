@@ -2,7 +2,8 @@
 // McapIndexedReader (footer, summary, chunk and message indexes, CRCs
 // checked), zstd chunks decompressed by fzstd, over a file handle; prints
 // JSON: messages per topic (every message read), the Statistics record's
-// counts, the attachments' and metadata records' names, bytes read.
+// counts, the attachments' and metadata records' names (and the metadata
+// records' key-values, metadataRecords), bytes read.
 //
 //   node tests/recording/mcap_read.mjs FILE
 //
@@ -62,7 +63,11 @@ try {
   const attachments = [];
   for await (const a of reader.readAttachments()) attachments.push(a.name);
   const metadata = [];
-  for await (const m of reader.readMetadata()) metadata.push(m.name);
+  const metadataRecords = {};
+  for await (const m of reader.readMetadata()) {
+    metadata.push(m.name);
+    metadataRecords[m.name] = Object.fromEntries(m.metadata);
+  }
   const s = reader.statistics;
   const statistics = s && {
     messageCount: Number(s.messageCount),
@@ -84,6 +89,7 @@ try {
       chunkIndexes: reader.chunkIndexes.length,
       attachments,
       metadata,
+      metadataRecords,
       bytesRead,
       fileSize: Number(await readable.size()),
     }),

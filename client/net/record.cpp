@@ -1,0 +1,253 @@
+// `groundsim record [SESSION...] [--all | --match REGEX | --create SCENARIO]
+// --out FILE.mcap [--duration S]`: records sessions into an MCAP file with
+// nothing lost silently (docs/logging.md). The bus is read with an 8 MiB
+// socket buffer and deep queues; every gap in a session's seqs (and in the
+// server's event seqs) is asked for again from the server's resend ring;
+// what cannot be had is lost with its range named, in the file's ledger
+// and on stderr, and the exit code says so (3). Chunks are closed every
+// second, so after a kill -9 all but the last second is readable.
+#include <chrono>
+#include <cstdio>
+#include <regex>
+#include <set>
+
+#include <groundsim/request_t.hpp>
+#include <groundsim/resend_t.hpp>
+#include <groundsim/resent_t.hpp>
+
+#include "common.hpp"
+#include "create.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "protocol/text.hpp"
+#include "record/recorder.hpp"
+#include "tokens.hpp"
+
+namespace groundsim::cli {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+struct RecordOptions {
+  NetOptions net;
+  CreateOptions create;
+  std::vector<std::string> sessions;
+  bool all = false;
+  std::string match;
+  std::string out;
+  double duration = 0.0;
+  double repair_wait = 3.0;
+  bool raw = false;
+  int zstd_level = 3;
+};
+
+void publish(lcm::LCM& lcm, const std::string& channel, const groundsim::resend_t& r) {
+  std::vector<std::uint8_t> buf(r.getEncodedSize());
+  r.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  lcm.publish(channel, buf.data(), static_cast<unsigned>(buf.size()));
+}
+
+void run(const RecordOptions& o) {
+  installStopSignals();
+  std::optional<CreateRequest> create;
+  if (!o.create.file.empty()) create = createRequest(o.create);  // refused before anything is opened
+  std::optional<std::regex> match;
+  if (!o.match.empty()) {
+    try {
+      match.emplace(o.match, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      fail(kExitUsage, "--match: " + net::quoted(o.match) + " is not a regular expression: " + e.what());
+    }
+  }
+
+  NetClient client(o.net.url, /*deep_receive=*/true);
+  recording::WriterOptions wo;
+  wo.zstd_level = o.zstd_level;
+  wo.chunk_seconds = 1.0;
+  wo.profile = "groundsim";
+  std::unique_ptr<recording::McapWriter> writer;
+  try {
+    writer = std::make_unique<recording::McapWriter>(o.out, wo);
+  } catch (const std::exception& e) {
+    fail(kExitRefused, e.what());
+  }
+  record::RecorderOptions ro;
+  ro.raw = o.raw;
+  record::Recorder rec(std::move(writer), client.clientId(), ro);
+
+  const bool everything = o.all || match || create;
+  const auto wanted = [&](const std::string& id) {
+    if (o.all) return true;
+    if (match && std::regex_search(id, *match)) return true;
+    return false;
+  };
+  std::set<std::string> asked_scenario;
+  const auto askScenario = [&](const std::string& id) {
+    if (!asked_scenario.insert(id).second) return;
+    groundsim::request_t r{};
+    r.utime = wallMicros();
+    r.op = net::kOpScenario;
+    r.client_id = client.clientId();
+    r.session_id = id;
+    std::vector<std::uint8_t> buf(r.getEncodedSize());
+    r.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    client.lcm().publish(net::kRequestChannel, buf.data(), static_cast<unsigned>(buf.size()));
+  };
+  for (const auto& s : o.sessions) rec.add(s, false);
+
+  // the session of a state, car state or contact channel ("" for others)
+  const auto sessionOf = [](const std::string& ch) -> std::string {
+    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix})
+      if (ch.rfind(p, 0) == 0) return ch.substr(std::string(p).size());
+    return "";
+  };
+  // Sessions that no heartbeat listed since this recorder heard its first
+  // one began while it listened: every seq from 0 is owed. Those heard
+  // before (or listed by the first heartbeat) began earlier; their seqs
+  // before the first one heard are not owed.
+  std::set<std::string> listed_first;
+  bool heard_beat = false;
+  const auto addNew = [&](const std::string& id) {
+    rec.add(id, heard_beat && !listed_first.count(id));
+    askScenario(id);
+  };
+  auto onBus = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    const std::string id = sessionOf(channel);
+    if (!id.empty() && !rec.has(id) && wanted(id)) addNew(id);
+    if (!rec.onDatagram(channel, static_cast<const std::uint8_t*>(rbuf->data), static_cast<int>(rbuf->data_size),
+                        SteadyClock::now()))
+      std::fprintf(stderr, "record: %s: an undecodable message (not written)\n", net::printable(channel).c_str());
+  };
+  auto onResent = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    groundsim::resent_t m;
+    const auto d = net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.resent_t");
+    if (!d.ok()) {
+      std::fprintf(stderr, "record: %s: %s\n", net::printable(channel).c_str(), d.reason.c_str());
+      return;
+    }
+    rec.onResent(m, SteadyClock::now());
+  };
+  std::vector<std::string> channels{net::kEventChannel, net::kScenarioChannel};
+  if (everything) {
+    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix})
+      channels.push_back(std::string(p) + ".*");
+  } else {
+    for (const auto& s : o.sessions)
+      for (const std::string& ch : {net::stateChannel(s), net::carStateChannel(s), net::contactChannel(s)})
+        channels.push_back(ch);
+  }
+  using Handler = decltype(onBus);
+  for (const auto& ch : channels)
+    client.lcm()
+        .subscribeFunction(ch, +[](const lcm::ReceiveBuffer* b, const std::string& c, Handler* h) { (*h)(b, c); }, &onBus)
+        ->setQueueCapacity(net::kDeepQueue);
+  using ResentHandler = decltype(onResent);
+  client.lcm()
+      .subscribeFunction(net::kResentPrefix + client.clientId(),
+                         +[](const lcm::ReceiveBuffer* b, const std::string& c, ResentHandler* h) { (*h)(b, c); },
+                         &onResent)
+      ->setQueueCapacity(net::kDeepQueue);
+
+  if (create) {
+    const groundsim::reply_t r = client.create(create->req, create->assets, std::max(o.net.timeout, 10.0));
+    if (!r.ok) fail(kExitRefused, r.error);
+    TokenStore(o.net.token_file).put(r.session_id, r.token, client.url());
+    // created here: every seq from 0 is owed (states heard before the
+    // reply were added as not created; add() keeps the first)
+    rec.add(r.session_id, true);
+    std::printf("%s\n", net::printable(r.session_id).c_str());
+    std::fflush(stdout);
+  }
+  for (const auto& s : o.sessions) askScenario(s);
+  std::optional<std::string> server_lost;
+  // the first heartbeat: which sessions were there before (the ready line
+  // comes after it, so a session created after the line is owed from 0)
+  try {
+    while (client.server().heartbeats() == 0 && !stopRequested()) client.pump(20);
+  } catch (const NetError& e) {
+    server_lost = e.what();
+  }
+  for (const auto& info : client.server().sessions()) listed_first.insert(info.session_id);
+  heard_beat = true;
+  std::fprintf(stderr, "record: recording to %s on %s\n", net::printable(o.out).c_str(), client.url().c_str());
+
+  const auto start = SteadyClock::now();
+  long long beats_seen = 0;
+  const auto sendDue = [&] {
+    for (const auto& r : rec.requests(SteadyClock::now())) publish(client.lcm(), net::kResendChannel, r);
+  };
+  while (!stopRequested() && !server_lost) {
+    if (o.duration > 0 && SteadyClock::now() - start > std::chrono::duration<double>(o.duration)) break;
+    if (!everything && rec.allEnded() && !rec.repairing()) break;
+    if (create && !o.all && !match && rec.allEnded() && !rec.repairing()) break;
+    try {
+      client.pump(20);
+    } catch (const NetError& e) {
+      server_lost = e.what();
+      break;
+    }
+    if (client.server().heartbeats() != beats_seen) {
+      beats_seen = client.server().heartbeats();
+      for (const auto& info : client.server().sessions()) {
+        if (!rec.has(info.session_id)) {
+          if (!wanted(info.session_id)) continue;
+          addNew(info.session_id);
+        }
+        rec.onHeartbeat(info.session_id, info.seq, info.status >= groundsim::state_t::STATUS_FINISHED,
+                        SteadyClock::now());
+      }
+    }
+    sendDue();
+  }
+  // the tail: what was published after the newest we heard, then the
+  // repairs still outstanding, for up to --repair-wait
+  if (!server_lost) {
+    for (const auto& r : rec.tailRequests(SteadyClock::now())) publish(client.lcm(), net::kResendChannel, r);
+    const auto until = SteadyClock::now() + std::chrono::duration<double>(o.repair_wait);
+    auto quiet_since = SteadyClock::now();
+    while (SteadyClock::now() < until) {
+      if (client.lcm().handleTimeout(20) > 0) quiet_since = SteadyClock::now();
+      sendDue();
+      if (!rec.repairing() && SteadyClock::now() - quiet_since > std::chrono::milliseconds(200)) break;
+    }
+  }
+  rec.finish();
+  for (const auto& line : rec.report()) std::fprintf(stderr, "record %s\n", net::printable(line, 2000).c_str());
+  const auto t = rec.totals();
+  std::fprintf(stderr,
+               "record: %lld messages received, %lld repaired, %lld lost, %lld asked for again (%lld bytes resent, "
+               "%lld live), %lld undecodable; written to %s\n",
+               static_cast<long long>(t.received), static_cast<long long>(t.repaired), static_cast<long long>(t.lost),
+               static_cast<long long>(t.asked), static_cast<long long>(t.resent_bytes),
+               static_cast<long long>(t.live_bytes), static_cast<long long>(t.undecodable),
+               net::printable(o.out).c_str());
+  if (server_lost) fail(kExitNoServer, *server_lost);
+  if (t.lost > 0) fail(kExitLoss, std::to_string(t.lost) + " messages lost (listed above and in the file's ledger)");
+}
+
+}  // namespace
+
+void registerRecordCommand(CLI::App& app) {
+  auto o = std::make_shared<RecordOptions>();
+  auto* cmd = app.add_subcommand("record", "record sessions into an MCAP file, repairing gaps (docs/logging.md)");
+  cmd->add_option("SESSION", o->sessions, "session ids");
+  cmd->add_flag("--all", o->all, "every session, also those created while recording");
+  cmd->add_option("--match", o->match, "sessions whose id matches this regular expression");
+  cmd->add_option("--out", o->out, "the MCAP file to write")->required();
+  cmd->add_option("--duration", o->duration, "wall seconds to record (0: until the sessions end, or SIGINT)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--repair-wait", o->repair_wait, "s to wait at the end for repairs still outstanding")
+      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
+  cmd->add_flag("--raw", o->raw, "also keep every message's LCM bytes (channels lcm/<channel>)");
+  cmd->add_option("--zstd-level", o->zstd_level, "chunk compression (0: none)")->capture_default_str()
+      ->check(CLI::Range(0, 19));
+  addCreateOptions(cmd, o->create, /*positional=*/false);
+  addNetOptions(cmd, o->net, true);
+  cmd->callback([o] {
+    const int ways = !o->sessions.empty() + o->all + !o->match.empty() + !o->create.file.empty();
+    if (ways != 1) throw CLI::ValidationError("record", "give SESSION ids, --all, --match REGEX or --create SCENARIO (one of them)");
+    guarded([&] { run(*o); });
+  });
+}
+
+}  // namespace groundsim::cli

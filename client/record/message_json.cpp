@@ -1,0 +1,237 @@
+#include "record/message_json.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace groundsim::record {
+namespace {
+
+class Out {
+ public:
+  explicit Out(std::size_t reserve) { s_.reserve(reserve); }
+  Out& raw(const char* t) {
+    s_ += t;
+    return *this;
+  }
+  // ,"key":
+  Out& key(const char* k) {
+    if (!s_.empty() && s_.back() != '{' && s_.back() != '[') s_ += ',';
+    s_ += '"';
+    s_ += k;
+    s_ += "\":";
+    return *this;
+  }
+  Out& num(double x) {
+    char b[32];
+    // the server never publishes NaN or infinity; JSON has no word for them
+    const int n = std::isfinite(x) ? std::snprintf(b, sizeof b, "%.17g", x) : std::snprintf(b, sizeof b, "null");
+    s_.append(b, n);
+    return *this;
+  }
+  Out& integer(long long v) {
+    s_ += std::to_string(v);
+    return *this;
+  }
+  Out& boolean(bool v) {
+    s_ += v ? "true" : "false";
+    return *this;
+  }
+  Out& str(const std::string& v) {
+    s_ += '"';
+    for (unsigned char c : v) {
+      if (c == '"' || c == '\\') {
+        s_ += '\\';
+        s_ += static_cast<char>(c);
+      } else if (c < 0x20) {
+        char b[8];
+        std::snprintf(b, sizeof b, "\\u%04x", c);
+        s_ += b;
+      } else {
+        s_ += static_cast<char>(c);
+      }
+    }
+    s_ += '"';
+    return *this;
+  }
+  template <class T>
+  Out& nums(const T* v, int n) {
+    s_ += '[';
+    for (int i = 0; i < n; ++i) {
+      if (i) s_ += ',';
+      num(static_cast<double>(v[i]));
+    }
+    s_ += ']';
+    return *this;
+  }
+  Out& bools(const bool* v, int n) {
+    s_ += '[';
+    for (int i = 0; i < n; ++i) {
+      if (i) s_ += ',';
+      boolean(v[i]);
+    }
+    s_ += ']';
+    return *this;
+  }
+  Out& open(char c) {
+    if (!s_.empty() && s_.back() != '{' && s_.back() != '[' && s_.back() != ':') s_ += ',';
+    s_ += c;
+    return *this;
+  }
+  Out& close(char c) {
+    s_ += c;
+    return *this;
+  }
+  std::string take() { return std::move(s_); }
+
+ private:
+  std::string s_;
+};
+
+void header(Out& o, long long utime, long long seq, const std::string& session, double t) {
+  o.key("utime").integer(utime).key("seq").integer(seq).key("session_id").str(session).key("t").num(t);
+}
+
+}  // namespace
+
+std::string toJson(const groundsim::state_t& m) {
+  Out o(300 + 700 * m.vehicles.size());
+  o.open('{');
+  header(o, m.utime, m.seq, m.session_id, m.t);
+  o.key("tick").integer(m.tick).key("mode").integer(m.mode).key("status").integer(m.status);
+  o.key("health").integer(m.health).key("status_reason").str(m.status_reason).key("energy").num(m.energy);
+  o.key("vehicles").open('[');
+  for (const groundsim::vehicle_state_t& v : m.vehicles) {
+    const int nw = v.wheel_count < 0 ? 0 : v.wheel_count > 4 ? 4 : v.wheel_count;
+    o.open('{');
+    o.key("name").str(v.name).key("position").nums(v.position, 3).key("orientation").nums(v.orientation, 4);
+    o.key("velocity").nums(v.velocity, 3).key("angular_velocity").nums(v.angular_velocity, 3);
+    o.key("speed").num(v.speed).key("wheel_count").integer(nw);
+    o.key("wheel_spin").nums(v.wheel_spin, nw).key("normal_force").nums(v.normal_force, nw);
+    o.key("friction_force").nums(v.friction_force, nw).key("slip").nums(v.slip, nw);
+    bool contact[4];
+    for (int i = 0; i < 4; ++i) contact[i] = v.in_contact[i];
+    o.key("in_contact").bools(contact, nw);
+    o.close('}');
+  }
+  o.close(']').close('}');
+  return o.take();
+}
+
+std::string toJson(const groundsim::car_state_t& m) {
+  Out o(200 + 600 * m.cars.size());
+  o.open('{');
+  header(o, m.utime, m.seq, m.session_id, m.t);
+  o.key("cars").open('[');
+  for (const groundsim::road_car_state_t& c : m.cars) {
+    o.open('{');
+    o.key("vehicle").integer(c.vehicle).key("name").str(c.name).key("speed").num(c.speed);
+    o.key("yaw_rate").num(c.yaw_rate).key("gear").integer(c.gear).key("engine_rpm").num(c.engine_rpm);
+    o.key("drive_power").num(c.drive_power).key("slip_ratio").nums(c.slip_ratio, 4);
+    o.key("slip_angle").nums(c.slip_angle, 4).key("suspension_travel").nums(c.suspension_travel, 4);
+    o.key("normal_force").nums(c.normal_force, 4).key("throttle").num(c.throttle).key("brake").num(c.brake);
+    o.key("steer").num(c.steer).key("steer_angle").num(c.steer_angle).key("handbrake").boolean(c.handbrake);
+    o.key("gear_request").integer(c.gear_request);
+    o.close('}');
+  }
+  o.close(']').close('}');
+  return o.take();
+}
+
+std::string toJson(const groundsim::contact_state_t& m) {
+  Out o(200 + 300 * (m.objects.size() + m.hits.size()));
+  o.open('{');
+  header(o, m.utime, m.seq, m.session_id, m.t);
+  o.key("objects").open('[');
+  for (const groundsim::object_state_t& b : m.objects) {
+    o.open('{');
+    o.key("name").str(b.name).key("position").nums(b.position, 3).key("orientation").nums(b.orientation, 4);
+    o.key("velocity").nums(b.velocity, 3).key("angular_velocity").nums(b.angular_velocity, 3);
+    o.close('}');
+  }
+  o.close(']').key("hits").open('[');
+  for (const groundsim::hit_t& h : m.hits) {
+    o.open('{');
+    o.key("a").str(h.a).key("b").str(h.b).key("position").nums(h.position, 3).key("force").nums(h.force, 3);
+    o.key("impulse").num(h.impulse).key("peak_force").num(h.peak_force).key("closing_speed").num(h.closing_speed);
+    o.key("depth").num(h.depth).key("begin").num(h.begin).key("hard").boolean(h.hard);
+    o.close('}');
+  }
+  o.close(']').close('}');
+  return o.take();
+}
+
+std::string toJson(const groundsim::event_t& m) {
+  Out o(300 + m.reason.size());
+  o.open('{');
+  o.key("utime").integer(m.utime).key("seq").integer(m.seq).key("session_id").str(m.session_id);
+  o.key("client_id").str(m.client_id).key("request_id").integer(m.request_id);
+  o.key("severity").integer(m.severity).key("code").integer(m.code).key("channel").str(m.channel);
+  o.key("reason").str(m.reason);
+  o.close('}');
+  return o.take();
+}
+
+// The schemas: what each field is, in the units of the LCM types.
+#define GS_VEC(n, what) "{\"type\":\"array\",\"items\":{\"type\":[\"number\",\"null\"]},\"maxItems\":" #n ",\"description\":\"" what "\"}"
+#define GS_HEAD                                                                                              \
+  "\"utime\":{\"type\":\"integer\",\"description\":\"simulation time, microseconds\"},"                       \
+  "\"seq\":{\"type\":\"integer\",\"description\":\"the session's state sequence number\"},"                   \
+  "\"session_id\":{\"type\":\"string\"},\"t\":{\"type\":\"number\",\"description\":\"simulation time, s\"},"
+
+const char* stateSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.state\","
+         "\"description\":\"A session's state (lcmtypes/state_t.lcm)\",\"type\":\"object\",\"properties\":{" GS_HEAD
+         "\"tick\":{\"type\":\"integer\",\"description\":\"steps taken\"},\"mode\":{\"type\":\"integer\"},"
+         "\"status\":{\"type\":\"integer\",\"description\":\"1 running, 2 paused, 3 finished, 4 diverged, 5 stopped\"},"
+         "\"health\":{\"type\":\"integer\"},\"status_reason\":{\"type\":\"string\"},"
+         "\"energy\":{\"type\":\"number\",\"description\":\"J\"},"
+         "\"vehicles\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{"
+         "\"name\":{\"type\":\"string\"},\"position\":" GS_VEC(3, "m, centre of mass") ","
+         "\"orientation\":" GS_VEC(4, "unit quaternion body to world, w x y z") ","
+         "\"velocity\":" GS_VEC(3, "m/s") ",\"angular_velocity\":" GS_VEC(3, "rad/s, world") ","
+         "\"speed\":{\"type\":\"number\",\"description\":\"m/s\"},\"wheel_count\":{\"type\":\"integer\"},"
+         "\"wheel_spin\":" GS_VEC(4, "rad/s") ",\"normal_force\":" GS_VEC(4, "N") ","
+         "\"friction_force\":" GS_VEC(4, "N") ",\"slip\":" GS_VEC(4, "m/s") ","
+         "\"in_contact\":{\"type\":\"array\",\"items\":{\"type\":\"boolean\"}}}}}}}";
+}
+
+const char* carStateSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.car_state\","
+         "\"description\":\"Road cars' drivetrain and tyres (lcmtypes/car_state_t.lcm)\",\"type\":\"object\","
+         "\"properties\":{" GS_HEAD
+         "\"cars\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{"
+         "\"vehicle\":{\"type\":\"integer\"},\"name\":{\"type\":\"string\"},\"speed\":{\"type\":\"number\"},"
+         "\"yaw_rate\":{\"type\":\"number\"},\"gear\":{\"type\":\"integer\"},\"engine_rpm\":{\"type\":\"number\"},"
+         "\"drive_power\":{\"type\":\"number\"},\"slip_ratio\":" GS_VEC(4, "-") ",\"slip_angle\":" GS_VEC(4, "rad") ","
+         "\"suspension_travel\":" GS_VEC(4, "m") ",\"normal_force\":" GS_VEC(4, "N") ","
+         "\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},\"steer\":{\"type\":\"number\"},"
+         "\"steer_angle\":{\"type\":\"number\"},\"handbrake\":{\"type\":\"boolean\"},"
+         "\"gear_request\":{\"type\":\"integer\"}}}}}}";
+}
+
+const char* contactStateSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.contact_state\","
+         "\"description\":\"Objects with mass and hits under way (lcmtypes/contact_state_t.lcm)\",\"type\":\"object\","
+         "\"properties\":{" GS_HEAD
+         "\"objects\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{\"name\":{\"type\":\"string\"},"
+         "\"position\":" GS_VEC(3, "m") ",\"orientation\":" GS_VEC(4, "w x y z") ",\"velocity\":" GS_VEC(3, "m/s") ","
+         "\"angular_velocity\":" GS_VEC(3, "rad/s") "}}},"
+         "\"hits\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{\"a\":{\"type\":\"string\"},"
+         "\"b\":{\"type\":\"string\"},\"position\":" GS_VEC(3, "m") ",\"force\":" GS_VEC(3, "N on a") ","
+         "\"impulse\":{\"type\":\"number\"},\"peak_force\":{\"type\":\"number\"},\"closing_speed\":{\"type\":\"number\"},"
+         "\"depth\":{\"type\":\"number\"},\"begin\":{\"type\":\"number\"},\"hard\":{\"type\":\"boolean\"}}}}}}";
+}
+
+const char* eventSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.event\","
+         "\"description\":\"A server event (lcmtypes/event_t.lcm)\",\"type\":\"object\",\"properties\":{"
+         "\"utime\":{\"type\":\"integer\"},\"seq\":{\"type\":\"integer\",\"description\":\"server-wide\"},"
+         "\"session_id\":{\"type\":\"string\"},\"client_id\":{\"type\":\"string\"},\"request_id\":{\"type\":\"integer\"},"
+         "\"severity\":{\"type\":\"integer\",\"description\":\"0 info, 1 warning, 2 error\"},"
+         "\"code\":{\"type\":\"integer\"},\"channel\":{\"type\":\"string\"},\"reason\":{\"type\":\"string\"}}}";
+}
+
+#undef GS_VEC
+#undef GS_HEAD
+
+}  // namespace groundsim::record

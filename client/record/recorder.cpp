@@ -1,0 +1,347 @@
+#include "record/recorder.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <groundsim/car_state_t.hpp>
+#include <groundsim/contact_state_t.hpp>
+#include <groundsim/event_t.hpp>
+#include <groundsim/scenario_t.hpp>
+#include <groundsim/state_t.hpp>
+
+#include "protocol/channels.hpp"
+#include "protocol/codec.hpp"
+#include "record/message_json.hpp"
+
+namespace groundsim::record {
+namespace {
+
+bool startsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+std::uint64_t ns(std::int64_t utime) { return utime > 0 ? static_cast<std::uint64_t>(utime) * 1000u : 0u; }
+
+std::string seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", s);
+  return b;
+}
+
+}  // namespace
+
+Recorder::Recorder(std::unique_ptr<recording::McapWriter> out, std::string client_id, RecorderOptions o)
+    : out_(std::move(out)), client_id_(std::move(client_id)), o_(o) {
+  state_schema_ = out_->addSchema("groundsim.state", "jsonschema", stateSchema());
+  car_schema_ = out_->addSchema("groundsim.car_state", "jsonschema", carStateSchema());
+  contact_schema_ = out_->addSchema("groundsim.contact_state", "jsonschema", contactStateSchema());
+  event_schema_ = out_->addSchema("groundsim.event", "jsonschema", eventSchema());
+  events_.events_ch = out_->addChannel(event_schema_, "/events", "json", {{"stream", "server-wide events without a session"}});
+  // what the times mean, for any reader
+  out_->metadata("groundsim", {{"log_time", "simulation time of the session (event: its session's, 0 without one)"},
+                               {"sequence", "state_t.seq (events: event_t.seq), modulo 2^32"},
+                               {"recorder", client_id_}});
+}
+
+Recorder::~Recorder() {
+  try {
+    finish();
+  } catch (...) {
+  }
+}
+
+Recorder::Stream& Recorder::stream(const std::string& session) { return sessions_.at(session); }
+
+void Recorder::add(const std::string& session, bool created) {
+  if (auto it = sessions_.find(session); it != sessions_.end()) {
+    if (created) it->second.ledger.oweFrom(0);
+    return;
+  }
+  Stream& s = sessions_[session];
+  s.id = session;
+  s.group = static_cast<int>(sessions_.size());
+  const std::map<std::string, std::string> meta{{"session_id", session}};
+  s.state_ch = out_->addChannel(state_schema_, "/" + session + "/state", "json", meta);
+  s.car_ch = out_->addChannel(car_schema_, "/" + session + "/car_state", "json", meta);
+  s.contact_ch = out_->addChannel(contact_schema_, "/" + session + "/contact", "json", meta);
+  s.events_ch = out_->addChannel(event_schema_, "/" + session + "/events", "json", meta);
+  if (created) s.ledger.owe(0);
+}
+
+std::uint16_t Recorder::rawChannel(const std::string& lcm_channel) {
+  auto it = raw_channels_.find(lcm_channel);
+  if (it != raw_channels_.end()) return it->second;
+  const std::uint16_t id = out_->addChannel(0, "lcm/" + lcm_channel, "lcm", {{"lcm_channel", lcm_channel}});
+  raw_channels_.emplace(lcm_channel, id);
+  return id;
+}
+
+void Recorder::write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
+                     const std::string& lcm_channel, const std::uint8_t* data, int size) {
+  const auto sequence = static_cast<std::uint32_t>(seq);
+  out_->write(channel, sequence, ns(utime), ns(utime), json, s.group);
+  if (o_.raw)
+    out_->write(rawChannel(lcm_channel), sequence, ns(utime), ns(utime),
+                std::string_view(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size)), s.group);
+}
+
+bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired,
+                      Clock::time_point now) {
+  (void)now;
+  if (startsWith(channel, net::kStatePrefix)) {
+    groundsim::state_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.state_t").ok()) return false;
+    auto it = sessions_.find(m.session_id);
+    if (it == sessions_.end()) return true;
+    Stream& s = it->second;
+    if (!s.ledger.arrive(m.seq, repaired)) return true;
+    // the frame's other messages follow the state: owed up to the one before
+    if (s.car.started()) s.car.reach(m.seq - 1);
+    if (s.contact.started()) s.contact.reach(m.seq - 1);
+    if (m.status >= groundsim::state_t::STATUS_FINISHED) s.ended = true;
+    write(s, s.state_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    return true;
+  }
+  if (startsWith(channel, net::kCarStatePrefix)) {
+    groundsim::car_state_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.car_state_t").ok()) return false;
+    auto it = sessions_.find(m.session_id);
+    if (it == sessions_.end()) return true;
+    Stream& s = it->second;
+    // the first heard starts the ledger where the state's did
+    if (!s.car.started() && s.ledger.started()) s.car.owe(std::min(s.ledger.first(), m.seq));
+    if (!s.car.arrive(m.seq, repaired)) return true;
+    write(s, s.car_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    return true;
+  }
+  if (startsWith(channel, net::kContactPrefix)) {
+    groundsim::contact_state_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.contact_state_t").ok()) return false;
+    auto it = sessions_.find(m.session_id);
+    if (it == sessions_.end()) return true;
+    Stream& s = it->second;
+    if (!s.contact.started() && s.ledger.started()) s.contact.owe(std::min(s.ledger.first(), m.seq));
+    if (!s.contact.arrive(m.seq, repaired)) return true;
+    write(s, s.contact_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    return true;
+  }
+  if (channel == net::kEventChannel) {
+    groundsim::event_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok()) return false;
+    if (!events_.ledger.arrive(m.seq, repaired)) return true;
+    auto it = sessions_.find(m.session_id);
+    if (it != sessions_.end()) write(it->second, it->second.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    else if (m.session_id.empty()) write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    return true;
+  }
+  if (channel == net::kScenarioChannel) {
+    groundsim::scenario_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.scenario_t").ok()) return false;
+    auto it = sessions_.find(m.session_id);
+    if (it == sessions_.end() || it->second.scenario_attached) return true;
+    it->second.scenario_attached = true;
+    out_->attach("scenario/" + m.session_id + ".json", "application/json", ns(m.utime), m.scenario_json);
+    return true;
+  }
+  return true;
+}
+
+bool Recorder::onDatagram(const std::string& channel, const std::uint8_t* data, int size, Clock::time_point now) {
+  counts_.live_bytes += size;
+  const bool ok = handle(channel, data, size, false, now);
+  if (!ok) ++counts_.undecodable;
+  return ok;
+}
+
+SeqRanges Recorder::missing(const Stream& s) const {
+  SeqRanges u;
+  for (const Ledger* l : {&s.ledger, &s.car, &s.contact})
+    for (const auto& [a, b] : l->missing().ranges()) u.add(a, b);
+  return u;
+}
+
+void Recorder::lose(Stream& s, std::int64_t first, std::int64_t last) {
+  for (Ledger* l : {&s.ledger, &s.car, &s.contact}) l->lose(first, last);
+  for (auto it = s.asking.lower_bound(first); it != s.asking.end() && it->first <= last;) it = s.asking.erase(it);
+}
+
+void Recorder::onResent(const groundsim::resent_t& m, Clock::time_point now) {
+  Stream* s = nullptr;
+  if (m.stream == groundsim::resend_t::STREAM_EVENTS) s = &events_;
+  else if (auto it = sessions_.find(m.session_id); it != sessions_.end()) s = &it->second;
+  if (!s) return;
+  switch (m.status) {
+    case groundsim::resent_t::STATUS_OK:
+      counts_.resent_bytes += m.size;
+      if (!handle(m.channel, m.data.data(), static_cast<int>(m.data.size()), true, now)) ++counts_.undecodable;
+      break;
+    case groundsim::resent_t::STATUS_GONE:
+      std::fprintf(stderr, "record: %s: seq %lld..%lld no longer held by the server: lost\n",
+                   s->id.empty() ? "events" : s->id.c_str(), static_cast<long long>(m.seq),
+                   static_cast<long long>(m.last_seq));
+      lose(*s, m.seq, m.last_seq);
+      break;
+    case groundsim::resent_t::STATUS_UNKNOWN_SESSION:
+      std::fprintf(stderr, "record: %s: the server holds nothing of it: seq %lld..%lld lost\n", s->id.c_str(),
+                   static_cast<long long>(m.seq), static_cast<long long>(m.last_seq));
+      lose(*s, m.seq, m.last_seq < 0 ? INT64_MAX : m.last_seq);
+      break;
+    case groundsim::resent_t::STATUS_LIMITED:
+      // over our rate: ask again soon, without spending an ask
+      for (auto& [first, gap] : s->asking)
+        if (first <= (m.last_seq < 0 ? INT64_MAX : m.last_seq)) {
+          gap.due = now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o_.limited_retry_s));
+          gap.asks = std::max(0, gap.asks - 1);
+        }
+      break;
+    default:
+      break;
+  }
+}
+
+void Recorder::onHeartbeat(const std::string& session, std::int64_t last_seq, bool final, Clock::time_point) {
+  auto it = sessions_.find(session);
+  if (it == sessions_.end() || last_seq < 0) return;
+  Stream& s = it->second;
+  // listed before anything was heard: what it published so far came before
+  // the recording
+  if (!s.ledger.started()) s.ledger.owe(last_seq + 1);
+  s.ledger.reach(last_seq);
+  if (s.car.started()) s.car.reach(last_seq);
+  if (s.contact.started()) s.contact.reach(last_seq);
+  if (final) s.ended = true;
+}
+
+void Recorder::ask(Stream& s, std::int8_t kind, Clock::time_point now, std::vector<groundsim::resend_t>& out) {
+  const SeqRanges u = missing(s);
+  // forget gaps that were filled or split
+  for (auto it = s.asking.begin(); it != s.asking.end();)
+    it = u.ranges().count(it->first) ? std::next(it) : s.asking.erase(it);
+  const auto after = [](double sec) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sec));
+  };
+  for (const auto& [a, b] : u.ranges()) {
+    auto [it, fresh] = s.asking.try_emplace(a, Gap{now + after(o_.first_ask_s), 0});
+    Gap& g = it->second;
+    if (g.due > now) continue;
+    if (g.asks >= o_.asks) {
+      std::fprintf(stderr, "record: %s: seq %lld..%lld never came after %d asks: lost\n",
+                   s.id.empty() ? "events" : s.id.c_str(), static_cast<long long>(a), static_cast<long long>(b), g.asks);
+      for (Ledger* l : {&s.ledger, &s.car, &s.contact}) l->lose(a, b);
+      s.asking.erase(it);
+      continue;
+    }
+    groundsim::resend_t r{};
+    r.seq = request_seq_++;
+    r.client_id = client_id_;
+    r.stream = kind;
+    r.session_id = s.id;
+    r.from_seq = a;
+    r.to_seq = std::min(b, a + o_.max_ask - 1);
+    out.push_back(r);
+    ++counts_.asked;
+    g.due = now + after(o_.retry_s * static_cast<double>(1 << std::min(g.asks, 10)));
+    ++g.asks;
+  }
+}
+
+std::vector<groundsim::resend_t> Recorder::requests(Clock::time_point now) {
+  std::vector<groundsim::resend_t> out;
+  for (auto& [id, s] : sessions_) ask(s, groundsim::resend_t::STREAM_SESSION, now, out);
+  ask(events_, groundsim::resend_t::STREAM_EVENTS, now, out);
+  return out;
+}
+
+std::vector<groundsim::resend_t> Recorder::tailRequests(Clock::time_point) {
+  std::vector<groundsim::resend_t> out;
+  for (auto& [id, s] : sessions_) {
+    if (!s.ledger.started()) continue;
+    groundsim::resend_t r{};
+    r.seq = request_seq_++;
+    r.client_id = client_id_;
+    r.stream = groundsim::resend_t::STREAM_SESSION;
+    r.session_id = id;
+    r.from_seq = s.ledger.newest() + 1;
+    r.to_seq = -1;
+    out.push_back(r);
+    ++counts_.asked;
+  }
+  return out;
+}
+
+bool Recorder::repairing() const {
+  for (const auto& [id, s] : sessions_)
+    if (missing(s).count() > 0) return true;
+  return events_.ledger.missing().count() > 0;
+}
+
+bool Recorder::ended(const std::string& session) const {
+  auto it = sessions_.find(session);
+  return it != sessions_.end() && it->second.ended;
+}
+
+bool Recorder::allEnded() const {
+  if (sessions_.empty()) return false;
+  for (const auto& [id, s] : sessions_)
+    if (!s.ended) return false;
+  return true;
+}
+
+Recorder::Totals Recorder::totals() const {
+  Totals t = counts_;
+  const auto add = [&t](const Ledger& l) {
+    t.received += l.received().count();
+    t.repaired += l.repaired().count();
+    t.lost += l.lost().count();
+    t.missing += l.missing().count();
+    t.duplicates += l.duplicates();
+  };
+  for (const auto& [id, s] : sessions_) {
+    add(s.ledger);
+    add(s.car);
+    add(s.contact);
+  }
+  add(events_.ledger);
+  return t;
+}
+
+std::vector<std::string> Recorder::report() const {
+  std::vector<std::string> lines;
+  for (const auto& [id, s] : sessions_) {
+    std::string line = id + " states: " + s.ledger.summary();
+    if (s.car.started()) line += "; car states: " + s.car.summary();
+    if (s.contact.started()) line += "; contacts: " + s.contact.summary();
+    lines.push_back(line + (s.ended ? "; ended" : ""));
+  }
+  lines.push_back("events: " + events_.ledger.summary());
+  return lines;
+}
+
+void Recorder::finish() {
+  if (finished_) return;
+  finished_ = true;
+  for (auto& [id, s] : sessions_)
+    for (Ledger* l : {&s.ledger, &s.car, &s.contact}) l->loseMissing();
+  events_.ledger.loseMissing();
+  const auto ledger = [](const Ledger& l, const std::string& prefix, std::map<std::string, std::string>& kv) {
+    kv[prefix + "first"] = std::to_string(l.first());
+    kv[prefix + "newest"] = std::to_string(l.newest());
+    kv[prefix + "received"] = l.received().text(100000);
+    kv[prefix + "repaired"] = l.repaired().text(100000);
+    kv[prefix + "lost"] = l.lost().text(100000);
+    kv[prefix + "received_count"] = std::to_string(l.received().count());
+    kv[prefix + "repaired_count"] = std::to_string(l.repaired().count());
+    kv[prefix + "lost_count"] = std::to_string(l.lost().count());
+  };
+  for (const auto& [id, s] : sessions_) {
+    std::map<std::string, std::string> kv{{"session_id", id}, {"ended", s.ended ? "true" : "false"}};
+    ledger(s.ledger, "state_", kv);
+    if (s.car.started()) ledger(s.car, "car_state_", kv);
+    if (s.contact.started()) ledger(s.contact, "contact_", kv);
+    out_->metadata("ledger/" + id, kv);
+  }
+  std::map<std::string, std::string> kv;
+  ledger(events_.ledger, "event_", kv);
+  out_->metadata("ledger/events", kv);
+  out_->close();
+}
+
+}  // namespace groundsim::record

@@ -1,0 +1,111 @@
+// The core of `groundsim record` (docs/logging.md): what arrives from the
+// bus goes into an MCAP file, one chunk group per session (a reader of one
+// session reads only its chunks); a ledger per session and one for the
+// server's events account for every seq; gaps are asked for again
+// (resend_t) with backoff, and what the server no longer holds, or never
+// answers, is lost with its range named, in the file and on stderr.
+// No LCM here: the command feeds datagrams in and sends what request()
+// returns, so the logic is tested without a network.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <groundsim/resend_t.hpp>
+#include <groundsim/resent_t.hpp>
+
+#include "record/ledger.hpp"
+#include "recording/mcap_writer.hpp"
+
+namespace groundsim::record {
+
+struct RecorderOptions {
+  bool raw = false;               // also keep each message's LCM bytes (channels "lcm/<LCM channel>")
+  double first_ask_s = 0.05;      // a gap is asked for this long after it is seen (reordering settles)
+  double retry_s = 0.25;          // then again after retry_s, 2 retry_s, 4 retry_s ...
+  int asks = 6;                   // ... this many times, then its seqs are lost
+  double limited_retry_s = 0.2;   // the server said "over your rate": ask again after this
+  std::int64_t max_ask = 4096;    // seqs per resend_t
+};
+
+class Recorder {
+ public:
+  using Clock = std::chrono::steady_clock;
+  Recorder(std::unique_ptr<recording::McapWriter> out, std::string client_id, RecorderOptions o = {});
+  ~Recorder();
+
+  // Sessions to record. created: the recording saw it begin (seq 0 is owed).
+  void add(const std::string& session, bool created);
+  bool has(const std::string& session) const { return sessions_.count(session) > 0; }
+
+  // A datagram from the bus (state, car state, contact, event, scenario).
+  // Returns false when it could not be decoded (counted, never written).
+  bool onDatagram(const std::string& channel, const std::uint8_t* data, int size, Clock::time_point now);
+  // The server's answer to a re-request.
+  void onResent(const groundsim::resent_t& m, Clock::time_point now);
+  // The heartbeat lists a session with its newest seq: owed up to there.
+  void onHeartbeat(const std::string& session, std::int64_t last_seq, bool final, Clock::time_point now);
+  // The re-requests due now.
+  std::vector<groundsim::resend_t> requests(Clock::time_point now);
+  // Asks for the tail (everything after the newest arrived) of every session.
+  std::vector<groundsim::resend_t> tailRequests(Clock::time_point now);
+  // Whether a repair is still outstanding.
+  bool repairing() const;
+  // Ends the recording: every missing seq becomes lost; the ledgers go into
+  // the file as metadata; the summary and footer are written.
+  void finish();
+
+  struct Totals {
+    std::int64_t received = 0, repaired = 0, lost = 0, missing = 0, duplicates = 0, undecodable = 0;
+    std::int64_t asked = 0, resent_bytes = 0, live_bytes = 0;
+  };
+  Totals totals() const;
+  // One line per session and one for events: the ledger's summary.
+  std::vector<std::string> report() const;
+  bool ended(const std::string& session) const;
+  bool allEnded() const;
+
+ private:
+  struct Gap {
+    Clock::time_point due;
+    int asks = 0;
+  };
+  struct Stream {
+    std::string id;                      // session id ("" for the events)
+    // a frame's messages: the state, and (once one was heard: the session
+    // has road cars, objects or collisions) the car state and the contact
+    // state of the same seq; the events' stream uses `ledger` alone
+    Ledger ledger, car, contact;
+    std::map<std::int64_t, Gap> asking;  // first seq of a missing range -> when to ask
+    bool ended = false;
+    int group = 0;
+    std::uint16_t state_ch = 0, car_ch = 0, contact_ch = 0, events_ch = 0;  // MCAP channels
+    bool scenario_attached = false;
+  };
+  Stream& stream(const std::string& session);
+  void write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
+             const std::string& lcm_channel, const std::uint8_t* data, int size);
+  bool handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired, Clock::time_point now);
+  SeqRanges missing(const Stream& s) const;
+  void lose(Stream& s, std::int64_t first, std::int64_t last);
+  void ask(Stream& s, std::int8_t stream, Clock::time_point now, std::vector<groundsim::resend_t>& out);
+  std::uint16_t rawChannel(const std::string& lcm_channel);
+
+  std::unique_ptr<recording::McapWriter> out_;
+  std::string client_id_;
+  RecorderOptions o_;
+  std::map<std::string, Stream> sessions_;
+  Stream events_;
+  std::uint16_t state_schema_ = 0, car_schema_ = 0, contact_schema_ = 0, event_schema_ = 0;
+  std::map<std::string, std::uint16_t> raw_channels_;
+  std::int64_t request_seq_ = 0;
+  Totals counts_;
+  bool finished_ = false;
+};
+
+}  // namespace groundsim::record
