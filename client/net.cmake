@@ -10,6 +10,7 @@ target_sources(groundsim PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/net/drive.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/log.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/record.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/record/file_commands.cpp
   ${CMAKE_CURRENT_LIST_DIR}/record/ledger.cpp
   ${CMAKE_CURRENT_LIST_DIR}/record/message_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/record/recorder.cpp

@@ -33,6 +33,7 @@ void registerNetworkCommands(CLI::App& app) {
   registerWatchCommand(app);
   registerLogCommand(app);
   registerRecordCommand(app);
+  registerRecordingFileCommands(app);
   registerDriveCommand(app);
 }
 

@@ -55,6 +55,7 @@ void registerSessionCommands(CLI::App& app);  // create list stop reset pause re
 void registerWatchCommand(CLI::App& app);
 void registerLogCommand(CLI::App& app);
 void registerRecordCommand(CLI::App& app);
+void registerRecordingFileCommands(CLI::App& app);  // inspect, convert (client/record/file_commands.cpp)
 void registerDriveCommand(CLI::App& app);
 
 }  // namespace groundsim::cli
