@@ -11,7 +11,7 @@
 # state seq from 0 to the last.
 #   lossy_record.sh BUILD_DIR SOURCE_DIR
 set -eu
-build=$1; src=$2
+build=$(cd "$1" && pwd); src=$(cd "$2" && pwd)
 if [ "$(id -u)" != 0 ] || ! command -v nft >/dev/null || ! ip netns list >/dev/null 2>&1; then
   echo "SKIP: needs root, ip netns and nftables (apt-get install nftables)" >&2; exit 77
 fi
@@ -61,9 +61,19 @@ echo "repaired $repaired, lost $lost, resent $resent bytes against $live live"
 [ "$lost" = 0 ] || { echo "FAIL: $lost lost"; exit 1; }
 [ "$repaired" -gt 0 ] || { echo "FAIL: nothing was repaired: was there loss? ($dropped frames dropped)"; exit 1; }
 [ $((resent * 10)) -lt "$live" ] || { echo "FAIL: re-requests $resent bytes are not under 10% of $live"; exit 1; }
-# the file, read by another implementation: every seq of the session
-if [ -d "$src/web/node_modules/@mcap/core" ]; then
-  node "$src/tests/recording/mcap_read.mjs" "$dir/rec.mcap" > "$dir/read.json"
+# the file holds every seq of the session: by our reader...
+"$build/client/groundsim" inspect "$dir/rec.mcap" > "$dir/inspect.txt"
+n=$(sed -n "s|^channel */$sid/state *\([0-9]*\) messages.*|\1|p" "$dir/inspect.txt")
+newest=$(grep "^ledger/$sid" "$dir/inspect.txt" | sed -n 's/.*state_received_count \([0-9]*\), state_repaired_count \([0-9]*\), state_lost_count \([0-9]*\).*/\1 \2 \3/p')
+echo "inspect: $n states in the file; ledger received, repaired, lost: $newest"
+grep -q "^end *complete" "$dir/inspect.txt" || { cat "$dir/inspect.txt"; echo "FAIL: the file is not complete"; exit 1; }
+set -- $newest
+[ "$n" = $(($1 + $2)) ] && [ "$3" = 0 ] || { cat "$dir/inspect.txt"; echo "FAIL: the file's states do not match its ledger"; exit 1; }
+# ...and by another implementation, the npm @mcap/core reader
+modules=""
+for m in "$src/web/node_modules" "$build/web/node_modules"; do [ -d "$m/@mcap/core" ] && modules=$m && break; done
+if [ -n "$modules" ] && command -v node > /dev/null; then
+  GROUNDSIM_MCAP_NODE_MODULES=$modules node "$src/tests/recording/mcap_read.mjs" "$dir/rec.mcap" > "$dir/read.json"
   node -e '
     const r = JSON.parse(require("fs").readFileSync(process.argv[1])); const sid = process.argv[2];
     const n = r.topics["/" + sid + "/state"];
@@ -74,6 +84,6 @@ if [ -d "$src/web/node_modules/@mcap/core" ]; then
     if (n !== want || ledger.state_first !== "0" || ledger.state_lost !== "") { console.log("FAIL: the file does not hold every state"); process.exit(1); }
   ' "$dir/read.json" "$sid"
 else
-  echo "note: web/node_modules/@mcap/core missing: the file was not read back"
+  echo "note: no node_modules with @mcap/core (npm install in web/): the file was read by our reader only"
 fi
 echo PASS
