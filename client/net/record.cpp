@@ -20,6 +20,7 @@
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/text.hpp"
+#include "record/message_json.hpp"
 #include "record/recorder.hpp"
 #include "tokens.hpp"
 
@@ -39,6 +40,7 @@ struct RecordOptions {
   double repair_wait = 3.0;
   bool raw = false;
   int zstd_level = 3;
+  int digits = 17;
 };
 
 void publish(lcm::LCM& lcm, const std::string& channel, const groundsim::resend_t& r) {
@@ -241,11 +243,15 @@ void registerRecordCommand(CLI::App& app) {
   cmd->add_flag("--raw", o->raw, "also keep every message's LCM bytes (channels lcm/<channel>)");
   cmd->add_option("--zstd-level", o->zstd_level, "chunk compression (0: none)")->capture_default_str()
       ->check(CLI::Range(0, 19));
+  cmd->add_option("--digits", o->digits,
+                  "significant digits of the JSON numbers (17: exact; 9: half the size, docs/logging.md)")
+      ->capture_default_str()->check(CLI::Range(1, 17));
   addCreateOptions(cmd, o->create, /*positional=*/false);
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     const int ways = !o->sessions.empty() + o->all + !o->match.empty() + !o->create.file.empty();
     if (ways != 1) throw CLI::ValidationError("record", "give SESSION ids, --all, --match REGEX or --create SCENARIO (one of them)");
+    record::setJsonDigits(o->digits);
     guarded([&] { run(*o); });
   });
 }

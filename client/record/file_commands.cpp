@@ -16,6 +16,7 @@
 
 #include "net/common.hpp"
 #include "protocol/text.hpp"
+#include "record/message_json.hpp"
 #include "record/recorder.hpp"
 #include "recording/mcap_reader.hpp"
 
@@ -62,14 +63,14 @@ void inspect(const std::string& path) {
 
 // LCM log -> MCAP: every state, car state, contact and event, through the
 // recorder (no repair: a gap in the log is a loss).
-int lcmToMcap(const std::string& in, const std::string& out, int level) {
+int lcmToMcap(const std::string& in, const std::string& out, int level, bool raw) {
   lcm::LogFile log(in, "r");
   if (!log.good()) fail(kExitRefused, "cannot read the LCM log " + net::quoted(in));
   recording::WriterOptions wo;
   wo.zstd_level = level;
   wo.profile = "groundsim";
   record::RecorderOptions ro;
-  ro.raw = true;
+  ro.raw = raw;
   record::Recorder rec(std::make_unique<recording::McapWriter>(out, wo), "convert", ro);
   long long events = 0, skipped = 0;
   const auto now = record::Recorder::Clock::now();
@@ -134,6 +135,8 @@ void registerRecordingFileCommands(CLI::App& app) {
   struct ConvertOptions {
     std::string in, out;
     int level = 3;
+    int digits = 17;
+    bool raw = true;
   };
   auto o = std::make_shared<ConvertOptions>();
   auto* conv = app.add_subcommand("convert", "an LCM log to MCAP (IN.lcm/.log OUT.mcap) or back (IN.mcap OUT)");
@@ -141,10 +144,14 @@ void registerRecordingFileCommands(CLI::App& app) {
   conv->add_option("OUT", o->out, "output file")->required();
   conv->add_option("--zstd-level", o->level, "MCAP chunk compression (0: none)")->capture_default_str()
       ->check(CLI::Range(0, 19));
+  conv->add_option("--digits", o->digits, "significant digits of the JSON numbers (17: exact)")
+      ->capture_default_str()->check(CLI::Range(1, 17));
+  conv->add_flag("!--no-raw", o->raw, "LCM to MCAP: leave the raw LCM bytes out (the file cannot convert back)");
   conv->callback([o] {
+    record::setJsonDigits(o->digits);
     int rc = 0;
     try {
-      rc = endsWith(o->in, ".mcap") ? mcapToLcm(o->in, o->out) : lcmToMcap(o->in, o->out, o->level);
+      rc = endsWith(o->in, ".mcap") ? mcapToLcm(o->in, o->out) : lcmToMcap(o->in, o->out, o->level, o->raw);
     } catch (const std::exception& e) {
       fail(kExitRefused, e.what());
     }

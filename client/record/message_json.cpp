@@ -6,6 +6,8 @@
 namespace groundsim::record {
 namespace {
 
+int g_digits = 17;
+
 class Out {
  public:
   explicit Out(std::size_t reserve) { s_.reserve(reserve); }
@@ -24,7 +26,7 @@ class Out {
   Out& num(double x) {
     char b[32];
     // the server never publishes NaN or infinity; JSON has no word for them
-    const int n = std::isfinite(x) ? std::snprintf(b, sizeof b, "%.17g", x) : std::snprintf(b, sizeof b, "null");
+    const int n = std::isfinite(x) ? std::snprintf(b, sizeof b, "%.*g", g_digits, x) : std::snprintf(b, sizeof b, "null");
     s_.append(b, n);
     return *this;
   }
@@ -92,6 +94,9 @@ void header(Out& o, long long utime, long long seq, const std::string& session, 
 }
 
 }  // namespace
+
+void setJsonDigits(int digits) { g_digits = digits < 1 ? 1 : digits > 17 ? 17 : digits; }
+int jsonDigits() { return g_digits; }
 
 std::string toJson(const groundsim::state_t& m) {
   Out o(300 + 700 * m.vehicles.size());

@@ -15,6 +15,12 @@
 
 namespace groundsim::record {
 
+// Significant digits of the numbers written (default 17: a double read back
+// is the double sent). Fewer make smaller files: simulated states carry
+// noise in their low digits that no compressor removes (docs/logging.md).
+void setJsonDigits(int digits);
+int jsonDigits();
+
 std::string toJson(const groundsim::state_t& m);
 std::string toJson(const groundsim::car_state_t& m);
 std::string toJson(const groundsim::contact_state_t& m);
