@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <groundsim/asset_part_t.hpp>
+#include <groundsim/resend_t.hpp>
 #include <groundsim/drive_t.hpp>
 #include <groundsim/request_t.hpp>
 
@@ -45,14 +46,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   groundsim::net::LcmServer& s = server();
   const std::uint8_t how = data[0];
   const bool drive = how & groundsim::fuzz::kDriveBit, asset = how & groundsim::fuzz::kAssetBit;
+  // both bits: a recorder's re-request (resend_t)
+  const bool resend = drive && asset;
   std::vector<std::uint8_t> buf;
   buf.reserve(size + 8);
   if (how & groundsim::fuzz::kBodyOnlyBit)
-    appendFingerprint(buf, asset   ? groundsim::asset_part_t::getHash()
+    appendFingerprint(buf, resend  ? groundsim::resend_t::getHash()
+                           : asset ? groundsim::asset_part_t::getHash()
                            : drive ? groundsim::drive_t::getHash()
                                    : groundsim::request_t::getHash());
   buf.insert(buf.end(), data + 1, data + size);
-  s.handleDatagram(asset   ? groundsim::net::kAssetChannel
+  s.handleDatagram(resend  ? groundsim::net::kResendChannel
+                   : asset ? groundsim::net::kAssetChannel
                    : drive ? groundsim::net::kDriveChannel
                            : groundsim::net::kRequestChannel,
                    buf.data(), static_cast<int>(buf.size()));

@@ -10,6 +10,8 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
 #include <groundsim/request_t.hpp>
+#include <groundsim/resend_t.hpp>
+#include <groundsim/resent_t.hpp>
 
 #include "fakes.hpp"
 #include "lcm/lcm_server.hpp"
@@ -123,6 +125,75 @@ TEST_F(Adapter, ExtremeRateIsRefusedOnTheWire) {
   EXPECT_FALSE(ear_.replies[0].ok);
   EXPECT_EQ(ear_.replies[0].error_code, groundsim::event_t::ERR_BAD_REQUEST);
   EXPECT_NE(ear_.replies[0].error.find("rate: 1e-12"), std::string::npos) << ear_.replies[0].error;
+}
+
+}  // namespace
+}  // namespace groundsim::net
+
+namespace groundsim::net {
+namespace {
+
+struct ResentEar {
+  std::vector<groundsim::resent_t> got;
+  void on(const lcm::ReceiveBuffer* b, const std::string&) {
+    groundsim::resent_t m;
+    if (decodeMessage(b->data, static_cast<int>(b->data_size), m, "resent_t").ok()) got.push_back(m);
+  }
+};
+
+// A recorder's re-requests: bad ones refused with an event naming the
+// field; an unknown session answered on the recorder's own channel; events
+// the server published resent as they were.
+TEST_F(Adapter, ResendRequestsAreValidatedAndAnsweredOnTheRecordersChannel) {
+  ResentEar resent;
+  server_.lcm().subscribe(std::string(kResentPrefix) + "rec", &ResentEar::on, &resent);
+  const auto sendResend = [&](const groundsim::resend_t& r) {
+    std::vector<std::uint8_t> buf(r.getEncodedSize());
+    r.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    send(kResendChannel, buf.data(), static_cast<int>(buf.size()));
+  };
+  groundsim::resend_t r{};
+  r.client_id = "rec";
+  r.stream = groundsim::resend_t::STREAM_SESSION;
+  r.session_id = "NOPE";
+  r.from_seq = -5;
+  r.to_seq = 10;
+  sendResend(r);
+  ASSERT_FALSE(ear_.events.empty());
+  EXPECT_NE(ear_.events.back().reason.find("from_seq"), std::string::npos) << ear_.events.back().reason;
+  EXPECT_EQ(ear_.events.back().channel, kResendChannel);
+  r.from_seq = 0;
+  r.stream = 9;
+  sendResend(r);
+  EXPECT_NE(ear_.events.back().reason.find("stream"), std::string::npos) << ear_.events.back().reason;
+  r.stream = groundsim::resend_t::STREAM_SESSION;
+  r.client_id = "";
+  sendResend(r);
+  EXPECT_NE(ear_.events.back().reason.find("client_id"), std::string::npos) << ear_.events.back().reason;
+  EXPECT_TRUE(resent.got.empty());
+  // well formed, unknown session: answered, not an error
+  r.client_id = "rec";
+  sendResend(r);
+  ASSERT_EQ(resent.got.size(), 1u);
+  EXPECT_EQ(resent.got[0].status, +groundsim::resent_t::STATUS_UNKNOWN_SESSION);
+  EXPECT_EQ(resent.got[0].session_id, "NOPE");
+  // the refusals above were events 0..2: they come back byte for byte
+  const std::size_t events_before = ear_.events.size();
+  r.stream = groundsim::resend_t::STREAM_EVENTS;
+  r.session_id = "";
+  r.from_seq = 0;
+  r.to_seq = -1;
+  sendResend(r);
+  ASSERT_GE(resent.got.size(), 4u);
+  for (std::size_t i = 1; i < 4; ++i) {
+    EXPECT_EQ(resent.got[i].status, +groundsim::resent_t::STATUS_OK);
+    EXPECT_EQ(resent.got[i].channel, kEventChannel);
+    groundsim::event_t e;
+    ASSERT_TRUE(decodeMessage(resent.got[i].data.data(), resent.got[i].size, e, "event_t").ok());
+    EXPECT_EQ(e.seq, ear_.events[i - 1].seq);
+    EXPECT_EQ(e.reason, ear_.events[i - 1].reason);
+  }
+  EXPECT_EQ(ear_.events.size(), events_before);  // a good request raises no event
 }
 
 }  // namespace
