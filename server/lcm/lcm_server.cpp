@@ -172,6 +172,7 @@ void LcmServer::publishEvent(const session::Event& e) try {
     return;
   }
   ++errors_;
+  if (e.code == session::ErrorCode::Overrun) ++overruns_;
   if (verbose_)
     std::fprintf(stderr, "groundsim-server: %s %d%s%s%s%s: %s\n",
                  e.severity == session::Severity::Warning ? "warning" : "error", static_cast<int>(e.code),
@@ -392,6 +393,31 @@ void LcmServer::heartbeat() {
   for (const auto& s : st.ended) m.sessions.push_back(toMessage(s, false));
   m.nsessions = static_cast<int32_t>(m.sessions.size());
   publish(kStatusChannel, m);
+  Counters c;
+  c.beat = true;
+  c.workers = st.workers;
+  c.max_sessions = st.max_sessions;
+  c.load = st.load;
+  for (const auto& s : st.sessions) {
+    const int mode = static_cast<int>(s.mode) - 1;
+    if (mode >= 0 && mode < 4) ++c.sessions_by_mode[mode];
+  }
+  std::lock_guard<std::mutex> lk(beat_mutex_);
+  beat_ = c;
+}
+
+LcmServer::Counters LcmServer::counters() const {
+  Counters c;
+  {
+    std::lock_guard<std::mutex> lk(beat_mutex_);
+    c = beat_;
+  }
+  c.states_published = frames_.load();
+  c.requests_handled = inputs_.load();
+  c.errors = errors_.load();
+  c.heartbeats = status_seq_.load();
+  c.overrun_events = overruns_.load();
+  return c;
 }
 
 void LcmServer::run(const std::atomic<bool>& stop) {

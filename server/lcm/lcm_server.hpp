@@ -49,6 +49,19 @@ class LcmServer final : public session::Output {
   ResendRing::Stats resendStats();
   const session::ServiceConfig& config() const { return service_->config(); }
 
+  // For GET /metrics and /health (metrics.hpp), from any thread: the
+  // counters since start and the last heartbeat's figures (the service's
+  // load is taken by the heartbeat, so it is not asked again here).
+  struct Counters {
+    std::int64_t states_published = 0, requests_handled = 0, errors = 0, heartbeats = 0;
+    std::int64_t overrun_events = 0;      // real time overrun warnings (at most one per session per 5 s)
+    bool beat = false;                    // a heartbeat was sent: the figures below are its
+    int workers = 0, max_sessions = 0;
+    double load = 0.0;                    // busy fraction of the worker pool over the last second
+    int sessions_by_mode[4] = {0, 0, 0, 0};  // hosted sessions, by session::Mode - 1
+  };
+  Counters counters() const;
+
  private:
   void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
@@ -76,7 +89,9 @@ class LcmServer final : public session::Output {
   std::string server_id_;
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
       want_seq_{0};
-  std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0};
+  std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0}, overruns_{0};
+  mutable std::mutex beat_mutex_;
+  Counters beat_;  // under beat_mutex_: the last heartbeat's figures
   std::unique_ptr<session::SessionService> service_;  // after lcm_: it publishes through it
 };
 

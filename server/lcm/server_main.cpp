@@ -9,6 +9,7 @@
 #include "protocol/limits.hpp"
 #include "protocol/text.hpp"
 #include "lcm_server.hpp"
+#include "metrics.hpp"
 
 namespace {
 
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
   double slice_ms = cfg.slice * 1e3;
   bool quiet = false;
   groundsim::net::ResendLimits resend;
+  int metrics_port = 0;
+  std::string metrics_bind = "127.0.0.1";
 
   CLI::App app{"groundsim-server: simulation sessions over LCM"};
   app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
@@ -84,6 +87,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(std::size_t{1024}, std::size_t{1} << 32));
   app.add_option("--resend-rate", resend.messages_per_s, "messages per second resent to one recorder")
       ->capture_default_str()->check(CLI::Range(1.0, 1e7));
+  // GET /metrics (Prometheus) and /health on a listener of their own (metrics.hpp, docs/metrics.md)
+  app.add_option("--metrics-port", metrics_port, "TCP port of GET /metrics and /health (0: off)")
+      ->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--metrics-bind", metrics_bind, "address the metrics port listens on (127.0.0.1: this machine only)")
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -105,6 +113,12 @@ int main(int argc, char** argv) {
   try {
     groundsim::net::LcmServer server(url, cfg, !quiet);
     server.setResendLimits(resend);
+    // before the ready line, so that whoever waits for it can scrape; stopped after run(),
+    // so that /health answers 503 while the sessions stop
+    std::unique_ptr<groundsim::net::MetricsListener> metrics;
+    if (metrics_port > 0)
+      metrics = std::make_unique<groundsim::net::MetricsListener>(
+          metrics_bind, static_cast<unsigned short>(metrics_port), groundsim::net::serverMetricsHandler(server, g_stop));
     std::printf("groundsim-server ready on %s with %d workers, up to %d sessions\n", server.url().c_str(),
                 server.workers(), cfg.max_sessions);
     const auto& lim = server.config().budget;
@@ -117,8 +131,11 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(cfg.assets.max_asset_bytes),
                 static_cast<unsigned long long>(cfg.assets.max_session_bytes),
                 static_cast<unsigned long long>(cfg.assets.cache_bytes));
+    if (metrics)
+      std::printf("metrics on http://%s:%u/metrics and /health\n", metrics_bind.c_str(), metrics->port());
     std::fflush(stdout);
     server.run(g_stop);
+    metrics.reset();
     std::printf("groundsim-server stopped\n");
     return 0;
   } catch (const std::exception& e) {

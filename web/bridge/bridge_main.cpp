@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   cfg.configs_dir = GROUNDSIM_CONFIG_DIR;
   bool quiet = false;
   app.add_option("--bind", bind, "address to listen on (127.0.0.1: this machine only)")->capture_default_str();
-  app.add_option("--port", port, "TCP port (0: any free one, printed)")->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--port", port, "TCP port of the page, the WebSocket, GET /metrics and /health (0: any free one, printed)")->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--lcm-url", lcm_url, "LCM URL of the server's bus")->capture_default_str();
   app.add_option("--static", static_dir, "folder of the bundled page (index.html, bundle.js)")->capture_default_str();
   app.add_option("--configs", cfg.configs_dir, "scenarios a browser may create sessions from (*.json, subfolders too)")

@@ -114,6 +114,7 @@ LcmHandlers Hub::lcmHandlers() {
     });
   };
   h.bad = [this](const std::string& channel, const std::string& reason) {
+    ++undecodable_;
     if (cfg_.log) std::fprintf(stderr, "groundsim-web: undecodable message on %s: %s\n", channel.c_str(), reason.c_str());
   };
   return h;
@@ -139,6 +140,11 @@ void Hub::detach(Peer* p) {
 }
 
 void Hub::sendJson(Peer* p, const std::string& text) { p->send(shared(text)); }
+
+std::size_t Hub::sessionsWatched() const {
+  return static_cast<std::size_t>(
+      std::count_if(sessions_.begin(), sessions_.end(), [](const auto& s) { return !s.second.watchers.empty(); }));
+}
 
 void Hub::refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason) {
   ++refused_;

@@ -5,6 +5,7 @@
 // scene views and ground grids are computed on the worker thread.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -76,8 +77,13 @@ class Hub {
   bool watched(const std::string& id);
   void postToWatchers(const std::string& id, Slot slot, std::shared_ptr<const std::string> json);
 
-  // Counters, for logs and tests.
+  // Counters, for logs, tests and GET /metrics (web_server.cpp).
   std::int64_t refused() const { return refused_; }
+  // I/O thread: browsers attached, sessions at least one of them watches.
+  std::size_t browsers() const { return peers_.size(); }
+  std::size_t sessionsWatched() const;
+  // Any thread: messages from the bus dropped as undecodable (contact feed's too).
+  std::uint64_t undecodable() const { return undecodable_.load(); }
 
  private:
   struct PeerState {
@@ -168,6 +174,7 @@ class Hub {
   std::chrono::steady_clock::time_point status_time_{};
   bool have_status_ = false;
   std::int64_t refused_ = 0;
+  std::atomic<std::uint64_t> undecodable_{0};  // LCM thread
   boost::asio::steady_timer ticker_;
 
   // shared with the LCM thread

@@ -13,6 +13,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "lcm/latency_trace.hpp"
+#include "protocol/metrics_text.hpp"
 
 namespace groundsim::web {
 
@@ -53,7 +54,8 @@ const char* contentType(const std::string& name) {
 
 class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket socket, Hub& hub) : ws_(std::move(socket)), hub_(hub) {
+  WsSession(tcp::socket socket, Hub& hub, std::shared_ptr<WebTraffic> traffic)
+      : ws_(std::move(socket)), hub_(hub), traffic_(std::move(traffic)) {
     beast::error_code ec;
     const auto ep = ws_.next_layer().socket().remote_endpoint(ec);
     name_ = ec ? "?" : ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -86,7 +88,10 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   void sendLatest(Slot slot, std::shared_ptr<const std::string> msg) override {
     if (!open_) return;
     auto& s = latest_[static_cast<int>(slot)];
-    if (s && slot == Slot::State) ++states_skipped_;
+    if (s && slot == Slot::State) {
+      ++states_skipped_;
+      ++traffic_->states_skipped;
+    }
     s = std::move(msg);
     write();
   }
@@ -125,15 +130,19 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     } else {
       auto it = std::find_if(std::begin(latest_), std::end(latest_), [](const auto& m) { return m != nullptr; });
       if (it == std::end(latest_)) return;
-      if (it == std::begin(latest_) + static_cast<int>(Slot::State)) ++states_sent_;
+      if (it == std::begin(latest_) + static_cast<int>(Slot::State)) {
+        ++states_sent_;
+        ++traffic_->states_forwarded;
+      }
       current_ = std::move(*it);
     }
     writing_ = true;
     if (net::LatencyTrace::on()) traceSend(*current_);
     ws_.text(true);
-    ws_.async_write(asio::buffer(*current_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    ws_.async_write(asio::buffer(*current_), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
       self->writing_ = false;
       self->current_.reset();
+      self->traffic_->bytes_sent += n;
       if (ec) return self->close();
       self->write();
     });
@@ -164,6 +173,7 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
 
   websocket::stream<beast::tcp_stream> ws_;
   Hub& hub_;
+  std::shared_ptr<WebTraffic> traffic_;
   std::string name_;
   beast::flat_buffer buffer_;
   std::deque<std::shared_ptr<const std::string>> queue_;
@@ -175,8 +185,9 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files)
-      : stream_(std::move(socket)), hub_(hub), files_(std::move(files)) {}
+  HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files,
+              std::shared_ptr<WebTraffic> traffic)
+      : stream_(std::move(socket)), hub_(hub), files_(std::move(files)), traffic_(std::move(traffic)) {}
 
   void read() {
     parser_.emplace();
@@ -196,7 +207,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::string path = target.substr(0, q);
     if (path == "/ws" && websocket::is_upgrade(req)) {
       stream_.expires_never();
-      std::make_shared<WsSession>(stream_.release_socket(), hub_)->start(std::move(req));
+      std::make_shared<WsSession>(stream_.release_socket(), hub_, traffic_)->start(std::move(req));
       return;
     }
     auto res = std::make_shared<http::response<http::string_body>>();
@@ -207,7 +218,15 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (req.method() != http::verb::get && req.method() != http::verb::head) {
       res->result(http::status::method_not_allowed);
       res->set(http::field::content_type, "text/plain");
+      res->set(http::field::allow, "GET, HEAD");
       res->body() = "only GET\n";
+    } else if (path == "/metrics" || path == "/health") {
+      // from counters on this thread: nothing to wait for
+      const bool metrics = path == "/metrics";
+      res->result(http::status::ok);
+      res->set(http::field::content_type, metrics ? net::kMetricsContentType : "application/json");
+      res->set(http::field::cache_control, "no-store");
+      if (req.method() == http::verb::get) res->body() = metrics ? bridgeMetrics(hub_, *traffic_) : bridgeHealth(hub_) + "\n";
     } else if (it == files_->end()) {
       res->result(http::status::not_found);
       res->set(http::field::content_type, "text/plain");
@@ -219,7 +238,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       if (req.method() == http::verb::get) res->body() = it->second.body;
     }
     res->prepare_payload();
-    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
+    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t n) {
+      self->traffic_->bytes_sent += n;
       if (ec || !res->keep_alive()) {
         beast::error_code e;
         self->stream_.socket().shutdown(tcp::socket::shutdown_send, e);
@@ -233,10 +253,38 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   beast::flat_buffer buffer_;
   Hub& hub_;
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
+  std::shared_ptr<WebTraffic> traffic_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
 
 }  // namespace
+
+std::string bridgeMetrics(const Hub& hub, const WebTraffic& traffic) {
+  net::MetricsText m;
+  net::writeBuildInfo(m, "groundsim-web");
+  m.single("groundsim_web_browsers", "gauge", "Browsers connected over WebSocket.",
+           static_cast<std::uint64_t>(hub.browsers()));
+  m.single("groundsim_web_sessions_watched", "gauge", "Sessions at least one browser watches or drives.",
+           static_cast<std::uint64_t>(hub.sessionsWatched()));
+  m.single("groundsim_web_states_forwarded_total", "counter", "State messages written to browsers.",
+           traffic.states_forwarded);
+  m.single("groundsim_web_states_skipped_total", "counter",
+           "States a slow browser never got: replaced in its newest-only slot by a newer one before being written.",
+           traffic.states_skipped);
+  m.single("groundsim_web_lcm_messages_dropped_total", "counter",
+           "Messages from the server's bus dropped as undecodable.", hub.undecodable());
+  m.single("groundsim_web_browser_messages_refused_total", "counter",
+           "Browser messages refused (malformed, not allowed, or failed), each answered with an error.",
+           hub.refused());
+  m.single("groundsim_web_sent_bytes_total", "counter",
+           "Bytes written to browsers: WebSocket message payloads and whole HTTP responses.", traffic.bytes_sent);
+  return m.take();
+}
+
+std::string bridgeHealth(const Hub& hub) {
+  return "{\"status\":\"ok\",\"browsers\":" + std::to_string(hub.browsers()) +
+         ",\"sessions_watched\":" + std::to_string(hub.sessionsWatched()) + "}";
+}
 
 std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir) {
   std::map<std::string, StaticFile> files;
@@ -254,7 +302,11 @@ std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir) {
 }
 
 WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files)
-    : io_(io), hub_(hub), files_(std::make_shared<const std::map<std::string, StaticFile>>(std::move(files))), acceptor_(io) {}
+    : io_(io),
+      hub_(hub),
+      files_(std::make_shared<const std::map<std::string, StaticFile>>(std::move(files))),
+      traffic_(std::make_shared<WebTraffic>()),
+      acceptor_(io) {}
 
 void WebServer::listen(const std::string& address, unsigned short port) {
   const tcp::endpoint ep(asio::ip::make_address(address), port);
@@ -271,7 +323,7 @@ void WebServer::accept() {
     if (!ec) {
       socket.set_option(tcp::no_delay(true), ec);
       socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
-      std::make_shared<HttpSession>(std::move(socket), hub_, files_)->read();
+      std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_)->read();
     }
     if (acceptor_.is_open()) accept();
   });

@@ -1,7 +1,9 @@
 // HTTP and WebSocket on Boost.Beast: GET serves the bundled page (files read
 // into memory at start, so no path from a browser ever reaches the file
-// system), GET /ws upgrades to the WebSocket the page talks on. One I/O
-// thread runs every socket; nothing here blocks it.
+// system), GET /ws upgrades to the WebSocket the page talks on, GET /metrics
+// (Prometheus text format, docs/metrics.md) and GET /health answer from the
+// hub's and the sockets' counters. One I/O thread runs every socket; nothing
+// here blocks it.
 #pragma once
 
 #include <map>
@@ -19,6 +21,16 @@ struct StaticFile {
   std::string content_type;
   std::string body;
 };
+// What browsers were sent since start, counted by their sockets (I/O thread only).
+struct WebTraffic {
+  std::uint64_t states_forwarded = 0;  // state messages written to a browser's socket
+  std::uint64_t states_skipped = 0;    // replaced in a browser's newest-only slot before being written
+  std::uint64_t bytes_sent = 0;        // WebSocket message payloads and whole HTTP responses
+};
+// The bridge's GET /metrics text and GET /health JSON (I/O thread).
+std::string bridgeMetrics(const Hub& hub, const WebTraffic& traffic);
+std::string bridgeHealth(const Hub& hub);
+
 // Reads every file of `dir` (not recursively): URL path "/" + name, and "/"
 // for index.html.
 std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir);
@@ -36,6 +48,7 @@ class WebServer {
   boost::asio::io_context& io_;
   Hub& hub_;
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
+  std::shared_ptr<WebTraffic> traffic_;
   boost::asio::ip::tcp::acceptor acceptor_;
   unsigned short port_ = 0;
 };
