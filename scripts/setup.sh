@@ -26,6 +26,7 @@ rest=(
   libbenchmark-dev                               # benchmarks
   gnuplot-nox                                    # speed plots, accuracy plots
   iproute2 util-linux                            # ip + unshare: tests in private network namespaces
+  prometheus                                     # promtool: scrapes checked by integration.MetricsServerAndBridge
   nftables                                       # frame loss between namespaced "hosts" (record.LossyLinkEndsComplete)
   clang-14 libclang-rt-14-dev llvm-14            # libFuzzer targets (scripts/fuzz.sh), llvm-symbolizer
   python3-dev pybind11-dev python3-pybind11      # the Python package groundsim (its C++ module groundsim._core)
