@@ -7,6 +7,7 @@
 // and on stderr, and the exit code says so (3). Chunks are closed every
 // second, so after a kill -9 all but the last second is readable.
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <regex>
 #include <set>
@@ -41,7 +42,19 @@ struct RecordOptions {
   bool raw = false;
   int zstd_level = 3;
   int digits = 17;
+  double split_mb = 0.0;  // a new part once the current one holds this much (0: one file)
+  double split_s = 0.0;   // a new part after this many wall seconds (0: never)
+  double budget_mb = 0.0; // the parts together at most this much: the oldest are deleted (0: no budget)
 };
+
+// The file of part k: --out itself without splitting, else <stem>_<k>.mcap
+// (rosbag2's naming).
+std::string partPath(const RecordOptions& o, int k) {
+  if (o.split_mb <= 0 && o.split_s <= 0) return o.out;
+  std::string stem = o.out;
+  if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".mcap") == 0) stem.resize(stem.size() - 5);
+  return stem + "_" + std::to_string(k) + ".mcap";
+}
 
 void publish(lcm::LCM& lcm, const std::string& channel, const groundsim::resend_t& r) {
   std::vector<std::uint8_t> buf(r.getEncodedSize());
@@ -69,7 +82,7 @@ void run(const RecordOptions& o) {
   wo.profile = "groundsim";
   std::unique_ptr<recording::McapWriter> writer;
   try {
-    writer = std::make_unique<recording::McapWriter>(o.out, wo);
+    writer = std::make_unique<recording::McapWriter>(partPath(o, 0), wo);
   } catch (const std::exception& e) {
     fail(kExitRefused, e.what());
   }
@@ -178,7 +191,41 @@ void run(const RecordOptions& o) {
   const auto sendDue = [&] {
     for (const auto& r : rec.requests(SteadyClock::now())) publish(client.lcm(), net::kResendChannel, r);
   };
+  // rotation and the disk budget
+  std::vector<std::pair<std::string, std::uint64_t>> parts;  // closed parts, oldest first
+  auto part_started = SteadyClock::now();
+  const auto rotateIfDue = [&] {
+    const bool by_size = o.split_mb > 0 && static_cast<double>(rec.bytesWritten()) >= o.split_mb * 1e6;
+    const bool by_time = o.split_s > 0 && SteadyClock::now() - part_started > std::chrono::duration<double>(o.split_s);
+    if (!by_size && !by_time) return;
+    const std::string done = partPath(o, rec.part());
+    const std::string next = partPath(o, rec.part() + 1);
+    std::unique_ptr<recording::McapWriter> w;
+    try {
+      w = std::make_unique<recording::McapWriter>(next, wo);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "record: cannot start the next part: %s (going on in %s)\n", e.what(), done.c_str());
+      return;
+    }
+    rec.rotate(std::move(w));
+    parts.emplace_back(done, 0);
+    std::error_code ec;
+    parts.back().second = std::filesystem::file_size(done, ec);
+    part_started = SteadyClock::now();
+    std::fprintf(stderr, "record: part %s closed, %s started\n", net::printable(done).c_str(), net::printable(next).c_str());
+    if (o.budget_mb <= 0) return;
+    std::uint64_t total = rec.bytesWritten();
+    for (const auto& [p, n] : parts) total += n;
+    while (!parts.empty() && static_cast<double>(total) > o.budget_mb * 1e6) {
+      std::fprintf(stderr, "record: %s deleted: the parts hold %.1f MB, over the %.1f MB budget\n",
+                   net::printable(parts.front().first).c_str(), 1e-6 * static_cast<double>(total), o.budget_mb);
+      std::filesystem::remove(parts.front().first, ec);
+      total -= parts.front().second;
+      parts.erase(parts.begin());
+    }
+  };
   while (!stopRequested() && !server_lost) {
+    rotateIfDue();
     if (o.duration > 0 && SteadyClock::now() - start > std::chrono::duration<double>(o.duration)) break;
     if (!everything && rec.allEnded() && !rec.repairing()) break;
     if (create && !o.all && !match && rec.allEnded() && !rec.repairing()) break;
@@ -222,7 +269,7 @@ void run(const RecordOptions& o) {
                static_cast<long long>(t.received), static_cast<long long>(t.repaired), static_cast<long long>(t.lost),
                static_cast<long long>(t.asked), static_cast<long long>(t.resent_bytes),
                static_cast<long long>(t.live_bytes), static_cast<long long>(t.undecodable),
-               net::printable(o.out).c_str());
+               net::printable(partPath(o, rec.part())).c_str());
   if (server_lost) fail(kExitNoServer, *server_lost);
   if (t.lost > 0) fail(kExitLoss, std::to_string(t.lost) + " messages lost (listed above and in the file's ledger)");
 }
@@ -243,6 +290,11 @@ void registerRecordCommand(CLI::App& app) {
   cmd->add_flag("--raw", o->raw, "also keep every message's LCM bytes (channels lcm/<channel>)");
   cmd->add_option("--zstd-level", o->zstd_level, "chunk compression (0: none)")->capture_default_str()
       ->check(CLI::Range(0, 19));
+  cmd->add_option("--split-mb", o->split_mb, "start a new part (<out>_<k>.mcap) once a part holds this many MB")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--split-s", o->split_s, "start a new part after this many wall seconds")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--budget-mb", o->budget_mb, "delete the oldest parts while all of them hold more than this")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--digits", o->digits,
                   "significant digits of the JSON numbers (17: exact; 9: half the size, docs/logging.md)")
       ->capture_default_str()->check(CLI::Range(1, 17));

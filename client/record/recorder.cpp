@@ -30,16 +30,47 @@ std::string seconds(double s) {
 
 Recorder::Recorder(std::unique_ptr<recording::McapWriter> out, std::string client_id, RecorderOptions o)
     : out_(std::move(out)), client_id_(std::move(client_id)), o_(o) {
+  prepare();
+}
+
+// The schemas, the events' channel, every session's channels and scenario
+// and the file's own metadata, in the current file (the first, or a new
+// part after rotate()).
+void Recorder::prepare() {
   state_schema_ = out_->addSchema("groundsim.state", "jsonschema", stateSchema());
   car_schema_ = out_->addSchema("groundsim.car_state", "jsonschema", carStateSchema());
   contact_schema_ = out_->addSchema("groundsim.contact_state", "jsonschema", contactStateSchema());
   event_schema_ = out_->addSchema("groundsim.event", "jsonschema", eventSchema());
   events_.events_ch = out_->addChannel(event_schema_, "/events", "json", {{"stream", "server-wide events without a session"}});
+  raw_channels_.clear();
   // what the times mean, for any reader
   out_->metadata("groundsim", {{"log_time", "simulation time of the session (event: its session's, 0 without one)"},
                                {"sequence", "state_t.seq (events: event_t.seq), modulo 2^32"},
-                               {"recorder", client_id_}});
+                               {"recorder", client_id_},
+                               {"part", std::to_string(part_)}});
+  for (auto& [id, s] : sessions_) {
+    channels(s);
+    if (!s.scenario.empty()) out_->attach("scenario/" + id + ".json", "application/json", 0, s.scenario);
+  }
 }
+
+void Recorder::channels(Stream& s) {
+  const std::map<std::string, std::string> meta{{"session_id", s.id}};
+  s.state_ch = out_->addChannel(state_schema_, "/" + s.id + "/state", "json", meta);
+  s.car_ch = out_->addChannel(car_schema_, "/" + s.id + "/car_state", "json", meta);
+  s.contact_ch = out_->addChannel(contact_schema_, "/" + s.id + "/contact", "json", meta);
+  s.events_ch = out_->addChannel(event_schema_, "/" + s.id + "/events", "json", meta);
+}
+
+void Recorder::rotate(std::unique_ptr<recording::McapWriter> next) {
+  writeLedgers();
+  out_->close();
+  out_ = std::move(next);
+  ++part_;
+  prepare();
+}
+
+std::uint64_t Recorder::bytesWritten() const { return out_->bytesWritten(); }
 
 Recorder::~Recorder() {
   try {
@@ -58,11 +89,7 @@ void Recorder::add(const std::string& session, bool created) {
   Stream& s = sessions_[session];
   s.id = session;
   s.group = static_cast<int>(sessions_.size());
-  const std::map<std::string, std::string> meta{{"session_id", session}};
-  s.state_ch = out_->addChannel(state_schema_, "/" + session + "/state", "json", meta);
-  s.car_ch = out_->addChannel(car_schema_, "/" + session + "/car_state", "json", meta);
-  s.contact_ch = out_->addChannel(contact_schema_, "/" + session + "/contact", "json", meta);
-  s.events_ch = out_->addChannel(event_schema_, "/" + session + "/events", "json", meta);
+  channels(s);
   if (created) s.ledger.owe(0);
 }
 
@@ -136,8 +163,9 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     groundsim::scenario_t m;
     if (!net::decodeMessage(data, size, m, "groundsim.scenario_t").ok()) return false;
     auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end() || it->second.scenario_attached) return true;
-    it->second.scenario_attached = true;
+    if (it == sessions_.end() || !it->second.scenario.empty()) return true;
+    // kept (a few kB) so that every part of a rotated recording holds it
+    it->second.scenario = m.scenario_json;
     out_->attach("scenario/" + m.session_id + ".json", "application/json", ns(m.utime), m.scenario_json);
     return true;
   }
@@ -321,6 +349,14 @@ void Recorder::finish() {
   for (auto& [id, s] : sessions_)
     for (Ledger* l : {&s.ledger, &s.car, &s.contact}) l->loseMissing();
   events_.ledger.loseMissing();
+  writeLedgers();
+  out_->close();
+}
+
+// Each stream's ledger so far into the current file (a part of a rotated
+// recording holds the ledgers as they stood when it was closed: missing
+// seqs may still be repaired, into a later part).
+void Recorder::writeLedgers() {
   const auto ledger = [](const Ledger& l, const std::string& prefix, std::map<std::string, std::string>& kv) {
     kv[prefix + "first"] = std::to_string(l.first());
     kv[prefix + "newest"] = std::to_string(l.newest());
@@ -330,6 +366,7 @@ void Recorder::finish() {
     kv[prefix + "received_count"] = std::to_string(l.received().count());
     kv[prefix + "repaired_count"] = std::to_string(l.repaired().count());
     kv[prefix + "lost_count"] = std::to_string(l.lost().count());
+    kv[prefix + "missing"] = l.missing().text(100000);
   };
   for (const auto& [id, s] : sessions_) {
     std::map<std::string, std::string> kv{{"session_id", id}, {"ended", s.ended ? "true" : "false"}};
@@ -341,7 +378,6 @@ void Recorder::finish() {
   std::map<std::string, std::string> kv;
   ledger(events_.ledger, "event_", kv);
   out_->metadata("ledger/events", kv);
-  out_->close();
 }
 
 }  // namespace groundsim::record

@@ -59,6 +59,12 @@ class Recorder {
   // Ends the recording: every missing seq becomes lost; the ledgers go into
   // the file as metadata; the summary and footer are written.
   void finish();
+  // Closes the current file (with the ledgers as they stand) and goes on in
+  // `next`: the schemas, every session's channels and scenario again, so
+  // each part reads on its own. Ledgers and repairs carry over.
+  void rotate(std::unique_ptr<recording::McapWriter> next);
+  std::uint64_t bytesWritten() const;
+  int part() const { return part_; }
 
   struct Totals {
     std::int64_t received = 0, repaired = 0, lost = 0, missing = 0, duplicates = 0, undecodable = 0;
@@ -85,12 +91,15 @@ class Recorder {
     bool ended = false;
     int group = 0;
     std::uint16_t state_ch = 0, car_ch = 0, contact_ch = 0, events_ch = 0;  // MCAP channels
-    bool scenario_attached = false;
+    std::string scenario;  // the scenario's JSON, once heard
   };
   Stream& stream(const std::string& session);
   void write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
              const std::string& lcm_channel, const std::uint8_t* data, int size);
   bool handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired, Clock::time_point now);
+  void prepare();
+  void channels(Stream& s);
+  void writeLedgers();
   SeqRanges missing(const Stream& s) const;
   void lose(Stream& s, std::int64_t first, std::int64_t last);
   void ask(Stream& s, std::int8_t stream, Clock::time_point now, std::vector<groundsim::resend_t>& out);
@@ -106,6 +115,7 @@ class Recorder {
   std::int64_t request_seq_ = 0;
   Totals counts_;
   bool finished_ = false;
+  int part_ = 0;
 };
 
 }  // namespace groundsim::record

@@ -8,10 +8,12 @@
 #include <cstdio>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include <groundsim/scenario_t.hpp>
 #include <groundsim/state_t.hpp>
 
 #include "protocol/channels.hpp"
@@ -188,6 +190,69 @@ TEST(Recorder, OverTheRateLimitItWaitsWithoutSpendingAsks) {
   EXPECT_GT(asked, 10);  // kept asking
   EXPECT_EQ(rec.totals().lost, 0);
   EXPECT_TRUE(rec.repairing());
+}
+
+}  // namespace
+}  // namespace groundsim::record
+
+namespace groundsim::record {
+namespace {
+
+// Rotation: each part reads on its own (schemas, channels, the scenario,
+// the ledgers as they stood), and the parts together hold every state; a
+// gap repaired after the rotation lands in the later part.
+TEST(Recorder, RotatedPartsEachReadOnTheirOwnAndTogetherHoldEverything) {
+  const std::string p0 = tempPath("recorder_part0.mcap"), p1 = tempPath("recorder_part1.mcap");
+  auto t = Recorder::Clock::now();
+  {
+    Recorder rec(std::make_unique<recording::McapWriter>(p0), "rot");
+    rec.add("a", true);
+    groundsim::scenario_t sc{};
+    sc.session_id = "a";
+    sc.scenario_json = R"({"name": "x"})";
+    std::vector<std::uint8_t> sb(sc.getEncodedSize());
+    sc.encode(sb.data(), 0, static_cast<int>(sb.size()));
+    rec.onDatagram(net::kScenarioChannel, sb.data(), static_cast<int>(sb.size()), t);
+    for (int s = 0; s < 1000; ++s) {
+      if (s == 400) continue;  // lost live, repaired after the rotation
+      if (s == 600) {
+        rec.rotate(std::make_unique<recording::McapWriter>(p1));
+        EXPECT_EQ(rec.part(), 1);
+      }
+      const auto b = encode(state("a", s));
+      rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()), t);
+    }
+    groundsim::resent_t m{};
+    m.stream = groundsim::resend_t::STREAM_SESSION;
+    m.session_id = "a";
+    m.seq = m.last_seq = 400;
+    m.status = groundsim::resent_t::STATUS_OK;
+    m.channel = net::stateChannel("a");
+    const auto b = encode(state("a", 400));
+    m.data.assign(b.begin(), b.end());
+    m.size = static_cast<std::int32_t>(b.size());
+    rec.onResent(m, t);
+    rec.finish();
+  }
+  std::set<std::int64_t> all;
+  for (const std::string& path : {p0, p1}) {
+    recording::McapReader r(path);
+    EXPECT_TRUE(r.complete()) << path;
+    std::uint16_t state = 0;
+    for (const auto& [id, c] : r.channels())
+      if (c.topic == "/a/state") state = id;
+    ASSERT_NE(state, 0) << path;
+    r.readMessages([&](const recording::McapMessage& msg) { all.insert(nlohmann::json::parse(msg.data)["seq"].get<std::int64_t>()); },
+                   {state});
+    bool scenario = false;
+    for (const auto& [name, data] : r.attachments()) scenario = scenario || (name == "scenario/a.json" && data == R"({"name": "x"})");
+    EXPECT_TRUE(scenario) << path;
+    EXPECT_TRUE(r.metadata().count("ledger/a")) << path;
+  }
+  EXPECT_EQ(all.size(), 1000u);
+  // the first part's ledger still had 400 missing; the last one has it repaired
+  EXPECT_EQ(recording::McapReader(p0).metadata().at("ledger/a").at("state_missing"), "400");
+  EXPECT_EQ(recording::McapReader(p1).metadata().at("ledger/a").at("state_repaired"), "400");
 }
 
 }  // namespace
