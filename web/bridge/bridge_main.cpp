@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   CLI::App app{"groundsim-web: drive and watch groundsim sessions in a browser"};
   std::string bind = "127.0.0.1";
   int port = 8080;
+  std::string recordings_dir;
   std::string lcm_url = groundsim::net::defaultUrl();
   std::string static_dir = GROUNDSIM_WEB_DIST;
   HubConfig cfg;
@@ -29,6 +30,8 @@ int main(int argc, char** argv) {
   app.add_option("--bind", bind, "address to listen on (127.0.0.1: this machine only)")->capture_default_str();
   app.add_option("--port", port, "TCP port of the page, the WebSocket, GET /metrics and /health (0: any free one, printed)")->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--lcm-url", lcm_url, "LCM URL of the server's bus")->capture_default_str();
+  app.add_option("--recordings", recordings_dir,
+                 "folder of MCAP recordings served at /recordings, with seeking (docs/logging.md); none by default");
   app.add_option("--static", static_dir, "folder of the bundled page (index.html, bundle.js)")->capture_default_str();
   app.add_option("--configs", cfg.configs_dir, "scenarios a browser may create sessions from (*.json, subfolders too)")
       ->capture_default_str();
@@ -91,7 +94,7 @@ int main(int argc, char** argv) {
                                           if (forward.bad) forward.bad(c, r);
                                         }});
 
-  WebServer server(io, *hub, std::move(files));
+  WebServer server(io, *hub, std::move(files), recordings_dir);
   try {
     server.listen(bind, static_cast<unsigned short>(port));
   } catch (const std::exception& e) {

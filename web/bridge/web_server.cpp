@@ -1,13 +1,16 @@
 #include "bridge/web_server.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
+#include <boost/asio/post.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
@@ -186,8 +189,12 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files,
-              std::shared_ptr<WebTraffic> traffic)
-      : stream_(std::move(socket)), hub_(hub), files_(std::move(files)), traffic_(std::move(traffic)) {}
+              std::shared_ptr<WebTraffic> traffic, std::shared_ptr<const Recordings> recordings)
+      : stream_(std::move(socket)),
+        hub_(hub),
+        files_(std::move(files)),
+        traffic_(std::move(traffic)),
+        recordings_(std::move(recordings)) {}
 
   void read() {
     parser_.emplace();
@@ -227,6 +234,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       res->set(http::field::content_type, metrics ? net::kMetricsContentType : "application/json");
       res->set(http::field::cache_control, "no-store");
       if (req.method() == http::verb::get) res->body() = metrics ? bridgeMetrics(hub_, *traffic_) : bridgeHealth(hub_) + "\n";
+    } else if (path == "/recordings" || path.rfind("/recordings/", 0) == 0) {
+      return serveRecording(path, q == std::string::npos ? "" : target.substr(q + 1), std::move(res));
     } else if (it == files_->end()) {
       res->result(http::status::not_found);
       res->set(http::field::content_type, "text/plain");
@@ -237,6 +246,38 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       res->set(http::field::cache_control, "no-cache");
       if (req.method() == http::verb::get) res->body() = it->second.body;
     }
+    write(std::move(res));
+  }
+
+  // Reading a recording may take a while (a window of a large file): on a
+  // thread of its own, at most kRecordingReaders at once (503 beyond), the
+  // answer posted back to this socket's I/O thread.
+  static constexpr int kRecordingReaders = 2;
+  void serveRecording(std::string path, std::string query,
+                      std::shared_ptr<http::response<http::string_body>> res) {
+    static std::atomic<int> readers{0};
+    if (readers.fetch_add(1) >= kRecordingReaders) {
+      readers.fetch_sub(1);
+      res->result(http::status::service_unavailable);
+      res->set(http::field::content_type, "application/json");
+      res->set(http::field::retry_after, "1");
+      res->body() = "{\"error\":\"two recordings are being read: try again\"}\n";
+      return write(std::move(res));
+    }
+    std::thread([self = shared_from_this(), path = std::move(path), query = std::move(query), res]() mutable {
+      const HttpAnswer a = self->recordings_->answer(path, query);
+      readers.fetch_sub(1);
+      asio::post(self->stream_.get_executor(), [self, res, a] {
+        res->result(static_cast<http::status>(a.status));
+        res->set(http::field::content_type, a.content_type);
+        res->set(http::field::cache_control, "no-store");
+        res->body() = a.body;
+        self->write(res);
+      });
+    }).detach();
+  }
+
+  void write(std::shared_ptr<http::response<http::string_body>> res) {
     res->prepare_payload();
     http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t n) {
       self->traffic_->bytes_sent += n;
@@ -254,6 +295,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   Hub& hub_;
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
   std::shared_ptr<WebTraffic> traffic_;
+  std::shared_ptr<const Recordings> recordings_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
 
@@ -301,11 +343,13 @@ std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir) {
   return files;
 }
 
-WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files)
+WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files,
+                     std::string recordings_dir)
     : io_(io),
       hub_(hub),
       files_(std::make_shared<const std::map<std::string, StaticFile>>(std::move(files))),
       traffic_(std::make_shared<WebTraffic>()),
+      recordings_(std::make_shared<const Recordings>(std::move(recordings_dir))),
       acceptor_(io) {}
 
 void WebServer::listen(const std::string& address, unsigned short port) {
@@ -323,7 +367,7 @@ void WebServer::accept() {
     if (!ec) {
       socket.set_option(tcp::no_delay(true), ec);
       socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
-      std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_)->read();
+      std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_, recordings_)->read();
     }
     if (acceptor_.is_open()) accept();
   });

@@ -2,8 +2,9 @@
 // into memory at start, so no path from a browser ever reaches the file
 // system), GET /ws upgrades to the WebSocket the page talks on, GET /metrics
 // (Prometheus text format, docs/metrics.md) and GET /health answer from the
-// hub's and the sockets' counters. One I/O thread runs every socket; nothing
-// here blocks it.
+// hub's and the sockets' counters, GET /recordings... reads recordings
+// (recordings.hpp) on a thread of its own, at most two at a time. One I/O
+// thread runs every socket; nothing here blocks it.
 #pragma once
 
 #include <map>
@@ -14,6 +15,7 @@
 #include <boost/asio/ip/tcp.hpp>
 
 #include "bridge/hub.hpp"
+#include "bridge/recordings.hpp"
 
 namespace groundsim::web {
 
@@ -37,7 +39,8 @@ std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir);
 
 class WebServer {
  public:
-  WebServer(boost::asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files);
+  WebServer(boost::asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files,
+            std::string recordings_dir = "");
   // Throws boost::system::system_error when the address cannot be bound.
   void listen(const std::string& address, unsigned short port);
   unsigned short port() const { return port_; }
@@ -49,6 +52,7 @@ class WebServer {
   Hub& hub_;
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
   std::shared_ptr<WebTraffic> traffic_;
+  std::shared_ptr<const Recordings> recordings_;
   boost::asio::ip::tcp::acceptor acceptor_;
   unsigned short port_ = 0;
 };

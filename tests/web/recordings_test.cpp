@@ -1,0 +1,110 @@
+// The bridge's recordings (web/bridge/recordings.*): a folder's MCAP files
+// listed with their sessions, a window and an instant of a session read
+// with seeking, and hostile requests (paths out of the folder, bad numbers,
+// unknown sessions) answered with the parameter and the reason.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "bridge/recordings.hpp"
+#include "recording/mcap_writer.hpp"
+
+namespace groundsim::web {
+namespace {
+
+// Two sessions at 100 Hz for 60 s, each in its own chunks, as the recorder writes them.
+// (a folder per test: ctest runs them in parallel)
+std::string folder() {
+  const std::string dir = ::testing::TempDir() + "recordings_" +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  recording::WriterOptions o;
+  o.chunk_bytes = 64 << 10;
+  recording::McapWriter w(dir + "/two.mcap", o);
+  const auto schema = w.addSchema("groundsim.state", "jsonschema", "{}");
+  const auto a = w.addChannel(schema, "/A1/state", "json");
+  const auto b = w.addChannel(schema, "/B2/state", "json");
+  for (int k = 0; k <= 6000; ++k) {
+    const std::uint64_t t = static_cast<std::uint64_t>(k) * 10'000'000u;
+    for (auto [ch, g] : {std::pair{a, 0}, std::pair{b, 1}})
+      w.write(ch, static_cast<std::uint32_t>(k), t, t,
+              "{\"seq\":" + std::to_string(k) + ",\"t\":" + std::to_string(k * 0.01) + ",\"x\":" + std::to_string(k) + "}", g);
+  }
+  w.close();
+  return dir;
+}
+
+nlohmann::json body(const HttpAnswer& a) { return nlohmann::json::parse(a.body); }
+
+TEST(Recordings, ListedWithTheirSessionsAndSpans) {
+  const Recordings r(folder());
+  const HttpAnswer a = r.answer("/recordings", "");
+  ASSERT_EQ(a.status, 200) << a.body;
+  const auto j = body(a);
+  ASSERT_EQ(j["recordings"].size(), 1u);
+  const auto& f = j["recordings"][0];
+  EXPECT_EQ(f["name"], "two.mcap");
+  EXPECT_TRUE(f["complete"].get<bool>());
+  ASSERT_EQ(f["sessions"].size(), 2u);
+  EXPECT_EQ(f["sessions"][0]["id"], "A1");
+  EXPECT_EQ(f["sessions"][0]["states"], 6001);
+  EXPECT_NEAR(f["sessions"][0]["t1"].get<double>(), 60.0, 1e-9);
+}
+
+TEST(Recordings, AWindowAndAnInstantAreReadWithSeeking) {
+  const Recordings r(folder());
+  auto j = body(r.answer("/recordings/two.mcap/states", "session=B2&from=30&to=30.5"));
+  ASSERT_EQ(j["states"].size(), 51u);
+  EXPECT_EQ(j["states"][0]["seq"], 3000);
+  EXPECT_EQ(j["states"][50]["seq"], 3050);
+  EXPECT_FALSE(j["more"].get<bool>());
+  j = body(r.answer("/recordings/two.mcap/states", "session=B2&from=0&to=60&max=10"));
+  EXPECT_EQ(j["states"].size(), 10u);
+  EXPECT_TRUE(j["more"].get<bool>());
+  // the newest state at or before 42.004 s
+  j = body(r.answer("/recordings/two.mcap/states", "session=A1&at=42.004"));
+  ASSERT_EQ(j["states"].size(), 1u);
+  EXPECT_EQ(j["states"][0]["seq"], 4200);
+  // past the end: the last one
+  j = body(r.answer("/recordings/two.mcap/states", "session=A1&at=1000"));
+  EXPECT_EQ(j["states"][0]["seq"], 6000);
+}
+
+TEST(Recordings, HostileRequestsNameTheParameter) {
+  const Recordings r(folder());
+  const auto expect = [&](const std::string& path, const std::string& query, int status, const std::string& word,
+                          const Recordings* from = nullptr) {
+    const HttpAnswer a = (from ? *from : r).answer(path, query);
+    EXPECT_EQ(a.status, status) << path << "?" << query << ": " << a.body;
+    EXPECT_NE(a.body.find(word), std::string::npos) << a.body;
+    EXPECT_NO_THROW(body(a));
+  };
+  expect("/recordings/..%2F..%2Fetc%2Fpasswd", "", 400, "name");
+  expect("/recordings/../two.mcap", "", 400, "name");
+  expect("/recordings/nope.mcap", "", 404, "no recording");
+  expect("/recordings/two.mcap/other", "", 404, "states");
+  expect("/recordings/two.mcap/states", "", 400, "session");
+  expect("/recordings/two.mcap/states", "session=A1", 400, "at=T");
+  expect("/recordings/two.mcap/states", "session=A1&at=nan", 400, "at");
+  expect("/recordings/two.mcap/states", "session=A1&from=-1&to=2", 400, "from");
+  expect("/recordings/two.mcap/states", "session=A1&from=5&to=2", 400, "to");
+  expect("/recordings/two.mcap/states", "session=A1&from=0&to=2&max=99999", 400, "max");
+  expect("/recordings/two.mcap/states", "session=ZZ&at=1", 404, "session");
+  // a file that is not MCAP: a 500 naming the reason, the bridge serves on
+  const std::string dir = folder();
+  { std::ofstream(dir + "/junk.mcap") << "not an mcap file"; }
+  expect("/recordings/junk.mcap/states", "session=A1&at=1", 500, "cannot read");
+  // and the listing names it without failing the others
+  const auto j = body(r.answer("/recordings", ""));
+  EXPECT_EQ(j["recordings"].size(), 2u);
+  const Recordings off("");
+  expect("/recordings", "", 404, "--recordings", &off);
+}
+
+}  // namespace
+}  // namespace groundsim::web
