@@ -1,8 +1,8 @@
 // The server's messages as JSON for MCAP files (message encoding "json",
 // schema encoding "jsonschema"), so Foxglove, the mcap CLI and other MCAP
 // tools read a recording without a plugin. Field names follow the LCM types
-// (lcmtypes/*.lcm); numbers are written with 17 significant digits, so a
-// double read back is the double sent. Written by hand into one buffer: a
+// (lcmtypes/*.lcm); numbers are written as the shortest text that reads
+// back as the same double (std::to_chars), unless fewer digits are asked. Written by hand into one buffer: a
 // recorder of 100 sessions at 2 kHz converts 200,000 messages a second.
 #pragma once
 
