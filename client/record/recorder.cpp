@@ -41,7 +41,8 @@ void Recorder::prepare() {
   car_schema_ = out_->addSchema("groundsim.car_state", "jsonschema", carStateSchema());
   contact_schema_ = out_->addSchema("groundsim.contact_state", "jsonschema", contactStateSchema());
   event_schema_ = out_->addSchema("groundsim.event", "jsonschema", eventSchema());
-  events_.events_ch = out_->addChannel(event_schema_, "/events", "json", {{"stream", "server-wide events without a session"}});
+  events_.events_ch = out_->addChannel(event_schema_, "/events", "json",
+                                       {{"stream", "server-wide events of no recorded session"}});
   raw_channels_.clear();
   // what the times mean, for any reader
   out_->metadata("groundsim", {{"log_time", "simulation time of the session (event: its session's, 0 without one)"},
@@ -154,9 +155,12 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     groundsim::event_t m;
     if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok()) return false;
     if (!events_.ledger.arrive(m.seq, repaired)) return true;
+    // a session's events go with it; the others (no session, or one not
+    // recorded, e.g. a create refused, or an event heard before the
+    // session's first state) into /events, so the stream is whole
     auto it = sessions_.find(m.session_id);
     if (it != sessions_.end()) write(it->second, it->second.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
-    else if (m.session_id.empty()) write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    else write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
     return true;
   }
   if (channel == net::kScenarioChannel) {
