@@ -36,10 +36,14 @@ for (const id of ids) {
   await page.keyboard.down('w');
   await h.until(`${id}: W to reach the controls sent`, () => page.evaluate(() => window.groundsim.lastControls &&
     JSON.parse(window.groundsim.lastControls).throttle > 0), 5000, 20);
-  await page.waitForTimeout(300);
+  // states keep coming while W is held: waited for, not a fixed 300 ms (a
+  // page busy drawing under software WebGL on a loaded machine reads its
+  // socket late)
+  await h.until(`${id}: states while driving`, () => page.evaluate((n) => window.groundsim.states > n, n0), 10000, 20)
+    .catch(async () => h.fail(`${id}: no states while driving (${n0} -> ${await page.evaluate(() => window.groundsim.states)})`));
+  await page.waitForTimeout(100);
   await page.keyboard.up('w');
   const n1 = await page.evaluate(() => window.groundsim.states);
-  if (!(n1 > n0)) await h.fail(`${id}: no states while driving (${n0} -> ${n1})`);
   results.push(`${id} ${session} +${n1 - n0}`);
   await page.click('#btn-pause');
   await h.until(`${id} to pause`, () => page.evaluate(() => window.groundsim.lastState?.status === 2), 10000)
