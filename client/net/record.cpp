@@ -142,7 +142,8 @@ void run(const RecordOptions& o) {
     }
     rec.onResent(m, SteadyClock::now());
   };
-  std::vector<std::string> channels{net::kEventChannel, net::kScenarioChannel};
+  std::vector<std::string> channels{net::kEventChannel, net::kScenarioChannel, net::kDriveChannel,
+                                    net::kControlsChannel};
   if (everything) {
     for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix})
       channels.push_back(std::string(p) + ".*");

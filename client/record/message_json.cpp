@@ -1,6 +1,7 @@
 #include "record/message_json.hpp"
 
 #include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -184,6 +185,30 @@ std::string toJson(const groundsim::event_t& m) {
   return o.take();
 }
 
+std::string toJson(const groundsim::drive_t& m, long long after_seq) {
+  Out o(200 + 80 * m.drive_torque.size());
+  const int n = static_cast<int>(std::min<std::size_t>(
+      {m.drive_torque.size(), m.brake_torque.size(), m.steer.size(), static_cast<std::size_t>(std::max(0, int(m.nwheels)))}));
+  o.open('{');
+  o.key("utime").integer(m.utime).key("seq").integer(m.seq).key("client_id").str(m.client_id);
+  o.key("session_id").str(m.session_id).key("after_seq").integer(after_seq).key("vehicle").integer(m.vehicle);
+  o.key("drive_torque").nums(m.drive_torque.data(), n).key("brake_torque").nums(m.brake_torque.data(), n);
+  o.key("steer").nums(m.steer.data(), n);
+  o.close('}');
+  return o.take();
+}
+
+std::string toJson(const groundsim::controls_t& m, long long after_seq) {
+  Out o(300);
+  o.open('{');
+  o.key("utime").integer(m.utime).key("seq").integer(m.seq).key("client_id").str(m.client_id);
+  o.key("session_id").str(m.session_id).key("after_seq").integer(after_seq).key("vehicle").integer(m.vehicle);
+  o.key("throttle").num(m.throttle).key("brake").num(m.brake).key("steer").num(m.steer);
+  o.key("handbrake").boolean(m.handbrake).key("gear").integer(m.gear);
+  o.close('}');
+  return o.take();
+}
+
 // The schemas: what each field is, in the units of the LCM types.
 #define GS_VEC(n, what) "{\"type\":\"array\",\"items\":{\"type\":[\"number\",\"null\"]},\"maxItems\":" #n ",\"description\":\"" what "\"}"
 #define GS_HEAD                                                                                              \
@@ -244,6 +269,29 @@ const char* eventSchema() {
          "\"code\":{\"type\":\"integer\"},\"channel\":{\"type\":\"string\"},\"reason\":{\"type\":\"string\"}}}";
 }
 
+#define GS_CMD_HEAD                                                                                         \
+  "\"utime\":{\"type\":\"integer\",\"description\":\"sender's clock, microseconds\"},"                     \
+  "\"seq\":{\"type\":\"integer\",\"description\":\"per client\"},\"client_id\":{\"type\":\"string\"},"           \
+  "\"session_id\":{\"type\":\"string\"},"                                                                      \
+  "\"after_seq\":{\"type\":\"integer\",\"description\":\"the session's newest state seq when heard\"},"      \
+  "\"vehicle\":{\"type\":\"integer\"},"
+
+const char* driveSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.drive\","
+         "\"description\":\"Per-wheel torques and steering sent by a player (lcmtypes/drive_t.lcm; the token is not "
+         "recorded)\",\"type\":\"object\",\"properties\":{" GS_CMD_HEAD
+         "\"drive_torque\":" GS_VEC(4, "N m") ",\"brake_torque\":" GS_VEC(4, "N m") ",\"steer\":" GS_VEC(4, "rad") "}}";
+}
+
+const char* controlsSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.controls\","
+         "\"description\":\"A road car's controls sent by a player (lcmtypes/controls_t.lcm; the token is not "
+         "recorded)\",\"type\":\"object\",\"properties\":{" GS_CMD_HEAD
+         "\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},\"steer\":{\"type\":\"number\"},"
+         "\"handbrake\":{\"type\":\"boolean\"},\"gear\":{\"type\":\"integer\"}}}";
+}
+
+#undef GS_CMD_HEAD
 #undef GS_VEC
 #undef GS_HEAD
 

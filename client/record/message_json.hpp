@@ -10,6 +10,8 @@
 
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/contact_state_t.hpp>
+#include <groundsim/controls_t.hpp>
+#include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/state_t.hpp>
 
@@ -25,6 +27,11 @@ std::string toJson(const groundsim::state_t& m);
 std::string toJson(const groundsim::car_state_t& m);
 std::string toJson(const groundsim::contact_state_t& m);
 std::string toJson(const groundsim::event_t& m);
+// A player's commands as the recorder heard them on the bus: never the
+// token (a session's secret), plus the seq of the session's newest state
+// when heard (a command applies from the step after it arrives).
+std::string toJson(const groundsim::drive_t& m, long long after_seq);
+std::string toJson(const groundsim::controls_t& m, long long after_seq);
 
 // JSON Schemas (draft 2020-12) of the four, by schema name
 // ("groundsim.state", "groundsim.car_state", "groundsim.contact_state",
@@ -33,5 +40,7 @@ const char* stateSchema();
 const char* carStateSchema();
 const char* contactStateSchema();
 const char* eventSchema();
+const char* driveSchema();
+const char* controlsSchema();
 
 }  // namespace groundsim::record

@@ -5,6 +5,8 @@
 
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/contact_state_t.hpp>
+#include <groundsim/controls_t.hpp>
+#include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/scenario_t.hpp>
 #include <groundsim/state_t.hpp>
@@ -41,6 +43,8 @@ void Recorder::prepare() {
   car_schema_ = out_->addSchema("groundsim.car_state", "jsonschema", carStateSchema());
   contact_schema_ = out_->addSchema("groundsim.contact_state", "jsonschema", contactStateSchema());
   event_schema_ = out_->addSchema("groundsim.event", "jsonschema", eventSchema());
+  drive_schema_ = out_->addSchema("groundsim.drive", "jsonschema", driveSchema());
+  controls_schema_ = out_->addSchema("groundsim.controls", "jsonschema", controlsSchema());
   events_.events_ch = out_->addChannel(event_schema_, "/events", "json",
                                        {{"stream", "server-wide events of no recorded session"}});
   raw_channels_.clear();
@@ -61,6 +65,8 @@ void Recorder::channels(Stream& s) {
   s.car_ch = out_->addChannel(car_schema_, "/" + s.id + "/car_state", "json", meta);
   s.contact_ch = out_->addChannel(contact_schema_, "/" + s.id + "/contact", "json", meta);
   s.events_ch = out_->addChannel(event_schema_, "/" + s.id + "/events", "json", meta);
+  s.drive_ch = out_->addChannel(drive_schema_, "/" + s.id + "/drive", "json", meta);
+  s.controls_ch = out_->addChannel(controls_schema_, "/" + s.id + "/controls", "json", meta);
 }
 
 void Recorder::rotate(std::unique_ptr<recording::McapWriter> next) {
@@ -125,6 +131,10 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     if (s.car.started()) s.car.reach(m.seq - 1);
     if (s.contact.started()) s.contact.reach(m.seq - 1);
     if (m.status >= groundsim::state_t::STATUS_FINISHED) s.ended = true;
+    if (!repaired && m.seq > s.live_seq) {
+      s.live_seq = m.seq;
+      s.live_utime = m.utime;
+    }
     write(s, s.state_ch, m.seq, m.utime, toJson(m), channel, data, size);
     return true;
   }
@@ -161,6 +171,27 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     auto it = sessions_.find(m.session_id);
     if (it != sessions_.end()) write(it->second, it->second.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
     else write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    return true;
+  }
+  // players' commands: written as heard, at the session's newest state
+  // time, never with their token (and never as raw bytes, which hold it)
+  if (channel == net::kDriveChannel || channel == net::kControlsChannel) {
+    std::string session, json;
+    std::int64_t seq = 0;
+    const bool drive = channel == net::kDriveChannel;
+    groundsim::drive_t d;
+    groundsim::controls_t c;
+    if (drive ? !net::decodeMessage(data, size, d, "groundsim.drive_t").ok()
+              : !net::decodeMessage(data, size, c, "groundsim.controls_t").ok())
+      return false;
+    session = drive ? d.session_id : c.session_id;
+    auto it = sessions_.find(session);
+    if (it == sessions_.end()) return true;
+    Stream& s = it->second;
+    json = drive ? toJson(d, s.live_seq) : toJson(c, s.live_seq);
+    seq = drive ? d.seq : c.seq;
+    out_->write(drive ? s.drive_ch : s.controls_ch, static_cast<std::uint32_t>(seq), ns(s.live_utime),
+                ns(s.live_utime), json, s.group);
     return true;
   }
   if (channel == net::kScenarioChannel) {

@@ -91,6 +91,8 @@ class Recorder {
     bool ended = false;
     int group = 0;
     std::uint16_t state_ch = 0, car_ch = 0, contact_ch = 0, events_ch = 0;  // MCAP channels
+    std::uint16_t drive_ch = 0, controls_ch = 0;  // players' commands as heard (no token)
+    std::int64_t live_seq = -1, live_utime = 0;   // the newest state heard live
     std::string scenario;  // the scenario's JSON, once heard
   };
   Stream& stream(const std::string& session);
@@ -111,6 +113,7 @@ class Recorder {
   std::map<std::string, Stream> sessions_;
   Stream events_;
   std::uint16_t state_schema_ = 0, car_schema_ = 0, contact_schema_ = 0, event_schema_ = 0;
+  std::uint16_t drive_schema_ = 0, controls_schema_ = 0;
   std::map<std::string, std::uint16_t> raw_channels_;
   std::int64_t request_seq_ = 0;
   Totals counts_;
