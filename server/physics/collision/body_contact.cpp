@@ -16,11 +16,13 @@ double reducedMass(const CollisionGroup& a, const CollisionGroup& b);
 
 bool live(const CollisionGroup& g) { return g.collider_begin < g.collider_end || g.probe_begin < g.probe_end; }
 
-// Each group's world box for the sweep: for a movable group the overlap of
-// the box around its bounding sphere and the box around its oriented box,
-// both grown by `pad(group)` (what it can move in the step).
-template <class RefPose, class Pad>
-void groupBoxes(const Model& m, Workspace& ws, RefPose pose, Pad pad) {
+// Each group's world box for the sweep: for a movable group the box around
+// its bounding sphere, grown by `pad(group)` (what it can move in the
+// step). Its oriented box is built only when a pair reaches the closer
+// check (orientedBox): most groups of a spread scene never need one, and
+// the fast paths' steps cost a few microseconds.
+template <class RefCom, class Pad>
+void groupBoxes(const Model& m, Workspace& ws, RefCom com, Pad pad) {
   for (size_t i = 0; i < m.groups.size(); ++i) {
     const CollisionGroup& g = m.groups[i];
     if (g.ref_body < 0) {
@@ -30,19 +32,27 @@ void groupBoxes(const Model& m, Workspace& ws, RefPose pose, Pad pad) {
       ws.group_pad[i] = 0.0;
       continue;
     }
-    const auto [c, R] = pose(g.ref_body);
+    const Vec3 c = com(g.ref_body);
     const double p = pad(g);
-    OrientedBox& box = ws.group_box[i];
-    box.R = R;
-    box.c = c + R * g.box_c;
-    box.h = g.box_h + Vec3::Constant(p);
-    const Vec3 e = R.cwiseAbs() * box.h;
     const Vec3 s = Vec3::Constant(g.bound + p);
-    ws.group_lo[i] = (c - s).cwiseMax(box.c - e);
-    ws.group_hi[i] = (c + s).cwiseMin(box.c + e);
+    ws.group_lo[i] = c - s;
+    ws.group_hi[i] = c + s;
     ws.group_com[i] = c;
     ws.group_pad[i] = p;
+    ws.group_box[i].h.x() = -1.0;  // not built for this evaluation
   }
+}
+
+// A movable group's oriented box, built on first use in an evaluation.
+template <class RefRot>
+const OrientedBox& orientedBox(const Model& m, int i, Workspace& ws, RefRot rot) {
+  OrientedBox& box = ws.group_box[i];
+  if (box.h.x() >= 0.0) return box;
+  const CollisionGroup& g = m.groups[i];
+  box.R = rot(g.ref_body);
+  box.c = ws.group_com[i] + box.R * g.box_c;
+  box.h = g.box_h + Vec3::Constant(ws.group_pad[i]);
+  return box;
 }
 
 // After the world boxes overlap: two movable groups' bounding spheres and
@@ -50,34 +60,37 @@ void groupBoxes(const Model& m, Workspace& ws, RefPose pose, Pad pad) {
 // shape (its distance function within the sphere, and the shape's box
 // overlapping the oriented box: a long diagonal wall has a large world
 // box), or hold one of its points.
-bool closeEnough(const Model& m, int a, int b, const Workspace& ws) {
+template <class RefRot>
+bool closeEnough(const Model& m, int a, int b, Workspace& ws, RefRot rot) {
   const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
   const bool sa = ga.ref_body < 0, sb = gb.ref_body < 0;
   if (!sa && !sb) {
     const double r = ga.bound + ws.group_pad[a] + gb.bound + ws.group_pad[b];
     if ((ws.group_com[a] - ws.group_com[b]).squaredNorm() > r * r) return false;
-    return overlap(ws.group_box[a], ws.group_box[b]);
+    return overlap(orientedBox(m, a, ws, rot), orientedBox(m, b, ws, rot));
   }
   const CollisionGroup& moving = sa ? gb : ga;
   const CollisionGroup& fixed = sa ? ga : gb;
   const int mi = sa ? b : a;
-  const Vec3& c = ws.group_com[mi];
+  const Vec3 c = ws.group_com[mi];
   const double reach = moving.bound + ws.group_pad[mi];
-  const OrientedBox& box = ws.group_box[mi];
   for (int i = fixed.collider_begin; i < fixed.collider_end; ++i) {
     const Collider& col = m.colliders[i];
     if (col.shape.distance(col.rot.transpose() * (c - col.pos)) > reach) continue;
-    if (overlap(box, OrientedBox{col.pos, col.rot, col.shape.extents()})) return true;
+    if (overlap(orientedBox(m, mi, ws, rot), OrientedBox{col.pos, col.rot, col.shape.extents()})) return true;
   }
   // its probes (a static group's points) may still poke into the group
-  for (int i = fixed.probe_begin; i < fixed.probe_end; ++i)
-    if (contains(box, m.probes[i].local, 0.0)) return true;
+  for (int i = fixed.probe_begin; i < fixed.probe_end; ++i) {
+    if ((m.probes[i].local - c).squaredNorm() > reach * reach) continue;
+    if (contains(orientedBox(m, mi, ws, rot), m.probes[i].local, 0.0)) return true;
+  }
   return false;
 }
 
 // Sort and sweep: the order is kept between evaluations, so the insertion
 // sort costs about one comparison per group once bodies move smoothly.
-void sweep(const Model& m, Workspace& ws) {
+template <class RefRot>
+void sweep(const Model& m, Workspace& ws, RefRot rot) {
   std::vector<int>& o = ws.sweep;
   for (size_t i = 1; i < o.size(); ++i) {
     const int g = o[i];
@@ -100,7 +113,7 @@ void sweep(const Model& m, Workspace& ws) {
       if (ws.group_lo[b].y() > ws.group_hi[a].y() || ws.group_lo[a].y() > ws.group_hi[b].y() ||
           ws.group_lo[b].z() > ws.group_hi[a].z() || ws.group_lo[a].z() > ws.group_hi[b].z())
         continue;
-      if (!closeEnough(m, a, b, ws)) continue;
+      if (!closeEnough(m, a, b, ws, rot)) continue;
       ws.pairs.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
@@ -273,16 +286,13 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
   // times the bound. A pair that can meet during the step is a candidate
   // from its start.
   groupBoxes(
-      m, ws,
-      [&](int body) {
-        return std::pair<Vec3, Mat3>(bodyPos(y, body), Quat(bodyRot(y, body)).normalized().toRotationMatrix());
-      },
+      m, ws, [&](int body) { return Vec3(bodyPos(y, body)); },
       [&](const CollisionGroup& g) {
         const int b = g.ref_body;
         const double spin = m.bodies[b].inv_inertia.norm() * Vec3(bodyMom(y, b)).norm();
         return 2.0 * (Vec3(bodyVel(y, b)).norm() + spin * g.bound) * dt + 0.01;
       });
-  sweep(m, ws);
+  sweep(m, ws, [&](int body) { return Mat3(Quat(bodyRot(y, body)).normalized().toRotationMatrix()); });
   return !ws.pairs.empty();
 }
 
@@ -292,9 +302,8 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws) {
   ws.body_contact_depth = 0.0;
   if (!m.collisions) return;
   if (!ws.step_pairs) {
-    groupBoxes(
-        m, ws, [&](int body) { return std::pair<Vec3, Mat3>(ws.com[body], ws.R[body]); }, [](const CollisionGroup&) { return 0.0; });
-    sweep(m, ws);
+    groupBoxes(m, ws, [&](int body) { return ws.com[body]; }, [](const CollisionGroup&) { return 0.0; });
+    sweep(m, ws, [&](int body) { return ws.R[body]; });
   }
   narrowPhase(m, apply, ws);
 }
