@@ -129,9 +129,9 @@ void run(const RecordOptions& o) {
   auto onBus = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     const std::string id = sessionOf(channel);
     if (!id.empty() && !rec.has(id) && wanted(id)) addNew(id);
-    if (!rec.onDatagram(channel, static_cast<const std::uint8_t*>(rbuf->data), static_cast<int>(rbuf->data_size),
-                        SteadyClock::now()))
-      std::fprintf(stderr, "record: %s: an undecodable message (not written)\n", net::printable(channel).c_str());
+    if (!rec.onDatagram(channel, static_cast<const std::uint8_t*>(rbuf->data), static_cast<int>(rbuf->data_size)))
+      std::fprintf(stderr, "record: %s: a message that cannot be decoded, or with a seq out of range (not written)\n",
+                   net::printable(channel).c_str());
   };
   auto onResent = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     groundsim::resent_t m;
@@ -209,9 +209,9 @@ void run(const RecordOptions& o) {
       return;
     }
     rec.rotate(std::move(w));
-    parts.emplace_back(done, 0);
     std::error_code ec;
-    parts.back().second = std::filesystem::file_size(done, ec);
+    const std::uintmax_t n = std::filesystem::file_size(done, ec);
+    parts.emplace_back(done, ec ? 0 : n);
     part_started = SteadyClock::now();
     std::fprintf(stderr, "record: part %s closed, %s started\n", net::printable(done).c_str(), net::printable(next).c_str());
     if (o.budget_mb <= 0) return;

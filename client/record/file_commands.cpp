@@ -73,12 +73,11 @@ int lcmToMcap(const std::string& in, const std::string& out, int level, bool raw
   ro.raw = raw;
   record::Recorder rec(std::make_unique<recording::McapWriter>(out, wo), "convert", ro);
   long long events = 0, skipped = 0;
-  const auto now = record::Recorder::Clock::now();
   for (const lcm::LogEvent* ev = log.readNextEvent(); ev; ev = log.readNextEvent()) {
     ++events;
     for (const char* p : {"GROUNDSIM_STATE_", "GROUNDSIM_CAR_STATE_", "GROUNDSIM_CONTACT_"})
       if (ev->channel.rfind(p, 0) == 0) rec.add(ev->channel.substr(std::string(p).size()), false);
-    if (!rec.onDatagram(ev->channel, static_cast<const std::uint8_t*>(ev->data), ev->datalen, now)) ++skipped;
+    if (!rec.onDatagram(ev->channel, static_cast<const std::uint8_t*>(ev->data), ev->datalen)) ++skipped;
   }
   rec.finish();
   for (const auto& line : rec.report()) std::fprintf(stderr, "convert %s\n", net::printable(line, 2000).c_str());

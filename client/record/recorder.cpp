@@ -22,11 +22,10 @@ bool startsWith(const std::string& s, const char* prefix) { return s.rfind(prefi
 
 std::uint64_t ns(std::int64_t utime) { return utime > 0 ? static_cast<std::uint64_t>(utime) * 1000u : 0u; }
 
-std::string seconds(double s) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", s);
-  return b;
-}
+// Seqs count messages from 0; a datagram claiming one outside [0, 2^53)
+// (a foreign or forged publisher) is not written, so ledger arithmetic
+// (first - 1, newest + 1) never overflows.
+bool usableSeq(std::int64_t seq) { return seq >= 0 && seq < (std::int64_t{1} << 53); }
 
 }  // namespace
 
@@ -117,12 +116,18 @@ void Recorder::write(Stream& s, std::uint16_t channel, std::int64_t seq, std::in
                 std::string_view(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size)), s.group);
 }
 
-bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired,
-                      Clock::time_point now) {
-  (void)now;
+template <class Msg>
+void Recorder::companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, const std::string& channel,
+                         const std::uint8_t* data, int size, bool repaired) {
+  // the first heard starts its ledger where the state's did
+  if (!l.started() && s.ledger.started()) l.owe(std::min(s.ledger.first(), m.seq));
+  if (l.arrive(m.seq, repaired)) write(s, ch, m.seq, m.utime, toJson(m), channel, data, size);
+}
+
+bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
   if (startsWith(channel, net::kStatePrefix)) {
     groundsim::state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.state_t").ok()) return false;
+    if (!net::decodeMessage(data, size, m, "groundsim.state_t").ok() || !usableSeq(m.seq)) return false;
     auto it = sessions_.find(m.session_id);
     if (it == sessions_.end()) return true;
     Stream& s = it->second;
@@ -140,30 +145,22 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
   }
   if (startsWith(channel, net::kCarStatePrefix)) {
     groundsim::car_state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.car_state_t").ok()) return false;
+    if (!net::decodeMessage(data, size, m, "groundsim.car_state_t").ok() || !usableSeq(m.seq)) return false;
     auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end()) return true;
-    Stream& s = it->second;
-    // the first heard starts the ledger where the state's did
-    if (!s.car.started() && s.ledger.started()) s.car.owe(std::min(s.ledger.first(), m.seq));
-    if (!s.car.arrive(m.seq, repaired)) return true;
-    write(s, s.car_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    if (it != sessions_.end()) companion(it->second, it->second.car, it->second.car_ch, m, channel, data, size, repaired);
     return true;
   }
   if (startsWith(channel, net::kContactPrefix)) {
     groundsim::contact_state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.contact_state_t").ok()) return false;
+    if (!net::decodeMessage(data, size, m, "groundsim.contact_state_t").ok() || !usableSeq(m.seq)) return false;
     auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end()) return true;
-    Stream& s = it->second;
-    if (!s.contact.started() && s.ledger.started()) s.contact.owe(std::min(s.ledger.first(), m.seq));
-    if (!s.contact.arrive(m.seq, repaired)) return true;
-    write(s, s.contact_ch, m.seq, m.utime, toJson(m), channel, data, size);
+    if (it != sessions_.end())
+      companion(it->second, it->second.contact, it->second.contact_ch, m, channel, data, size, repaired);
     return true;
   }
   if (channel == net::kEventChannel) {
     groundsim::event_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok()) return false;
+    if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok() || !usableSeq(m.seq)) return false;
     if (!events_.ledger.arrive(m.seq, repaired)) return true;
     // a session's events go with it; the others (no session, or one not
     // recorded, e.g. a create refused, or an event heard before the
@@ -207,9 +204,9 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
   return true;
 }
 
-bool Recorder::onDatagram(const std::string& channel, const std::uint8_t* data, int size, Clock::time_point now) {
+bool Recorder::onDatagram(const std::string& channel, const std::uint8_t* data, int size) {
   counts_.live_bytes += size;
-  const bool ok = handle(channel, data, size, false, now);
+  const bool ok = handle(channel, data, size, false);
   if (!ok) ++counts_.undecodable;
   return ok;
 }
@@ -234,7 +231,7 @@ void Recorder::onResent(const groundsim::resent_t& m, Clock::time_point now) {
   switch (m.status) {
     case groundsim::resent_t::STATUS_OK:
       counts_.resent_bytes += m.size;
-      if (!handle(m.channel, m.data.data(), static_cast<int>(m.data.size()), true, now)) ++counts_.undecodable;
+      if (!handle(m.channel, m.data.data(), static_cast<int>(m.data.size()), true)) ++counts_.undecodable;
       break;
     case groundsim::resent_t::STATUS_GONE:
       std::fprintf(stderr, "record: %s: seq %lld..%lld no longer held by the server: lost\n",
@@ -262,7 +259,7 @@ void Recorder::onResent(const groundsim::resent_t& m, Clock::time_point now) {
 
 void Recorder::onHeartbeat(const std::string& session, std::int64_t last_seq, bool final, Clock::time_point) {
   auto it = sessions_.find(session);
-  if (it == sessions_.end() || last_seq < 0) return;
+  if (it == sessions_.end() || !usableSeq(last_seq)) return;
   Stream& s = it->second;
   // listed before anything was heard: what it published so far came before
   // the recording

@@ -43,9 +43,10 @@ class Recorder {
   void add(const std::string& session, bool created);
   bool has(const std::string& session) const { return sessions_.count(session) > 0; }
 
-  // A datagram from the bus (state, car state, contact, event, scenario).
-  // Returns false when it could not be decoded (counted, never written).
-  bool onDatagram(const std::string& channel, const std::uint8_t* data, int size, Clock::time_point now);
+  // A datagram from the bus (state, car state, contact, event, scenario,
+  // a player's commands). Returns false when it could not be decoded or its
+  // seq is outside [0, 2^53) (counted, never written).
+  bool onDatagram(const std::string& channel, const std::uint8_t* data, int size);
   // The server's answer to a re-request.
   void onResent(const groundsim::resent_t& m, Clock::time_point now);
   // The heartbeat lists a session with its newest seq: owed up to there.
@@ -98,7 +99,11 @@ class Recorder {
   Stream& stream(const std::string& session);
   void write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
              const std::string& lcm_channel, const std::uint8_t* data, int size);
-  bool handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired, Clock::time_point now);
+  bool handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  // a frame's car state or contact state, with its own ledger
+  template <class Msg>
+  void companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, const std::string& channel,
+                 const std::uint8_t* data, int size, bool repaired);
   void prepare();
   void channels(Stream& s);
   void writeLedgers();

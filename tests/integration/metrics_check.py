@@ -29,7 +29,6 @@ idle connections likewise.
 
 Skips (exit 77) when promtool is missing (Debian: prometheus).
 """
-import base64
 import json
 import os
 import re
@@ -44,6 +43,9 @@ import threading
 import time
 import urllib.error
 import urllib.request
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from ws_client import Ws  # noqa: E402
 
 LCM_GROUP, LCM_PORT = "239.255.76.67", 7667
 LCM_URL = f"udpm://{LCM_GROUP}:{LCM_PORT}?ttl=0"
@@ -265,84 +267,7 @@ def sessions_by_mode(m):
 
 # ---- a browser ------------------------------------------------------------------
 
-class Ws:
-    """A minimal WebSocket client (RFC 6455 by hand, as tests/web/slow_browser.py)."""
-
-    def __init__(self, port):
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=15)
-        key = base64.b64encode(os.urandom(16)).decode()
-        self.sock.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
-                           "Sec-WebSocket-Version: 13\r\n\r\n").encode())
-        self.buf = b""
-        while b"\r\n\r\n" not in self.buf:
-            self._more()
-        head, self.buf = self.buf.split(b"\r\n\r\n", 1)
-        check(b" 101 " in head.split(b"\r\n")[0], f"no WebSocket upgrade: {head[:200]!r}")
-        self.states = 0
-        self.stop = False
-
-    def _more(self):
-        d = self.sock.recv(65536)
-        if not d:
-            raise ConnectionError("the bridge closed the connection")
-        self.buf += d
-
-    def _take(self, n):
-        while len(self.buf) < n:
-            self._more()
-        out, self.buf = self.buf[:n], self.buf[n:]
-        return out
-
-    def send(self, obj):
-        data = json.dumps(obj).encode()
-        mask = os.urandom(4)
-        n = len(data)
-        head = bytes([0x81]) + (bytes([0x80 | n]) if n < 126 else bytes([0x80 | 126]) + struct.pack("!H", n))
-        self.sock.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
-
-    def recv(self):
-        text = b""
-        while True:
-            b0, b1 = self._take(2)
-            n = b1 & 0x7F
-            if n == 126:
-                n = struct.unpack("!H", self._take(2))[0]
-            elif n == 127:
-                n = struct.unpack("!Q", self._take(8))[0]
-            payload = self._take(n)
-            op = b0 & 0x0F
-            if op == 8:
-                raise ConnectionError("the bridge closed the WebSocket")
-            if op == 9:
-                self.sock.sendall(bytes([0x8A, 0x80 | len(payload)]) + b"\0\0\0\0" + payload)
-                continue
-            if op in (0, 1):  # text, in one frame or several
-                text += payload
-                if b0 & 0x80:
-                    m = json.loads(text)
-                    if m.get("op") == "state":
-                        self.states += 1
-                    return m
-
-    def until(self, pred, what, limit=5000):
-        for _ in range(limit):
-            m = self.recv()
-            if m.get("op") == "error":
-                fail(f"{what}: the bridge refused: {m}")
-            if pred(m):
-                return m
-        fail(f"{limit} messages without {what}")
-
-    def read_on(self):
-        """Reads (and counts) on a thread of its own until stopped."""
-        def run():
-            try:
-                while not self.stop:
-                    self.recv()
-            except Exception:  # noqa: BLE001 - the socket closes at the end
-                pass
-        threading.Thread(target=run, daemon=True).start()
+# Ws: tests/support/ws_client.py
 
 
 def undecodable_datagram():

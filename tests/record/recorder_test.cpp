@@ -67,7 +67,7 @@ TEST(Recorder, GapsAreAskedForRepairedOrLostAndAllListed) {
         const auto& dropped = std::string(id) == "a" ? dropped_a : dropped_b;
         if (dropped.count(s)) continue;
         const auto b = encode(state(id, s));
-        ASSERT_TRUE(rec.onDatagram(net::stateChannel(id), b.data(), static_cast<int>(b.size()), t));
+        ASSERT_TRUE(rec.onDatagram(net::stateChannel(id), b.data(), static_cast<int>(b.size())));
       }
     }
     // not asked at once (reordering settles), then once per gap
@@ -80,7 +80,9 @@ TEST(Recorder, GapsAreAskedForRepairedOrLostAndAllListed) {
       EXPECT_EQ(r.client_id, "rec1");
       EXPECT_EQ(r.stream, +groundsim::resend_t::STREAM_SESSION);
       got.insert({r.session_id, r.from_seq});
-      if (r.session_id == "a" && r.from_seq == 10) EXPECT_EQ(r.to_seq, 12);
+      if (r.session_id == "a" && r.from_seq == 10) {
+        EXPECT_EQ(r.to_seq, 12);
+      }
     }
     EXPECT_EQ(got, (std::set<std::pair<std::string, std::int64_t>>{{"a", 10}, {"a", 500}, {"b", 7}}));
     // not again before the retry time
@@ -150,7 +152,7 @@ TEST(Recorder, AGapNeverAnsweredIsLostAfterItsAsks) {
   auto t = Clock::now();
   for (int s : {0, 1, 5}) {
     const auto b = encode(state("a", s));
-    rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()), t);
+    rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()));
   }
   int asked = 0;
   for (int k = 0; k < 200 && rec.repairing(); ++k) {
@@ -175,7 +177,7 @@ TEST(Recorder, OverTheRateLimitItWaitsWithoutSpendingAsks) {
   auto t = Clock::now();
   for (int s : {0, 9}) {
     const auto b = encode(state("a", s));
-    rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()), t);
+    rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()));
   }
   int asked = 0;
   for (int k = 0; k < 50; ++k) {
@@ -216,7 +218,7 @@ TEST(Recorder, RotatedPartsEachReadOnTheirOwnAndTogetherHoldEverything) {
     sc.scenario_json = R"({"name": "x"})";
     std::vector<std::uint8_t> sb(sc.getEncodedSize());
     sc.encode(sb.data(), 0, static_cast<int>(sb.size()));
-    rec.onDatagram(net::kScenarioChannel, sb.data(), static_cast<int>(sb.size()), t);
+    rec.onDatagram(net::kScenarioChannel, sb.data(), static_cast<int>(sb.size()));
     for (int s = 0; s < 1000; ++s) {
       if (s == 400) continue;  // lost live, repaired after the rotation
       if (s == 600) {
@@ -224,7 +226,7 @@ TEST(Recorder, RotatedPartsEachReadOnTheirOwnAndTogetherHoldEverything) {
         EXPECT_EQ(rec.part(), 1);
       }
       const auto b = encode(state("a", s));
-      rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()), t);
+      rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()));
     }
     groundsim::resent_t m{};
     m.stream = groundsim::resend_t::STREAM_SESSION;
@@ -274,10 +276,9 @@ TEST(Recorder, CommandsAreRecordedWithoutTheirToken) {
   {
     Recorder rec(std::make_unique<recording::McapWriter>(path), "cmd", o);
     rec.add("a", true);
-    const auto t = Recorder::Clock::now();
     for (int s = 0; s < 10; ++s) {
       const auto b = encode(state("a", s));
-      rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()), t);
+      rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size()));
     }
     groundsim::controls_t c{};
     c.seq = 7;
@@ -288,7 +289,7 @@ TEST(Recorder, CommandsAreRecordedWithoutTheirToken) {
     c.steer = -0.25;
     std::vector<std::uint8_t> cb(c.getEncodedSize());
     c.encode(cb.data(), 0, static_cast<int>(cb.size()));
-    EXPECT_TRUE(rec.onDatagram(net::kControlsChannel, cb.data(), static_cast<int>(cb.size()), t));
+    EXPECT_TRUE(rec.onDatagram(net::kControlsChannel, cb.data(), static_cast<int>(cb.size())));
     groundsim::drive_t d{};
     d.session_id = "a";
     d.token = "s3cret-token";
@@ -298,7 +299,7 @@ TEST(Recorder, CommandsAreRecordedWithoutTheirToken) {
     d.steer = {0.1, 0.1, 0, 0};
     std::vector<std::uint8_t> db(d.getEncodedSize());
     d.encode(db.data(), 0, static_cast<int>(db.size()));
-    EXPECT_TRUE(rec.onDatagram(net::kDriveChannel, db.data(), static_cast<int>(db.size()), t));
+    EXPECT_TRUE(rec.onDatagram(net::kDriveChannel, db.data(), static_cast<int>(db.size())));
     rec.finish();
   }
   recording::McapReader r(path);
