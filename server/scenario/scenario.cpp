@@ -156,6 +156,7 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
   // the task reads the vehicles' names and kinds: only once they are valid
   if (top.has("task") && issues.empty()) s.task = readTask(top.object("task"), s.vehicles);
   else top.allow("task");
+  if (top.has("accuracy")) s.accuracy = readAccuracy(top.object("accuracy"));
   top.finish();
   issues.throwIfAny();
   checkBudget(s, budget);

@@ -22,6 +22,7 @@
 #include "physics/core/state.hpp"
 #include "physics/build/vehicle.hpp"
 #include "scenario/budget.hpp"
+#include "scenario/accuracy_spec.hpp"
 #include "scenario/assets.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
@@ -84,6 +85,7 @@ struct Scenario {
   std::vector<ObjectEntry> objects;   // `objects`: obstacles, static or with mass
   std::optional<TaskSpec> task;   // the `task` section (experiments), when present
   std::vector<AssetRef> assets;   // the `assets` manifest (files sent with the scenario), when present
+  std::optional<AccuracySpec> accuracy;  // the `accuracy` section, when present
 };
 
 // Parses and validates against the budget; throws ScenarioError listing

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "physics/core/model.hpp"
+#include "scenario/accuracy_spec.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
@@ -33,5 +34,8 @@ void readCollisions(ObjectReader collisions, CollisionParams& c);
 std::vector<ObjectEntry> readObjects(ObjectReader& top, const std::vector<VehicleSpec>& vehicles);
 // task_section.cpp: the `task` section, checked against the vehicles read.
 TaskSpec readTask(ObjectReader task, const std::vector<VehicleSpec>& vehicles);
+
+// accuracy_section.cpp: `accuracy` (the error a user accepts).
+AccuracySpec readAccuracy(ObjectReader accuracy);
 
 }  // namespace groundsim::scenario

@@ -1,0 +1,26 @@
+#include "tolerance_scenes.hpp"
+
+namespace groundsim::bench {
+
+const std::vector<ToleranceScene>& toleranceScenes() {
+  static const std::vector<ToleranceScene> scenes = {
+      {"exp_plain", "plain.json", {}},
+      {"exp_downhill", "downhill.json", {}},
+      {"exp_uphill", "uphill.json", {}},
+      {"exp_cosine", "cosine.json", {"duration=8"}},
+      {"sedan_launch_brake", "sedan.json", {"duration=10"}},
+      {"sedan_slalom", "sedan_slalom.json", {"duration=8"}},
+      {"sedan_skidpad", "sedan_skidpad.json", {"duration=8"}},
+      {"sedan_stick_slip", "sedan_stick_slip.json", {"duration=8"}},
+      {"sedan_wet", "sedan_wet.json", {"duration=8"}},
+      {"crash", "contact/crash.json", {}},
+      {"lone_wheel_kerb", "accuracy/lone_wheel.json", {}},
+      {"deformable_tyres", "accuracy/deformable_tyres.json", {}},
+      {"sedan_hills_heightfield", "sedan_hills.json", {"duration=10"}},
+      {"expression_ground", "expression.json", {}},
+      {"eight_cars", "accuracy/eight_cars.json", {}},
+  };
+  return scenes;
+}
+
+}  // namespace groundsim::bench

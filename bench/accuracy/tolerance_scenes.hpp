@@ -1,0 +1,21 @@
+// The scenes of the tolerance sweep (docs/accuracy.md, "Accuracy on
+// demand"): the report's four experiments, the sedan's manoeuvres, a crash,
+// a lone wheel, deformable tyres, a heightfield, an expression ground and
+// eight cars, each a shipped config with overrides (shorter durations keep
+// the converged references affordable).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace groundsim::bench {
+
+struct ToleranceScene {
+  std::string name;
+  std::string config;                  // under configs/
+  std::vector<std::string> overrides;  // key.path=value, as `groundsim run --set`
+};
+
+const std::vector<ToleranceScene>& toleranceScenes();
+
+}  // namespace groundsim::bench

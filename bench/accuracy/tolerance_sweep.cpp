@@ -1,0 +1,220 @@
+// `tolerance_sweep`: for each scene of tolerance_scenes.cpp, the converged
+// reference, the oracle (every integrator at every ladder step over the
+// whole duration: the cheapest setting that truly meets each tolerance),
+// the setting chooseSettings picks from its pilot, that setting's realised
+// error and cost against the oracle's, and the live estimate against the
+// realised error. Prints a table per tolerance (docs/accuracy.md, "Accuracy
+// on demand") and writes every cell to --csv.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "accuracy/error_measure.hpp"
+#include "accuracy/live_estimate.hpp"
+#include "accuracy/pilot.hpp"
+#include "accuracy/trajectory.hpp"
+#include "physics/checks/stability.hpp"
+#include "physics/integrators/integrator.hpp"
+#include "scenario/scenario.hpp"
+#include "tolerance_scenes.hpp"
+
+namespace groundsim::bench {
+namespace {
+
+using accuracy::Trajectory;
+
+struct Cell {
+  IntegratorKind kind{};
+  double dt = 0.0;
+  double error = 0.0;
+  double cost = 0.0;  // wall s per sim s
+  double evals = 0.0; // force evaluations per sim s
+  bool healthy = true;
+};
+
+struct Row {
+  std::string scene;
+  double tolerance = 0.0;
+  accuracy::Choice choice;
+  Cell chosen, oracle;
+  bool oracle_found = false;
+  double estimate = 0.0, estimate_cost = 0.0;  // live estimate at the end; shadow steps / main steps
+  double live_wall_ratio = 0.0;                // wall with the estimate / without
+};
+
+std::string fmt(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2e", x);
+  return b;
+}
+
+scenario::Scenario load(const std::string& configs, const ToleranceScene& sc) {
+  const std::string path = configs + "/" + sc.config;
+  nlohmann::json doc = scenario::loadScenarioDocument(path);
+  for (const std::string& o : sc.overrides) scenario::applyOverride(doc, o);
+  doc.erase("accuracy");
+  return scenario::parseScenario(std::move(doc), scenario::FileAccess::local(
+                                                     path.substr(0, path.find_last_of('/'))));
+}
+
+bool accepts(const scenario::Scenario& s, IntegratorKind k) {
+  try {
+    scenario::buildScene(accuracy::withSettings(s, k, 1e-3));
+    return true;
+  } catch (const scenario::ScenarioError&) {
+    return false;
+  }
+}
+
+double stableDt(const scenario::Scenario& s, IntegratorKind k) {
+  const scenario::Scene scene = scenario::buildScene(accuracy::withSettings(s, k, 1e-3));
+  double dt = std::numeric_limits<double>::infinity();
+  for (const StiffMode& m : stiffestModes(*scene.built.model)) dt = std::min(dt, m.dt_limit);
+  return dt;
+}
+
+Cell runCell(const scenario::Scenario& s, IntegratorKind k, double dt, const Trajectory& ref) {
+  const Trajectory t = accuracy::runTrajectory(accuracy::withSettings(s, k, dt), s.duration);
+  Cell c{k, dt, accuracy::compareRuns(t, ref).value(), t.cost(),
+         static_cast<double>(t.evaluations) / std::max(t.duration, 1e-9), t.healthy};
+  return c;
+}
+
+// The chosen setting run again with the live estimate: its final value, the
+// shadow's share of the steps, and the wall time against a plain run.
+void liveEstimate(const accuracy::Choice& c, Row& row) {
+  const scenario::Scenario& s = c.scenario;
+  const scenario::Scene scene = scenario::buildScene(s);
+  Simulator sim(scene.built.model, scene.built.initial);
+  accuracy::LiveEstimateOptions o;
+  o.duration = s.duration;
+  accuracy::LiveEstimate live(s, c.order, o);
+  const long long n = std::llround(s.duration / s.options.dt);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long long i = 0; i < n; ++i) {
+    live.beforeStep(sim);
+    if (!scenario::stepScene(scene, sim, 1)) break;
+    live.afterStep(sim);
+  }
+  live.beforeStep(sim);  // a last update at the end
+  const double with = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  row.estimate = live.estimate();
+  row.estimate_cost = static_cast<double>(live.shadowSteps()) / static_cast<double>(std::max<long long>(1, sim.state().tick));
+  Simulator plain(scene.built.model, scene.built.initial);
+  const auto t1 = std::chrono::steady_clock::now();
+  scenario::stepScene(scene, plain, n);
+  const double without = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  row.live_wall_ratio = with / std::max(without, 1e-9);
+}
+
+}  // namespace
+}  // namespace groundsim::bench
+
+int main(int argc, char** argv) {
+  using namespace groundsim;
+  using namespace groundsim::bench;
+  CLI::App app{"Tolerance sweep: the chooser's settings against the oracle, per scene and tolerance"};
+  std::vector<std::string> only;
+  std::vector<double> tolerances = {0.1, 0.01, 0.001};
+  std::string csv_path, configs = GROUNDSIM_CONFIGS;
+  app.add_option("--scenes", only, "Scene names (default: all)")->delimiter(',');
+  app.add_option("--tolerances", tolerances, "Tolerances")->delimiter(',');
+  app.add_option("--csv", csv_path, "Write every oracle cell and choice here");
+  app.add_option("--configs", configs, "The configs directory");
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose, "Print each pilot's trials and the oracle cells");
+  CLI11_PARSE(app, argc, argv);
+
+  const std::vector<IntegratorKind> kinds = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
+                                             IntegratorKind::Rk4};
+  std::vector<Row> rows;
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    csv << "scene,kind,dt,error,cost,evals,healthy\n";
+  }
+  for (const ToleranceScene& sc : toleranceScenes()) {
+    if (!only.empty() && std::find(only.begin(), only.end(), sc.name) == only.end()) continue;
+    const scenario::Scenario s = load(configs, sc);
+    const auto w0 = std::chrono::steady_clock::now();
+    // the reference: the highest order the scene accepts, 64 ladder steps
+    // below its coarsest stable step; its uncertainty from twice that step
+    const IntegratorKind rk = accepts(s, IntegratorKind::Rk4) ? IntegratorKind::Rk4 : IntegratorKind::VelocityVerlet;
+    const double top = accuracy::ladderStepAtMost(std::min(0.02, 1.0 / s.output_rate));
+    const double ref_dt =
+        std::max(accuracy::ladderStepAtMost(std::min(top, 0.9 * stableDt(s, rk)) / 64), 2.4e-6);
+    const Trajectory ref = accuracy::runTrajectory(accuracy::withSettings(s, rk, ref_dt), s.duration);
+    const Trajectory ref2 = accuracy::runTrajectory(accuracy::withSettings(s, rk, 2 * ref_dt), s.duration);
+    const double uncertainty = accuracy::compareRuns(ref2, ref).value();
+    std::vector<Cell> cells;
+    for (IntegratorKind k : kinds) {
+      if (!accepts(s, k)) continue;
+      for (double h = top; h >= 1e-5 * (1 - 1e-9); h /= 2) {
+        cells.push_back(runCell(s, k, h, ref));
+        if (cells.back().healthy && cells.back().error < 2e-5) break;
+      }
+    }
+    if (verbose)
+      for (const Cell& c : cells)
+        std::printf("  cell %-19s dt %-9.3g error %s cost %.3g%s\n", integratorName(c.kind), c.dt, fmt(c.error).c_str(),
+                    c.cost, c.healthy ? "" : " DIVERGED");
+    for (const Cell& c : cells)
+      if (csv) csv << sc.name << ',' << integratorName(c.kind) << ',' << c.dt << ',' << c.error << ',' << c.cost << ','
+                   << c.evals << ',' << c.healthy << '\n';
+    std::printf("\n## %s: reference %s dt %.3g (uncertainty %s), %zu oracle cells, %.1f s\n", sc.name.c_str(),
+                integratorName(rk), ref_dt, fmt(uncertainty).c_str(), cells.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+    for (double tol : tolerances) {
+      Row row;
+      row.scene = sc.name;
+      row.tolerance = tol;
+      accuracy::PilotOptions po;
+      row.choice = accuracy::chooseSettings(s, tol, po);
+      const auto same = std::find_if(cells.begin(), cells.end(), [&](const Cell& c) {
+        return c.kind == row.choice.integrator && std::abs(c.dt / row.choice.dt - 1) < 1e-9;
+      });
+      row.chosen = same != cells.end() ? *same : runCell(s, row.choice.integrator, row.choice.dt, ref);
+      for (const Cell& c : cells)
+        if (c.healthy && c.error <= tol && (!row.oracle_found || c.cost < row.oracle.cost)) {
+          row.oracle = c;
+          row.oracle_found = true;
+        }
+      liveEstimate(row.choice, row);
+      std::printf("tol %-6g chose %-19s dt %-9.3g pred %s real %s | oracle %-19s dt %-9.3g cost x%.2f | "
+                  "estimate %s (x%.2f, shadow %.0f%%, wall x%.2f) | pilot %.2f s\n",
+                  tol, integratorName(row.choice.integrator), row.choice.dt, fmt(row.choice.predicted_error).c_str(),
+                  fmt(row.chosen.error).c_str(), row.oracle_found ? integratorName(row.oracle.kind) : "-",
+                  row.oracle.dt, row.oracle_found ? row.chosen.cost / row.oracle.cost : 0.0,
+                  fmt(row.estimate).c_str(), row.estimate / std::max(row.chosen.error, 1e-300),
+                  100 * row.estimate_cost, row.live_wall_ratio, row.choice.pilot_wall_seconds);
+      if (verbose) std::printf("%s", row.choice.report().c_str());
+      std::fflush(stdout);
+      rows.push_back(row);
+    }
+  }
+  // the verdicts of docs/accuracy.md, per tolerance
+  for (double tol : tolerances) {
+    int n = 0, within = 0, over3 = 0, cheap = 0, est3 = 0;
+    for (const Row& r : rows) {
+      if (r.tolerance != tol) continue;
+      ++n;
+      within += r.chosen.error <= tol;
+      over3 += r.chosen.error > 3 * tol;
+      cheap += r.oracle_found && r.chosen.cost <= 2 * r.oracle.cost;
+      const double q = r.estimate / std::max(r.chosen.error, 1e-300);
+      est3 += (q >= 1.0 / 3 && q <= 3) || (r.chosen.error < 1e-12 && r.estimate < 1e-9);
+    }
+    std::printf("\ntolerance %g: %d scenes, within %d, over 3x %d, cost <= 2x oracle %d, estimate within 3x %d\n", tol,
+                n, within, over3, cheap, est3);
+  }
+  return 0;
+}

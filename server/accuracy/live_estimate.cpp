@@ -1,0 +1,106 @@
+#include "accuracy/live_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "accuracy/error_measure.hpp"
+#include "accuracy/trajectory.hpp"
+#include "physics/checks/telemetry.hpp"
+
+namespace groundsim::accuracy {
+
+LiveEstimate::LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateOptions o) {
+  dt_ = s.options.dt;
+  const double p2 = std::pow(2.0, order);
+  factor_ = p2 / (p2 - 1.0);
+  const double window = o.duration > 0.0 ? std::min(o.window, o.duration / (4.0 * o.every)) : o.window;
+  window_steps_ = std::max(8LL, std::llround(window / dt_));
+  every_ = std::max(2, o.every);
+  // the shadow: the same scenario at half the step, its own scene (the
+  // step-dependent parts of the model, e.g. object substeps, follow dt)
+  scenario::Scenario half = s;
+  half.options.dt = dt_ / 2;
+  half.options.substeps = s.options.substeps;
+  scene_ = std::make_unique<scenario::Scene>(scenario::buildScene(half));
+  shadow_ = std::make_unique<Simulator>(scene_->built.model, scene_->built.initial);
+  for (const CarHandle& car : scene_->cars) vehicles_.push_back(car.vehicle);
+  sum_p_.assign(vehicles_.size(), 0.0);
+  sum_v_.assign(vehicles_.size(), 0.0);
+  distance_.assign(vehicles_.size(), 0.0);
+  speed_now_.assign(vehicles_.size(), 0.0);
+}
+
+LiveEstimate::~LiveEstimate() = default;
+
+void LiveEstimate::beforeStep(const Simulator& main) {
+  const long long tick = main.state().tick;
+  if (tick % window_steps_ != 0) return;
+  update(main);  // distance travelled, at every window boundary
+  if (!active_ && !failed_ && (tick / window_steps_) % every_ == 0) startWindow(main);
+}
+
+void LiveEstimate::startWindow(const Simulator& main) {
+  State s = main.state();
+  s.tick *= 2;  // the same time at half the step
+  shadow_->restore(s);
+  active_ = true;
+  window_end_ = main.state().tick + window_steps_;
+}
+
+void LiveEstimate::afterStep(const Simulator& main) {
+  if (!active_) return;
+  if (!main.healthy()) {
+    active_ = false;
+    return;
+  }
+  // the commands the main step used: the wheels' and the road cars'
+  shadow_->controls() = main.state().controls;
+  for (size_t c = 0; c < main.state().car_controls.size(); ++c)
+    shadow_->setCarControls(static_cast<int>(c), main.state().car_controls[c]);
+  const bool ok = shadow_->step(2);
+  shadow_steps_ += 2;
+  if (!ok) {
+    active_ = false;
+    failed_ = true;
+    return;
+  }
+  if (main.state().tick >= window_end_) endWindow(main);
+}
+
+void LiveEstimate::endWindow(const Simulator& main) {
+  active_ = false;
+  for (size_t i = 0; i < vehicles_.size(); ++i) {
+    const VehicleSample a = sampleVehicle(main, vehicles_[i], false);
+    const VehicleSample b = sampleVehicle(*shadow_, vehicles_[i], false);
+    sum_p_[i] += factor_ * (a.position - b.position).norm();
+    sum_v_[i] += factor_ * std::abs(a.velocity.norm() - b.velocity.norm());
+  }
+  sampled_time_ += static_cast<double>(window_steps_) * dt_;
+  ++windows_;
+  update(main);
+}
+
+void LiveEstimate::update(const Simulator& main) {
+  const bool first = last_pos_.empty();
+  if (first) last_pos_.resize(vehicles_.size());
+  for (size_t i = 0; i < vehicles_.size(); ++i) {
+    const VehicleSample a = sampleVehicle(main, vehicles_[i], false);
+    if (!first) distance_[i] += (a.position - last_pos_[i]).norm();
+    last_pos_[i] = a.position;
+    speed_now_[i] = a.velocity.norm();
+  }
+  if (sampled_time_ <= 0.0) return;
+  const double t = main.state().t;
+  path_ = speed_ = 0.0;
+  for (size_t i = 0; i < vehicles_.size(); ++i) {
+    const double rate_p = sum_p_[i] / sampled_time_, rate_v = sum_v_[i] / sampled_time_;
+    static const int variant = std::getenv("GS_LIVE") ? std::atoi(std::getenv("GS_LIVE")) : 0;
+    const double e_pos = variant == 1 ? rate_p * t : variant == 2 ? rate_p * t + 0.5 * rate_v * t * std::min(t, 1.0) : rate_p * t + 0.5 * rate_v * t * t;
+    path_ = std::max(path_, e_pos / std::max(distance_[i], kMinDistance));
+    speed_ = std::max(speed_, rate_v * t / std::max(speed_now_[i], kMinSpeed));
+  }
+  estimate_ = std::max(path_, speed_);
+}
+
+}  // namespace groundsim::accuracy

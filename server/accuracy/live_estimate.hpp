@@ -1,0 +1,80 @@
+// The live error estimate: while a run or session goes, a shadow copy of the
+// simulation is stepped at half the step, in lockstep with the same
+// commands, over sampled windows (one window in `every`, the first at t = 0).
+// At a window's end the difference between the two, times 2^p / (2^p - 1)
+// (Richardson, p the integrator's order), is the error the main run made in
+// that window: a position error and a velocity error per vehicle. Their
+// rates over the sampled windows stand for the whole run: the position error
+// at time t is rate_p t + rate_v t^2 / 2 (a velocity error carries the car
+// on), the speed error rate_v t, each relative to the distance travelled and
+// the speed as the error measure (error_measure.hpp) has them. Cost: two
+// shadow steps per main step in one window of `every`, so 2 / every of the
+// run (12.5% at 16). docs/accuracy.md, "The live estimate".
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "physics/simulator.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::accuracy {
+
+struct LiveEstimateOptions {
+  double window = 0.25;   // simulated s per window (at least 8 steps)
+  int every = 16;         // one window sampled in this many
+  // a run of known length: windows short enough that four are sampled
+  // (0: a session without end, windows of `window`)
+  double duration = 0.0;
+};
+
+class LiveEstimate {
+ public:
+  // s: the scenario the main run steps (its dt); order: its integrator's.
+  LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateOptions o = {});
+  ~LiveEstimate();
+  LiveEstimate(const LiveEstimate&) = delete;
+  LiveEstimate& operator=(const LiveEstimate&) = delete;
+
+  // Around each step of the main simulator (the commands it steps with are
+  // read after the step and given to the shadow).
+  void beforeStep(const Simulator& main);
+  void afterStep(const Simulator& main);
+
+  // The estimated error of the run so far (the error measure's value), 0
+  // before the first window ends.
+  double estimate() const { return estimate_; }
+  double pathEstimate() const { return path_; }
+  double speedEstimate() const { return speed_; }
+  // Shadow steps taken (each half a main step's cost).
+  long long shadowSteps() const { return shadow_steps_; }
+  int windowsMeasured() const { return windows_; }
+  // The shadow diverged at half the step while the main did not: the
+  // estimate stops there (the last value holds).
+  bool shadowFailed() const { return failed_; }
+
+ private:
+  void startWindow(const Simulator& main);
+  void endWindow(const Simulator& main);
+  void update(const Simulator& main);
+
+  std::unique_ptr<scenario::Scene> scene_;  // the shadow's (dt / 2)
+  std::unique_ptr<Simulator> shadow_;
+  double factor_ = 1.0;    // 2^p / (2^p - 1)
+  long long window_steps_ = 8;
+  int every_ = 16;
+  double dt_ = 0.0;
+  bool active_ = false, failed_ = false;
+  long long window_end_ = 0;
+  std::vector<int> vehicles_;
+  std::vector<double> sum_p_, sum_v_;   // per vehicle, over sampled windows
+  std::vector<Vec3> last_pos_;
+  std::vector<double> distance_, speed_now_;
+  double sampled_time_ = 0.0;
+  long long shadow_steps_ = 0;
+  int windows_ = 0;
+  double estimate_ = 0.0, path_ = 0.0, speed_ = 0.0;
+};
+
+}  // namespace groundsim::accuracy

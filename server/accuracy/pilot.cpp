@@ -1,0 +1,220 @@
+#include "accuracy/pilot.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+
+#include "accuracy/error_measure.hpp"
+#include "physics/checks/stability.hpp"
+#include "physics/integrators/integrator.hpp"
+
+namespace groundsim::accuracy {
+namespace {
+
+constexpr double kLadderTop = 0.02;  // s: the coarsest step considered
+// differences below this are roundoff: the runs agree
+constexpr double kRoundoff = 1e-13;
+constexpr int kMaxHalvings = 6;      // pilot retries after a divergence
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+// The stiffest mode of the scene's model under its integrator: the one
+// whose step limit is smallest.
+const StiffMode* stiffest(const std::vector<StiffMode>& modes) {
+  const StiffMode* best = nullptr;
+  for (const StiffMode& m : modes)
+    if (!best || m.dt_limit < best->dt_limit) best = &m;
+  return best;
+}
+
+struct Fit {
+  double order, e_fine;  // e_fine: error of the finest pilot run over the segment
+};
+
+// Richardson on three runs at h, h/2, h/4: d_coarse = |E(h) - E(h/2)|,
+// d_fine = |E(h/2) - E(h/4)|, so p = log2(d_coarse / d_fine) and the error
+// of the finest run is d_fine / (2^p - 1). Where the differences do not
+// shrink (not yet in the asymptotic range, or a non-smooth event), the
+// order is taken as 0.5 and the finest error as the larger difference:
+// pessimistic, so a finer step is chosen rather than a wrong one.
+Fit richardson(double d_coarse, double d_fine, int nominal) {
+  if (d_coarse < kRoundoff && d_fine < kRoundoff) return {static_cast<double>(nominal), std::max(d_fine, 1e-16)};
+  if (!(d_coarse > 1.05 * d_fine)) return {0.5, std::max(d_coarse, d_fine)};
+  const double p = std::clamp(std::log2(d_coarse / std::max(d_fine, 1e-16)), 0.5, nominal + 0.5);
+  return {p, std::max(d_fine, 1e-16) / (std::pow(2.0, p) - 1.0)};
+}
+
+IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double segment, double top,
+                      const PilotOptions& o) {
+  IntegratorTrial t;
+  t.kind = kind;
+  std::optional<scenario::Scene> scene;
+  try {
+    scene = scenario::buildScene(withSettings(s, kind, top));
+  } catch (const scenario::ScenarioError& e) {
+    t.refusal = e.lines("; ");
+    return t;
+  }
+  const std::vector<StiffMode> modes = stiffestModes(*scene->built.model);
+  const StiffMode* worst = stiffest(modes);
+  t.stability_dt = worst ? worst->dt_limit : std::numeric_limits<double>::infinity();
+  double dt = ladderStepAtMost(std::min(top, 0.9 * t.stability_dt));
+  std::string avoided;
+  if (worst && dt < top)
+    avoided = "steps above " + fmt(dt) + " s pass 90% of the limit of the stiffest mode (" + worst->what +
+              ", stable below " + fmt(worst->dt_limit) + " s)";
+  for (int attempt = 0; attempt <= kMaxHalvings; ++attempt, dt /= 2) {
+    if (dt / 4 < o.min_dt * (1 - 1e-9)) {
+      t.refusal = (avoided.empty() ? "" : avoided + "; ") + "no step down to " + fmt(o.min_dt) + " s stays healthy";
+      return t;
+    }
+    Trajectory r[3];
+    bool healthy = true;
+    for (int k = 0; k < 3 && healthy; ++k) {
+      r[k] = runTrajectory(withSettings(s, kind, dt / (1 << k)), segment);
+      if (!r[k].healthy) {
+        if (!avoided.empty()) avoided += "; ";
+        avoided += "dt " + fmt(dt / (1 << k)) + " s diverged in the pilot (" + r[k].failure + ")";
+        healthy = false;
+      }
+    }
+    if (!healthy) continue;
+    const int nominal = nominalOrder(kind);
+    const Fit fit = richardson(compareRuns(r[0], r[1]).value(), compareRuns(r[1], r[2]).value(), nominal);
+    t.dt0 = dt;
+    t.diff_coarse = compareRuns(r[0], r[1]).value();
+    t.diff_fine = compareRuns(r[1], r[2]).value();
+    t.order = fit.order;
+    // how the error grows over the segment: the fine pair's path error over
+    // the first half against the whole, E ~ t^q, carried to the duration
+    const size_t half = (r[2].positions.size() + 1) / 2;
+    const double e_half = compareRuns(r[1], r[2], half).path, e_all = compareRuns(r[1], r[2]).path;
+    t.growth = e_half > kRoundoff && e_all > kRoundoff ? std::clamp(std::log2(e_all / e_half), 0.0, 2.0) : 0.0;
+    const double scale = std::pow(std::max(1.0, s.duration / segment), t.growth);
+    t.error_constant = fit.e_fine * scale / std::pow(dt / 4, t.order);
+    long long steps = 0;
+    double wall = 0.0;
+    for (const Trajectory& x : r) {
+      steps += x.steps;
+      wall += x.wall_seconds;
+    }
+    t.step_cost = wall / static_cast<double>(std::max(1LL, steps));
+    t.usable = true;
+    t.refusal = avoided;
+    return t;
+  }
+  t.refusal = avoided;
+  return t;
+}
+
+}  // namespace
+
+double ladderStepAtMost(double h) {
+  double d = kLadderTop;
+  while (d > h * (1.0 + 1e-12) && d > 1e-12) d /= 2;
+  return d;
+}
+
+int nominalOrder(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::VelocityVerlet: return 2;
+    case IntegratorKind::Rk4: return 4;
+    case IntegratorKind::Adaptive: return 3;
+    case IntegratorKind::SemiImplicitEuler:
+    case IntegratorKind::ImplicitEuler: break;
+  }
+  return 1;
+}
+
+double IntegratorTrial::error(double h) const { return error_constant * std::pow(h, order); }
+
+Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Choice c;
+  c.tolerance = tolerance;
+  c.pilot_duration = std::min(s.duration, o.pilot_duration);
+  // a step longer than the output period would skip frames
+  const double top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
+  for (IntegratorKind k : o.integrators) c.trials.push_back(trial(s, k, c.pilot_duration, top, o));
+
+  const IntegratorTrial* best = nullptr;
+  const IntegratorTrial* closest = nullptr;
+  double best_dt = 0.0, best_cost = std::numeric_limits<double>::infinity();
+  double closest_dt = 0.0, closest_err = std::numeric_limits<double>::infinity();
+  for (const IntegratorTrial& t : c.trials) {
+    if (!t.usable) continue;
+    for (double h = t.dt0; h >= o.min_dt * (1 - 1e-9); h /= 2) {
+      const double err = t.error(h), cost = t.step_cost / h;
+      if (err < closest_err) {
+        closest_err = err;
+        closest = &t;
+        closest_dt = h;
+      }
+      if (err * o.safety <= tolerance) {
+        if (cost < best_cost) {
+          best_cost = cost;
+          best = &t;
+          best_dt = h;
+        }
+        break;  // finer steps of this integrator only cost more
+      }
+    }
+  }
+  if (!best && !closest) {
+    std::vector<scenario::Issue> issues;
+    for (const IntegratorTrial& t : c.trials)
+      issues.push_back({"/physics/integrator", std::string(integratorName(t.kind)) + ": " + t.refusal});
+    throw scenario::ScenarioError(std::move(issues));
+  }
+  c.meets = best != nullptr;
+  if (!best) {
+    best = closest;
+    best_dt = closest_dt;
+  }
+  c.integrator = best->kind;
+  c.dt = best_dt;
+  c.order = nominalOrder(best->kind);
+  c.observed_order = best->order;
+  c.predicted_error = best->error(best_dt);
+  c.predicted_cost = best->step_cost / best_dt;
+  c.scenario = withSettings(s, c.integrator, c.dt);
+  c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return c;
+}
+
+std::string Choice::line() const {
+  std::string out = std::string(integratorName(integrator)) + " at dt " + fmt(dt) + " s: predicted error " +
+                    fmt(predicted_error) + " (tolerance " + fmt(tolerance) + "), predicted cost " +
+                    fmt(predicted_cost) + " wall-s per sim-s";
+  if (!meets) out += "; NO setting down to the finest step is predicted to meet the tolerance";
+  return out;
+}
+
+std::string Choice::report() const {
+  std::string out;
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "pilot: %zu integrators, %.3g s of the scene at 3 steps each, %.3g s wall\n",
+                trials.size(), pilot_duration, pilot_wall_seconds);
+  out += buf;
+  for (const IntegratorTrial& t : trials) {
+    if (t.usable)
+      std::snprintf(buf, sizeof buf,
+                    "  %-20s dt0 %-8.3g diffs %.2e %.2e  order %.2f  growth %.2f  E(h) = %.3g h^%.2f  %.3g us/step\n",
+                    integratorName(t.kind), t.dt0, t.diff_coarse, t.diff_fine, t.order, t.growth, t.error_constant,
+                    t.order, t.step_cost * 1e6);
+    else
+      std::snprintf(buf, sizeof buf, "  %-20s refused\n", integratorName(t.kind));
+    out += buf;
+    if (!t.refusal.empty()) out += "    " + t.refusal + "\n";
+  }
+  return out;
+}
+
+}  // namespace groundsim::accuracy

@@ -1,0 +1,78 @@
+// A tolerance in, settings out. A short pilot on the user's own scene runs
+// each integrator that accepts it at three steps (dt0, dt0/2, dt0/4, dt0 the
+// largest step of the ladder inside the scene's stability limit), fits the
+// error law E(h) = C h^p from the differences (Richardson: p observed, not
+// assumed), extrapolates from the pilot's segment to the whole duration by
+// the error's observed growth over the segment, and times the steps; the
+// cheapest (integrator, step) whose predicted error, times a safety factor,
+// is within the tolerance is chosen. Every refusal (an integrator the scene
+// does not accept, a step that diverged in the pilot, a step beyond the
+// stiffest mode's limit) is named. docs/accuracy.md, "Accuracy on demand".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "accuracy/trajectory.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::accuracy {
+
+struct PilotOptions {
+  double pilot_duration = 2.0;  // simulated s of the scene per trial (capped by its duration)
+  // predicted error x safety must be within the tolerance: the prediction
+  // is an extrapolation, and an error twice the prediction still meets the
+  // tolerance at 1.5 only when the two differ by less than that
+  double safety = 1.5;
+  double min_dt = 1e-5;         // the finest step considered, s
+  std::vector<IntegratorKind> integrators = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
+                                             IntegratorKind::Rk4};
+};
+
+// What the pilot learnt of one integrator on the scene.
+struct IntegratorTrial {
+  IntegratorKind kind{};
+  bool usable = false;
+  std::string refusal;            // why not (when !usable), or what the pilot had to avoid
+  double stability_dt = 0.0;      // largest stable step of the stiffest mode (inf: none)
+  double dt0 = 0.0;               // the coarsest step tried that stayed healthy
+  double diff_coarse = 0.0;       // error measure between dt0 and dt0/2
+  double diff_fine = 0.0;         // between dt0/2 and dt0/4
+  double order = 0.0;             // observed p (clamped)
+  double growth = 0.0;            // error growth exponent over the segment
+  double error_constant = 0.0;    // C of E(h) = C h^p, over the whole duration
+  double step_cost = 0.0;         // wall s per step
+  double error(double h) const;   // predicted over the whole duration
+};
+
+struct Choice {
+  IntegratorKind integrator{};
+  double dt = 0.0;
+  int order = 1;                  // the chosen integrator's nominal order (for the live estimate)
+  double observed_order = 1.0;
+  double predicted_error = 0.0;
+  double predicted_cost = 0.0;    // wall s per simulated s
+  bool meets = false;             // predicted within the tolerance
+  double tolerance = 0.0;
+  std::vector<IntegratorTrial> trials;
+  double pilot_duration = 0.0;    // simulated s per trial run
+  double pilot_wall_seconds = 0.0;
+  // s with the chosen settings (its document says so; its `accuracy` kept)
+  scenario::Scenario scenario;
+  // one line: "velocity_verlet dt 1e-3: predicted error 2.1e-4 (tolerance 1e-2), 0.01 wall-s per sim-s"
+  std::string line() const;
+  // the table of trials, one line each, for --verbose output and docs
+  std::string report() const;
+};
+
+// The largest step of the ladder (0.02 s / 2^k) at or below h.
+double ladderStepAtMost(double h);
+// The integrator's nominal order on smooth problems.
+int nominalOrder(IntegratorKind kind);
+
+// Chooses for s, whose own settings (integrator, dt) are ignored; its
+// models (wheels, tyres, friction) are kept. Throws ScenarioError when no
+// integrator can run the scene at all, naming each one's reason.
+Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o = {});
+
+}  // namespace groundsim::accuracy

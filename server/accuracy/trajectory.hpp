@@ -1,0 +1,42 @@
+// A run of a scene reduced to what the error measure needs: each vehicle's
+// body-centre position at fixed sample times, its final velocity and the
+// distance it travelled, plus what the run cost. Two runs of the same scene
+// at different steps sample at the same times, so they compare point by
+// point (error_measure.hpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physics/core/math.hpp"
+#include "physics/core/model.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::accuracy {
+
+// Samples every kSamplePeriod of simulated time: a whole number of steps of
+// every step on the ladder (settings.hpp), 0.02 s / 2^k.
+inline constexpr double kSamplePeriod = 0.04;
+
+struct Trajectory {
+  std::vector<std::vector<Vec3>> positions;  // [sample][vehicle]
+  std::vector<Vec3> final_velocity;          // per vehicle
+  double duration = 0.0;                     // simulated, s
+  bool healthy = true;
+  std::string failure;                       // why it diverged, at what time
+  long long steps = 0;
+  long long evaluations = 0;                 // force evaluations
+  double wall_seconds = 0.0;
+  // wall seconds per simulated second
+  double cost() const { return duration > 0.0 ? wall_seconds / duration : 0.0; }
+};
+
+// A copy of s stepped with integrator `kind` at dt (one substep), its
+// document saying so.
+scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt);
+
+// Runs s (its scene built here; ScenarioError when it cannot be) for
+// `duration` simulated seconds with the scene's scripted controls.
+Trajectory runTrajectory(const scenario::Scenario& s, double duration);
+
+}  // namespace groundsim::accuracy

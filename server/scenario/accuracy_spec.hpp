@@ -1,0 +1,25 @@
+// The validated `accuracy` section: the error a user accepts. When present,
+// the accuracy layer (server/accuracy) chooses integrator and step from a
+// pilot on the scene itself and watches the error while the run goes;
+// docs/accuracy.md ("Accuracy on demand") defines the error measure.
+#pragma once
+
+namespace groundsim::scenario {
+
+struct AccuracySpec {
+  // accepted error: the larger of each vehicle's path error relative to the
+  // distance it travelled and its final speed's relative error, against the
+  // converged solution of the scenario as written
+  double tolerance = 0.01;
+  // simulated seconds of the scene the pilot runs at each trial step
+  // (capped by the scenario's duration)
+  double pilot_duration = 2.0;
+  // the live estimate (a shadow stepped at half the step over sampled
+  // windows) while the run goes
+  bool live_estimate = true;
+  // halve the step at the next window when the live estimate exceeds the
+  // tolerance (fixed-step integrators)
+  bool refine = false;
+};
+
+}  // namespace groundsim::scenario
