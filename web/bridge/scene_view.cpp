@@ -176,8 +176,14 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json, const
     view->road_car.push_back(rc != m.road_cars.end());
     vehicles.push_back(std::move(l));
   }
+  // the horizon's levels are centred on the vehicles' start
+  Vec3 centre = Vec3::Zero();
+  for (int b : m.vehicle_body) centre += bodyPos(scene.built.initial.y, b);
+  if (!m.vehicle_body.empty()) centre /= static_cast<double>(m.vehicle_body.size());
   view->layout = {{"name", sc.name}, {"ground", scenario::groundKindName(sc.ground.kind)}, {"vehicles", vehicles},
-                  {"objects", objectsLayout(m, scene.built.initial)}};
+                  {"objects", objectsLayout(m, scene.built.initial)},
+                  {"friction", sc.options.contact.friction},
+                  {"horizon", horizonGrids(*view->ground, centre.x(), centre.y(), sc.options.contact.friction)}};
   return view;
 }
 
@@ -204,10 +210,64 @@ bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* 
   return true;
 }
 
+namespace {
+
+// mu at a surface node, rounded to 0.01; kDefaultMu where the ground has no
+// say (no patch, off the map): the scene's contact.friction applies there
+constexpr double kDefaultMu = -1.0;
+double nodeMu(const Ground& g, double x, double y, double z) {
+  const double mu = g.friction(Vec3(x, y, z), kDefaultMu);
+  return mu == kDefaultMu || !std::isfinite(mu) ? kDefaultMu : std::round(mu * 100.0) / 100.0;
+}
+
+}  // namespace
+
+json horizonGrids(const Ground& g, double cx, double cy, double scene_mu, int n, double step0, int levels) {
+  json out = json::array();
+  double step = step0;
+  for (int l = 0; l < levels; ++l, step *= 4.0) {
+    const double x0 = std::round(cx / step) * step - step * (n - 1) / 2.0;
+    const double y0 = std::round(cy / step) * step - step * (n - 1) / 2.0;
+    json z = json::array(), mu = json::array();
+    bool varied = false;
+    double prev = 0.0, prev_row = 0.0;
+    for (int i = 0; i < n; ++i) {
+      prev = prev_row;
+      for (int j = 0; j < n; ++j) {
+        // the mean of 2 x 2 samples a half step apart: a ground that varies
+        // faster than the level's step (the cosine's 6 m waves under 64 m
+        // steps) averages out instead of aliasing into random hills
+        double sum = 0.0, h = 0.0;
+        int got = 0;
+        for (double dy : {-0.25, 0.25})
+          for (double dx : {-0.25, 0.25})
+            if (surfaceHeight(g, x0 + (j + dx) * step, y0 + (i + dy) * step, prev, &h)) sum += h, ++got;
+        if (!got) {
+          z.push_back(nullptr);
+          mu.push_back(scene_mu);
+          continue;
+        }
+        const double zm = sum / got;
+        prev = zm;
+        if (j == 0) prev_row = zm;
+        z.push_back(std::round(zm * 100.0) / 100.0);  // centimetres: drawn at >= 4 m spacing
+        const double m = nodeMu(g, x0 + j * step, y0 + i * step, zm);
+        varied = varied || m != kDefaultMu;
+        mu.push_back(m == kDefaultMu ? scene_mu : m);
+      }
+    }
+    json level = {{"x0", x0}, {"y0", y0}, {"n", n}, {"step", step}, {"z", z}};
+    if (varied) level["mu"] = mu;
+    out.push_back(std::move(level));
+  }
+  return out;
+}
+
 json groundGrid(const Ground& g, double cx, double cy, int n, double step) {
   const double x0 = std::round(cx / step) * step - step * (n - 1) / 2.0;
   const double y0 = std::round(cy / step) * step - step * (n - 1) / 2.0;
-  json z = json::array();
+  json z = json::array(), mu = json::array();
+  bool varied = false;
   double prev_row = 0.0;
   for (int i = 0; i < n; ++i) {
     double prev = prev_row;
@@ -218,12 +278,20 @@ json groundGrid(const Ground& g, double cx, double cy, int n, double step) {
         z.push_back(std::round(h * 1000.0) / 1000.0);
         prev = h;
         if (j == 0) prev_row = h;
+        const double m = nodeMu(g, x0 + j * step, y0 + i * step, h);
+        varied = varied || m != kDefaultMu;
+        mu.push_back(m == kDefaultMu ? json(nullptr) : json(m));
       } else {
         z.push_back(nullptr);
+        mu.push_back(nullptr);
       }
     }
   }
-  return {{"x0", x0}, {"y0", y0}, {"n", n}, {"step", step}, {"z", z}};
+  json out = {{"x0", x0}, {"y0", y0}, {"n", n}, {"step", step}, {"z", z}};
+  // mu by node only where the ground has friction patches or a map there
+  // (null: the scene's contact.friction, layout.friction)
+  if (varied) out["mu"] = std::move(mu);
+  return out;
 }
 
 std::string withVehicles(const std::string& scenario_json, int count, double margin) {
