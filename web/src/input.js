@@ -22,6 +22,7 @@ export class Input {
         if (k === 'r') this.actions.push('reset');
         if (k === 'p') this.actions.push('pause');
         if (k === 'c') this.actions.push('camera');
+        if (k === 'f') this.actions.push('figure');
       }
       const fresh = !this.down.has(k);
       this.down.add(k);

@@ -1,0 +1,44 @@
+// The heads-up display while a session or a replay is shown: speed, gear
+// and rpm, times, the session's status and health, wheel loads and travel,
+// frame rate; and the event lines at the bottom left.
+import { app, $, STATUS, HEALTH } from './app.js';
+
+export function addEvent(text, cls) {
+  app.events.push({ text, cls });
+  if (app.events.length > 6) app.events.shift();
+  $('events').innerHTML = app.events.map((e) => `<div class="${e.cls}">${e.text.replace(/</g, '&lt;')}</div>`).join('');
+}
+
+export function clearEvents() {
+  app.events = [];
+  $('events').innerHTML = '';
+}
+
+// s: the state drawn; v: the followed vehicle in it; gear: the page's own
+// gear (its input) when it drives a car that reports none; rate: real-time factor
+export function updateHud(s, v, { gear = null, rate = null } = {}) {
+  if (!v) return;
+  $('hud-speed').textContent = (Math.hypot(...v.v) * 3.6).toFixed(1);
+  // a road car reports its engaged gear and engine rpm; other vehicles have
+  // neither: the page's own gear and the wheels' mean spin stand in
+  const rc = app.car && app.car.session === s.session ? app.car.cars.find((c) => c.vehicle === app.followed) : null;
+  if (rc) {
+    $('hud-gear').textContent = rc.gear > 0 ? String(rc.gear) : rc.gear < 0 ? 'R' : 'N';
+    $('hud-rpm').textContent = rc.rpm.toFixed(0);
+  } else {
+    $('hud-gear').textContent = gear === null ? '-' : gear > 0 ? 'D' : gear < 0 ? 'R' : 'N';
+    const spins = v.spin.length ? v.spin.reduce((a, x) => a + Math.abs(x), 0) / v.spin.length : 0;
+    $('hud-rpm').textContent = (spins * 60 / (2 * Math.PI)).toFixed(0);
+  }
+  $('hud-time').textContent = `${s.t.toFixed(2)} s`;
+  $('hud-rtf').textContent = rate === null ? '-' : rate.toFixed(2);
+  const st = $('status');
+  st.textContent = STATUS[s.status] || s.status;
+  st.className = s.status === 4 ? 'bad' : s.status !== 1 ? 'warn' : '';
+  $('hud-health').textContent = HEALTH[s.health] || s.health;
+  const car = app.vehicles[app.followed];
+  $('hud-wheels').textContent = `${v.N.map((n) => n.toFixed(1)).join(' ')} N`;
+  $('hud-travel').textContent = car ? `${car.wheels.map((w) => (1000 * w.lift).toFixed(3)).join(' ')} mm` : '-';
+  $('hud-fps').textContent = `${app.fps.toFixed(0)} frames/s, ${app.frameMs.toFixed(1)} ms`;
+  $('btn-pause').textContent = s.status === 2 ? 'resume' : 'pause';
+}

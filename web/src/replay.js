@@ -1,0 +1,127 @@
+// Replays in the browser: a recorded session the bridge serves
+// (GET /recordings/NAME/states, docs/logging.md) played back on a timeline:
+// play, pause, speed, scrub, jump; the page's free camera meanwhile.
+// States are fetched in windows of CHUNK s of simulation time around the
+// playhead (the next one ahead of time), at most KEEP windows kept; a
+// frame interpolates the two states around the playhead as a live session's
+// frames do (interp.js).
+import { interpolateVehicle } from './interp.js';
+
+const KEEP = 12;
+
+// a recorder's state message (client/record/message_json.cpp) as the
+// bridge's live "state" message
+export function fromRecorded(m, session) {
+  return {
+    op: 'state', session, seq: m.seq, t: m.t, status: m.status, health: m.health, reason: m.status_reason,
+    vehicles: (m.vehicles || []).map((v) => ({
+      name: v.name, p: v.position, q: v.orientation, v: v.velocity, w: v.angular_velocity, speed: v.speed,
+      spin: v.wheel_spin || [], N: v.normal_force || [], F: v.friction_force || [], slip: v.slip || [],
+      contact: v.in_contact || [],
+    })),
+  };
+}
+
+// forward speed along the body's x, horizontally
+function forward(v) {
+  const [w, x, y, z] = v.q;
+  const fx = 1 - 2 * (y * y + z * z), fy = 2 * (x * y + w * z), n = Math.hypot(fx, fy) || 1;
+  return (fx * v.v[0] + fy * v.v[1]) / n;
+}
+
+export class Replay {
+  constructor(name, session, fetchFn = (u) => fetch(u)) {
+    this.name = name;
+    this.session = session;
+    this.fetch = fetchFn;
+    this.t0 = 0; this.t1 = 0; this.t = 0;
+    this.playing = false;
+    this.speed = 1;
+    this.chunk = 8;            // s per window; halved when a window comes back cut (a fast publish rate)
+    this.windows = new Map();  // index -> {states, promise}
+    this.requests = 0;         // windows fetched, for tests
+    this.shown = null;         // the state drawn last
+    this.error = null;
+  }
+  url(from, to) {
+    return `/recordings/${encodeURIComponent(this.name)}/states?session=${encodeURIComponent(this.session)}&from=${from.toFixed(6)}&to=${to.toFixed(6)}&max=5000`;
+  }
+  // reads the recording's span and its first window
+  async open() {
+    const r = await this.fetch(`/recordings/${encodeURIComponent(this.name)}`);
+    const f = await r.json();
+    if (!r.ok) throw new Error(f.error || `HTTP ${r.status}`);
+    const s = (f.sessions || []).find((x) => x.id === this.session);
+    if (!s) throw new Error(`session ${this.session} is not in ${this.name}`);
+    this.t0 = s.t0; this.t1 = s.t1; this.t = s.t0;
+    await this.load(this.index(this.t));
+    this.loaded = true;
+    return this;
+  }
+  index(t) { return Math.floor((t - this.t0) / this.chunk); }
+  load(k) {
+    const have = this.windows.get(k);
+    if (have) return have.promise;
+    const from = this.t0 + k * this.chunk, to = Math.min(this.t1, from + this.chunk);
+    const w = { states: null };
+    w.promise = (async () => {
+      this.requests++;
+      const r = await this.fetch(this.url(from, to));
+      const body = await r.json();
+      if (!r.ok) throw new Error(body.error || `HTTP ${r.status}`);
+      if (body.more && this.chunk > 0.25) {  // cut: smaller windows from now on
+        this.chunk /= 2;
+        this.windows.clear();
+        return this.load(this.index(from));
+      }
+      w.states = body.states.map((m) => fromRecorded(m, this.session));
+      return w.states;
+    })().catch((e) => { this.error = String(e.message || e); this.windows.delete(k); });
+    this.windows.set(k, w);
+    while (this.windows.size > KEEP) this.windows.delete(this.windows.keys().next().value);
+    return w.promise;
+  }
+  seek(t) {
+    this.t = Math.max(this.t0, Math.min(this.t1, t));
+    this.load(this.index(this.t));
+  }
+  jump(dt) { this.seek(this.t + dt); }
+  toggle() {
+    if (!this.playing && this.t >= this.t1) this.t = this.t0;
+    this.playing = !this.playing;
+  }
+  // The state to draw after dtWall s of wall time: the playhead advances at
+  // the chosen speed while playing; null until its window has loaded.
+  frame(dtWall) {
+    if (this.playing) {
+      this.t = Math.min(this.t1, this.t + dtWall * this.speed);
+      if (this.t >= this.t1) this.playing = false;
+    }
+    const k = this.index(this.t);
+    this.load(k);
+    if (this.playing && this.t + 2 > this.t0 + (k + 1) * this.chunk) this.load(k + 1);  // ahead of time
+    const w = this.windows.get(k);
+    const states = w && w.states;
+    if (!states || !states.length) return this.shown;
+    let i = 0;
+    while (i + 1 < states.length && states[i + 1].t <= this.t) ++i;
+    const a = states[i], b = states[Math.min(i + 1, states.length - 1)];
+    const u = b.t > a.t ? Math.min(1, Math.max(0, (this.t - a.t) / (b.t - a.t))) : 0;
+    const dt = b.t - a.t;
+    this.shown = {
+      ...a,
+      t: a.t + (b.t - a.t) * u,
+      vehicles: a.vehicles.map((va, j) => {
+        const vb = b.vehicles[j] || va;
+        const v = interpolateVehicle(va, vb, u);
+        // braking, for the brake lights: slowing along the heading faster
+        // than rolling and air drag would (the recording has no controls here)
+        const dv = dt > 0 ? (Math.abs(forward(vb)) - Math.abs(forward(va))) / dt : 0;
+        v.braking = dv < -2.5 && Math.abs(forward(va)) > 0.5;
+        return v;
+      }),
+      objects: null,
+    };
+    return this.shown;
+  }
+}
