@@ -151,6 +151,36 @@ groundsim::contact_state_t toContactMessage(const session::Frame& f) {
   return m;
 }
 
+groundsim::applied_t toMessage(const session::Applied& a) {
+  groundsim::applied_t m{};
+  m.utime = toUtime(a.t);
+  m.session_id = a.session_id;
+  m.seq = a.seq;
+  m.frame_seq = a.frame_seq;
+  m.tick = a.tick;
+  m.t = a.t;
+  m.kind = static_cast<int8_t>(a.kind);
+  m.vehicle = a.vehicle;
+  m.nwheels = static_cast<int8_t>(std::min<size_t>(a.wheels.size(), 127));
+  for (int k = 0; k < m.nwheels; ++k) {
+    m.drive_torque.push_back(a.wheels[k].drive_torque);
+    m.brake_torque.push_back(a.wheels[k].brake_torque);
+    m.steer.push_back(a.wheels[k].steer);
+  }
+  m.throttle = a.controls.throttle;
+  m.brake = a.controls.brake;
+  m.car_steer = a.controls.steer;
+  m.handbrake = a.controls.handbrake;
+  m.gear = static_cast<int8_t>(a.controls.gear);
+  for (int k = 0; k < 4; ++k) m.wheel_torque[k] = a.controls.wheel_torque[k];
+  m.steps = a.steps;
+  m.mode = static_cast<int8_t>(a.mode);
+  m.rate = a.rate;
+  m.publish_rate = a.publish_rate;
+  m.reason = a.reason;
+  return m;
+}
+
 groundsim::state_t toMessage(const session::Frame& f) {
   groundsim::state_t m;
   m.utime = toUtime(f.t);

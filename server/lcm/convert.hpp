@@ -2,6 +2,7 @@
 // (what clients need of the wire types is in groundsim_protocol).
 #pragma once
 
+#include <groundsim/applied_t.hpp>
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/contact_state_t.hpp>
 #include <groundsim/controls_t.hpp>
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "session/applied.hpp"
 #include "session/types.hpp"
 
 namespace groundsim::net {
@@ -41,6 +43,8 @@ groundsim::state_t toMessage(const session::Frame& f);
 groundsim::car_state_t toCarMessage(const session::Frame& f);
 // The objects and hits of a frame whose scene has contact between bodies.
 groundsim::contact_state_t toContactMessage(const session::Frame& f);
+// An entry of a session's applied-command log (applied_t).
+groundsim::applied_t toMessage(const session::Applied& a);
 groundsim::reply_t toMessage(const session::Reply& r, std::int64_t seq);
 groundsim::event_t toMessage(const session::Event& e, std::int64_t seq);
 // with_layout: a vectorised session's env_layout_t (replies); the

@@ -106,6 +106,16 @@ void LcmServer::publishState(const session::Frame& f) {
   }
 }
 
+void LcmServer::publishApplied(const session::Applied& a) {
+  try {
+    publish(appliedChannel(a.session_id), toMessage(a), &a.session_id, a.frame_seq);
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish an applied command of %s: %s\n", a.session_id.c_str(),
+                 e.what());
+  }
+}
+
 void LcmServer::publishReply(const session::Reply& r) {
   try {
     // the scenario first: a viewer that asked for it has it when the reply comes

@@ -33,6 +33,8 @@ class LcmServer final : public session::Output {
   // Split into parts of at most net::kMaxVecPartBytes, each published on its own.
   void publishVecReply(const session::VecReply& r) override;
   void publishAssetWant(const session::AssetWant& w) override;
+  // On GROUNDSIM_APPLIED_<session>, kept in the resend ring with the frame published next.
+  void publishApplied(const session::Applied& a) override;
 
   // One received datagram, as LCM's handler gets it (also the entry of the
   // datagram fuzz target). Never throws: LCM's C code must not unwind.

@@ -36,6 +36,9 @@ inline std::string stateChannel(const std::string& session_id) { return kStatePr
 inline std::string carStateChannel(const std::string& session_id) { return kCarStatePrefix + session_id; }
 inline constexpr const char* kContactPrefix = "GROUNDSIM_CONTACT_";  // + session id: contact_state_t (objects, hits)
 inline std::string contactChannel(const std::string& session_id) { return kContactPrefix + session_id; }
+// + session id: applied_t, the session's applied-command log (docs/logging.md, Re-simulation)
+inline constexpr const char* kAppliedPrefix = "GROUNDSIM_APPLIED_";
+inline std::string appliedChannel(const std::string& session_id) { return kAppliedPrefix + session_id; }
 
 // LCM's own default, unless LCM_DEFAULT_URL says otherwise. ttl=0 keeps
 // multicast on this host.

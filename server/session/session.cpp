@@ -13,27 +13,10 @@
 namespace groundsim::session {
 namespace {
 
-// A diverged simulator keeps its last finite state, but the workspace of the
-// failed evaluation (contact forces, slip) may hold NaN: never publish it.
-void finite(double& x) {
-  if (!std::isfinite(x)) x = 0.0;
-}
-void sanitize(VehicleSample& s) {
-  finite(s.t);
-  finite(s.speed);
-  finite(s.energy);
-  for (int i = 0; i < 3; ++i) {
-    finite(s.position[i]);
-    finite(s.velocity[i]);
-    finite(s.angular_velocity[i]);
-  }
-  if (!s.orientation.coeffs().allFinite()) s.orientation = Quat::Identity();
-  for (auto& w : s.wheels) {
-    finite(w.spin);
-    finite(w.normal_force);
-    finite(w.friction_force);
-    finite(w.slip);
-  }
+Applied entry(AppliedKind kind) {
+  Applied a;
+  a.kind = kind;
+  return a;
 }
 
 std::string formatTime(double t) {
@@ -61,19 +44,7 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
       budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)),
       last_activity_(now) {
   const Model& m = *model;
-  vehicles_.resize(m.vehicle_names.size());
-  for (size_t w = 0; w < m.wheels.size(); ++w) {
-    const int v = m.vehicle_of_wheel[w];
-    if (v < 0 || v >= static_cast<int>(vehicles_.size())) continue;
-    vehicles_[v].wheels.push_back(static_cast<int>(w));
-    vehicles_[v].max_steer.push_back(m.wheels[w].steerable ? m.wheels[w].max_steer : 0.0);
-  }
-  for (size_t c = 0; c < m.road_cars.size(); ++c) {
-    const int v = m.road_cars[c].vehicle;
-    if (v < 0 || v >= static_cast<int>(vehicles_.size())) continue;
-    vehicles_[v].road_car = static_cast<int>(c);
-    vehicles_[v].gears = static_cast<int>(m.road_cars[c].p.powertrain.gears.size());
-  }
+  vehicles_ = vehicleWheels(m);
   names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
   info_.dt = m.opt.dt;
   for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
@@ -216,12 +187,12 @@ void Session::apply(const Request& r, TimePoint now) {
   switch (r.op) {
     case Op::Reset:
       failSteps(ErrorCode::BadRequest, "interrupted by a reset");
-      sim_.restore(initial_);
+      resetTo(sim_, cars_, initial_);
+      logApplied(entry(AppliedKind::Reset));
       status_ = Status::Running;
       reason_.clear();
       drive_held_ = false;
       car_held_ = false;
-      car_driven_.assign(car_driven_.size(), false);
       reanchor(now);
       frame_pending_ = true;
       reply(to, true, ErrorCode::None, "");
@@ -230,12 +201,14 @@ void Session::apply(const Request& r, TimePoint now) {
       if (status_ != Status::Running && status_ != Status::Paused)
         return reply(to, false, ErrorCode::BadRequest, std::string("cannot pause: session is ") + statusName(status_));
       status_ = Status::Paused;
+      logApplied(entry(AppliedKind::Pause));
       frame_pending_ = true;  // subscribers see the pause
       return reply(to, true, ErrorCode::None, "");
     case Op::Resume:
       if (status_ != Status::Running && status_ != Status::Paused)
         return reply(to, false, ErrorCode::BadRequest, std::string("cannot resume: session is ") + statusName(status_));
       status_ = Status::Running;
+      logApplied(entry(AppliedKind::Resume));
       reanchor(now);
       frame_pending_ = true;
       return reply(to, true, ErrorCode::None, "");
@@ -249,6 +222,11 @@ void Session::apply(const Request& r, TimePoint now) {
         return reply(to, false, ErrorCode::BadRequest, "session is paused (resume it)");
       status_ = Status::Running;  // lockstep ignores the duration
       reason_.clear();
+      {
+        Applied a = entry(AppliedKind::Step);
+        a.steps = r.steps;
+        logApplied(std::move(a));
+      }
       steps_.push_back(StepJob{to, r.steps});
       return;
     case Op::SetMode: {
@@ -262,6 +240,13 @@ void Session::apply(const Request& r, TimePoint now) {
         setup_.publish_rate = r.publish_rate;
         steps_per_frame_ = stepsPerFrame(r.publish_rate, sim_.model().opt.dt);
       }
+      {
+        Applied a = entry(AppliedKind::SetMode);
+        a.mode = r.mode;
+        a.rate = r.rate;
+        a.publish_rate = r.publish_rate;
+        logApplied(std::move(a));
+      }
       reanchor(now);
       return reply(to, true, ErrorCode::None, "");
     }
@@ -272,15 +257,18 @@ void Session::apply(const Request& r, TimePoint now) {
 
 void Session::apply(const Drive& d) {
   const VehicleWheels& vw = vehicles_.at(d.vehicle);
-  auto& controls = sim_.controls();
+  Applied a = entry(AppliedKind::Drive);
+  a.vehicle = d.vehicle;
   bool any = false;
   for (size_t k = 0; k < vw.wheels.size() && k < d.wheels.size(); ++k) {
     WheelControl c = d.wheels[k];
     // physics applies any angle it is given: hold it to the wheel's lock
     c.steer = std::clamp(c.steer, -vw.max_steer[k], vw.max_steer[k]);
-    controls[vw.wheels[k]] = c;
+    a.wheels.push_back(c);
     any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
   }
+  applyDrive(sim_, vw.wheels, a.wheels);
+  logApplied(std::move(a));
   last_drive_ = d.received;
   drive_applied_ = clock_.now();
   drive_held_ = any;
@@ -293,9 +281,11 @@ void Session::apply(const CarDrive& d) {
   if (c < 0) return;
   CarControls cc = d.controls;
   cc.wheel_torque = sim_.carControls(c).wheel_torque;  // per-wheel experiment torques are not a driver's
-  sim_.setCarControls(c, cc);
-  if (car_driven_.size() <= static_cast<size_t>(c)) car_driven_.resize(static_cast<size_t>(c) + 1, false);
-  car_driven_[static_cast<size_t>(c)] = true;  // the client drives now, not the scenario's table
+  applyCarControls(sim_, cars_, c, cc);
+  Applied a = entry(AppliedKind::Controls);
+  a.vehicle = d.vehicle;
+  a.controls = cc;
+  logApplied(std::move(a));
   last_car_drive_ = d.received;
   car_held_ = cc.throttle != 0.0 || cc.brake != 0.0;
 }
@@ -304,6 +294,9 @@ void Session::apply(const StopCommand& c) {
   failSteps(ErrorCode::BadRequest, "session stopped");
   status_ = Status::Stopped;
   reason_ = c.reason;
+  Applied a = entry(AppliedKind::Stop);
+  a.reason = c.reason;
+  logApplied(std::move(a));
   publishFrame();
   if (c.reply) reply(*c.reply, true, ErrorCode::None, "");
   event(Severity::Info, ErrorCode::None, "session stopped: " + c.reason);
@@ -331,17 +324,8 @@ bool Session::finished() const {
          sim_.state().t >= setup_.duration - 0.5 * sim_.model().opt.dt;
 }
 
-void Session::followControlTables() {
-  for (const scenario::ControlTable& ct : setup_.control_tables) {
-    const auto car = static_cast<size_t>(ct.road_car);
-    if (car < car_driven_.size() && car_driven_[car]) continue;
-    if (const scenario::TimedControls* row = scenario::rowInForce(ct, sim_.state().t, sim_.model().opt.dt))
-      sim_.setCarControls(ct.road_car, row->controls);
-  }
-}
-
 bool Session::stepOnce() {
-  if (!setup_.control_tables.empty()) followControlTables();
+  if (!setup_.control_tables.empty()) followControlTables(sim_, cars_, setup_.control_tables);
   if (!sim_.step()) {
     diverged(sim_.state().health_reason, ErrorCode::Diverged);
     return false;
@@ -370,23 +354,15 @@ void Session::reportHits() {
 void Session::checkCommandTimeout(TimePoint now) {
   if (car_held_ && seconds(now - last_car_drive_) > cfg_.command_timeout) {
     // as for drive_t: the pedals are released, steering and gear stay
-    for (const VehicleWheels& vw : vehicles_) {
-      if (vw.road_car < 0) continue;
-      CarControls cc = sim_.carControls(vw.road_car);
-      cc.throttle = 0.0;
-      cc.brake = 0.0;
-      sim_.setCarControls(vw.road_car, cc);
-    }
+    releasePedals(sim_);
+    logApplied(entry(AppliedKind::ControlsTimeout));
     car_held_ = false;
     event(Severity::Warning, ErrorCode::CommandTimeout,
           "no controls command for " + shortNumber(cfg_.command_timeout) + " s: throttle and brake set to zero");
   }
   if (!drive_held_ || seconds(now - last_drive_) <= cfg_.command_timeout) return;
-  for (const VehicleWheels& vw : vehicles_)
-    for (int w : vw.wheels) {
-      sim_.controls()[w].drive_torque = 0.0;
-      sim_.controls()[w].brake_torque = 0.0;
-    }
+  releaseDrive(sim_);
+  logApplied(entry(AppliedKind::DriveTimeout));
   drive_held_ = false;
   event(Severity::Warning, ErrorCode::CommandTimeout,
         "no drive command for " + shortNumber(cfg_.command_timeout) + " s: torques set to zero");
@@ -466,54 +442,38 @@ bool Session::emitFrame(TimePoint now) {
 
 void Session::publishFrame() {
   frame_pending_ = false;
+  // a frame that ends the session carries the log's last entry, so a
+  // recorder that has the frame knows how many entries there were
+  if (status_ == Status::Finished || status_ == Status::Stopped || status_ == Status::Diverged) {
+    Applied a = entry(AppliedKind::End);
+    a.reason = reason_;
+    logApplied(std::move(a));
+  }
   out_.publishState(makeFrame());
 }
 
+void Session::logApplied(Applied a) {
+  a.session_id = setup_.id;
+  a.seq = applied_seq_++;
+  a.frame_seq = seq_;
+  a.tick = sim_.state().tick;
+  a.t = sim_.state().t;
+  out_.publishApplied(a);
+}
+
 Frame Session::makeFrame(bool published) {
-  const State& s = sim_.state();
   Frame f;
   f.session_id = setup_.id;
   // a frame only carried by a reply repeats the last published seq, so that
   // state subscribers never see a gap that is not a loss
   f.seq = published ? seq_++ : seq_ - 1;
-  f.t = s.t;
-  f.tick = s.tick;
   f.mode = setup_.mode;
   f.status = status_;
-  f.health = s.health;
   f.reason = reason_;
   f.names = names_;
   f.drive_received = last_drive_;
   f.drive_applied = drive_applied_;
-  f.vehicles.reserve(vehicles_.size());
-  for (size_t v = 0; v < vehicles_.size(); ++v) {
-    f.vehicles.push_back(sampleVehicle(sim_, static_cast<int>(v), v == 0));
-    sanitize(f.vehicles.back());
-    const int c = vehicles_[v].road_car;
-    if (c >= 0) f.cars.push_back(CarFrame{static_cast<int>(v), s.car_controls.at(c), s.cars.at(c)});
-  }
-  const Model& m = sim_.model();
-  if (m.collisions || !m.objects.empty()) {
-    f.contacts = true;
-    f.model = sim_.modelPtr();
-    f.hits = sim_.hits();
-    for (size_t i = 0; i < m.objects.size(); ++i) {
-      const SceneObject& o = m.objects[i];
-      if (o.body < 0) continue;
-      ObjectSample os;
-      os.object = static_cast<int>(i);
-      const Quat q = Quat(bodyRot(s.y, o.body)).normalized();
-      os.position = Vec3(bodyPos(s.y, o.body)) + q * o.pos;
-      os.orientation = q * Quat(o.rot);
-      os.velocity = bodyVel(s.y, o.body);
-      os.angular_velocity = angularVelocity(m, s, o.body);
-      if (os.position.allFinite() && os.orientation.coeffs().allFinite() && os.velocity.allFinite() &&
-          os.angular_velocity.allFinite())
-        f.objects.push_back(os);
-    }
-  }
-  if (!f.vehicles.empty()) f.energy = f.vehicles.front().energy;
-  for (auto& v : f.vehicles) v.energy = f.energy;
+  fillFrame(f, sim_, vehicles_);
   return f;
 }
 

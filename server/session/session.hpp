@@ -11,7 +11,9 @@
 #include <variant>
 #include <vector>
 
+#include "applied.hpp"
 #include "clock.hpp"
+#include "frame_build.hpp"
 #include "config.hpp"
 #include "pacing.hpp"
 #include "physics/simulator.hpp"
@@ -40,13 +42,6 @@ struct SessionSetup {
   std::shared_ptr<const scenario::AssetBytes> assets;
 };
 
-// Per vehicle: its wheels' global indices (telemetry order) and steering limits.
-struct VehicleWheels {
-  std::vector<int> wheels;
-  std::vector<double> max_steer;      // 0 for wheels that do not steer
-  int road_car = -1;                  // its index among the model's road cars, -1: not a road car
-  int gears = 0;                      // a road car's forward gears (manual requests 1..gears)
-};
 
 class Session : public Task {
  public:
@@ -97,7 +92,9 @@ class Session : public Task {
   std::optional<TimePoint> advanceLockstep(TimePoint deadline);
   bool stepOnce();
   void reportHits();
-  void followControlTables();  // applies the rows due to cars no client drives
+  // Publishes an entry of the applied-command log (applied.hpp), at the
+  // current tick, kept with the frame published next.
+  void logApplied(Applied a);
   bool emitFrame(TimePoint now);   // false: out of publish budget, retry later
   void publishFrame();             // now, whatever the budget (final and lockstep frames)
   Frame makeFrame(bool published = true);
@@ -132,7 +129,8 @@ class Session : public Task {
   bool drive_held_ = false;           // a non-zero drive command is in force
   TimePoint last_car_drive_{};
   bool car_held_ = false;             // a road car's throttle or brake is in force
-  std::vector<bool> car_driven_;      // per road car: a client took over from the control table
+  DrivenCars cars_;                   // per road car: a client took over from the control table
+  std::int64_t applied_seq_ = 0;      // entries of the applied-command log so far
   TimePoint last_overrun_event_{};
   std::vector<Command> work_;
 

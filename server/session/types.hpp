@@ -219,6 +219,7 @@ struct ReplyTo {
 // thread at once: implementations must be thread-safe and must not block for
 // long (they are on the stepping path).
 struct AssetWant;  // asset_store.hpp
+struct Applied;    // applied.hpp
 
 class Output {
  public:
@@ -230,6 +231,10 @@ class Output {
   // What a refused create still lacks of one asset, published just before
   // the refusal (ErrorCode::MissingAssets) so that its client can send it.
   virtual void publishAssetWant(const AssetWant& w) = 0;
+  // An entry of a session's applied-command log (applied.hpp), from its
+  // worker, before the frame it is kept with. Transports without a log
+  // ignore it.
+  virtual void publishApplied(const Applied&) {}
 };
 
 }  // namespace groundsim::session

@@ -1,0 +1,71 @@
+#include "applied.hpp"
+
+namespace groundsim::session {
+
+const char* appliedKindName(AppliedKind k) {
+  switch (k) {
+    case AppliedKind::Drive: return "drive";
+    case AppliedKind::Controls: return "controls";
+    case AppliedKind::DriveTimeout: return "drive_timeout";
+    case AppliedKind::ControlsTimeout: return "controls_timeout";
+    case AppliedKind::Reset: return "reset";
+    case AppliedKind::Pause: return "pause";
+    case AppliedKind::Resume: return "resume";
+    case AppliedKind::Step: return "step";
+    case AppliedKind::SetMode: return "set_mode";
+    case AppliedKind::Stop: return "stop";
+    case AppliedKind::End: return "end";
+  }
+  return "?";
+}
+
+void applyDrive(Simulator& sim, const std::vector<int>& wheels, const std::vector<WheelControl>& applied) {
+  auto& controls = sim.controls();
+  for (size_t k = 0; k < wheels.size() && k < applied.size(); ++k) controls[wheels[k]] = applied[k];
+}
+
+void applyCarControls(Simulator& sim, DrivenCars& cars, int road_car, const CarControls& applied) {
+  sim.setCarControls(road_car, applied);
+  if (cars.driven.size() <= static_cast<size_t>(road_car)) cars.driven.resize(static_cast<size_t>(road_car) + 1, false);
+  cars.driven[static_cast<size_t>(road_car)] = true;  // the client drives now, not the scenario's table
+}
+
+namespace {
+bool vehicleInRange(const Model& m, int v) { return v >= 0 && v < static_cast<int>(m.vehicle_names.size()); }
+}  // namespace
+
+void releaseDrive(Simulator& sim) {
+  const Model& m = sim.model();
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    if (!vehicleInRange(m, m.vehicle_of_wheel[w])) continue;
+    sim.controls()[w].drive_torque = 0.0;
+    sim.controls()[w].brake_torque = 0.0;
+  }
+}
+
+void releasePedals(Simulator& sim) {
+  const Model& m = sim.model();
+  for (size_t c = 0; c < m.road_cars.size(); ++c) {
+    if (!vehicleInRange(m, m.road_cars[c].vehicle)) continue;
+    CarControls cc = sim.carControls(static_cast<int>(c));
+    cc.throttle = 0.0;
+    cc.brake = 0.0;
+    sim.setCarControls(static_cast<int>(c), cc);
+  }
+}
+
+void resetTo(Simulator& sim, DrivenCars& cars, const State& initial) {
+  sim.restore(initial);
+  cars.driven.assign(cars.driven.size(), false);
+}
+
+void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vector<scenario::ControlTable>& tables) {
+  for (const scenario::ControlTable& ct : tables) {
+    const auto car = static_cast<size_t>(ct.road_car);
+    if (car < cars.driven.size() && cars.driven[car]) continue;
+    if (const scenario::TimedControls* row = scenario::rowInForce(ct, sim.state().t, sim.model().opt.dt))
+      sim.setCarControls(ct.road_car, row->controls);
+  }
+}
+
+}  // namespace groundsim::session

@@ -1,0 +1,94 @@
+#include "resimulate.hpp"
+
+#include "scenario/scenario.hpp"
+
+namespace groundsim::session {
+namespace {
+
+Simulator build(const std::string& json, const scenario::FileAccess& files, State* initial,
+                std::vector<scenario::ControlTable>* tables, std::vector<std::string>* names) {
+  // as SessionService::build
+  const scenario::Scenario sc = scenario::parseScenario(scenario::parseScenarioDocument(json), files);
+  scenario::Scene scene = scenario::buildScene(sc);
+  *initial = scene.built.initial;
+  *tables = scene.control_tables;
+  const auto nveh = scene.built.model->vehicle_names.size();
+  *names = scene.vehicle_names.size() == nveh ? scene.vehicle_names : scene.built.model->vehicle_names;
+  return Simulator(scene.built.model, scene.built.initial);
+}
+
+}  // namespace
+
+Resimulator::Resimulator(const std::string& scenario_json, const scenario::FileAccess& files)
+    : sim_([&] {
+        std::vector<std::string> names;
+        Simulator s = build(scenario_json, files, &initial_, &tables_, &names);
+        names_ = std::make_shared<const std::vector<std::string>>(std::move(names));
+        return s;
+      }()) {
+  vehicles_ = vehicleWheels(sim_.model());
+}
+
+bool Resimulator::stepOnce() {
+  if (!tables_.empty()) followControlTables(sim_, cars_, tables_);
+  if (!sim_.step()) {
+    diverged_ = true;
+    return false;
+  }
+  if (sim_.model().collisions) sim_.takeEndedHits();
+  return true;
+}
+
+std::string Resimulator::stepTo(std::int64_t tick) {
+  if (tick < sim_.state().tick)
+    return "tick " + std::to_string(tick) + " is behind the re-simulation's " + std::to_string(sim_.state().tick) +
+           " and no reset in the log explains it";
+  while (sim_.state().tick < tick) {
+    if (diverged_) return "the re-simulation diverged at tick " + std::to_string(sim_.state().tick) + ": " +
+                          sim_.state().health_reason;
+    if (!stepOnce()) continue;  // reported on the next turn
+  }
+  return "";
+}
+
+std::string Resimulator::apply(const Applied& a) {
+  if (std::string why = stepTo(a.tick); !why.empty()) return why;
+  const auto vehicle = [&]() -> const VehicleWheels* {
+    return a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles_.size()) ? &vehicles_[a.vehicle] : nullptr;
+  };
+  switch (a.kind) {
+    case AppliedKind::Drive:
+      if (!vehicle()) return "drive of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
+      applyDrive(sim_, vehicle()->wheels, a.wheels);
+      break;
+    case AppliedKind::Controls:
+      if (!vehicle() || vehicle()->road_car < 0)
+        return "controls of vehicle " + std::to_string(a.vehicle) + ", which is not a road car of the scenario";
+      applyCarControls(sim_, cars_, vehicle()->road_car, a.controls);
+      break;
+    case AppliedKind::DriveTimeout: releaseDrive(sim_); break;
+    case AppliedKind::ControlsTimeout: releasePedals(sim_); break;
+    case AppliedKind::Reset:
+      resetTo(sim_, cars_, initial_);
+      diverged_ = false;
+      break;
+    // no effect on the simulation: the states they publish come with their ticks
+    case AppliedKind::Pause:
+    case AppliedKind::Resume:
+    case AppliedKind::Step:
+    case AppliedKind::SetMode:
+    case AppliedKind::Stop:
+    case AppliedKind::End:
+      break;
+  }
+  return "";
+}
+
+Frame Resimulator::frame() const {
+  Frame f;
+  f.names = names_;
+  fillFrame(f, sim_, vehicles_);
+  return f;
+}
+
+}  // namespace groundsim::session
