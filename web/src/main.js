@@ -201,9 +201,9 @@ async function openReplay(name, session) {
   const first = r.frame(0);
   if (!first) return addEvent(`replay ${name}: no states`, 'e');
   // the recordings view serves states, not the scenario: road cars (four
-  // wheels, a sedan's name) are drawn as sedans, others as the report's car,
+  // wheels, "sedan" in the name) are drawn as sedans, others as the report's car,
   // on flat ground at the first state's height below the first car
-  const layouts = first.vehicles.map((v) => (v.spin.length === 4 && /sedan|car/i.test(v.name) ? sedanLayout(v.name) : defaultLayout(v.name)));
+  const layouts = first.vehicles.map((v) => (v.spin.length === 4 && /sedan/i.test(v.name) ? sedanLayout(v.name) : defaultLayout(v.name)));
   buildVehicles(first, layouts);
   const v0 = first.vehicles[0], drop = layouts[0].road_car ? 0.55 : 1;
   terrain.flat(v0.p[0], v0.p[1], v0.p[2] - drop);

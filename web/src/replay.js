@@ -55,7 +55,8 @@ export class Replay {
     if (!s) throw new Error(`session ${this.session} is not in ${this.name}`);
     this.t0 = s.t0; this.t1 = s.t1; this.t = s.t0;
     await this.load(this.index(this.t));
-    this.loaded = true;
+    this.loaded = !this.error;
+    if (this.error) throw new Error(this.error);
     return this;
   }
   index(t) { return Math.floor((t - this.t0) / this.chunk); }
@@ -93,6 +94,7 @@ export class Replay {
   // The state to draw after dtWall s of wall time: the playhead advances at
   // the chosen speed while playing; null until its window has loaded.
   frame(dtWall) {
+    if (!this.loaded) return null;  // the span is not known yet: no window to ask for
     if (this.playing) {
       this.t = Math.min(this.t1, this.t + dtWall * this.speed);
       if (this.t >= this.t1) this.playing = false;

@@ -121,7 +121,9 @@ function gridGeometry(grid, defaultMu, natural, skirt) {
     pos.set([x, y, z[i * n + j] - dz], 3 * k);
     nor.set([v.x, v.y, v.z], 3 * k);
     const m = grid.mu && grid.mu[i * n + j] !== null && grid.mu[i * n + j] !== undefined ? grid.mu[i * n + j] : null;
-    colourAt(c, m === null ? defaultMu : m, v.z, x, y, natural && m === null);
+    // a horizon level carries the scene's mu where no patch is: that is the ground's own surface too
+    const own = m === null || m === defaultMu;
+    colourAt(c, own ? defaultMu : m, v.z, x, y, natural && own);
     col.set([c.r, c.g, c.b], 3 * k);
     uv.set([x / TILE, y / TILE], 2 * k);
   };
