@@ -48,13 +48,16 @@ const car = () => page.evaluate(() => {
 await page.keyboard.down('w');
 await page.waitForTimeout(1500);
 const driving = await car();
-await page.keyboard.up('w');
+// S with W still held: brake and throttle both applied, in the forward
+// gear (S alone stops the car in well under a frame of a loaded software
+// renderer, then engages reverse, which releases the brake)
 await page.keyboard.down('s');
 await h.until('the brake applied', () => page.evaluate(() => window.groundsim.car && window.groundsim.car.cars[0].brake > 0.05), 10000, 50);
 // the next frame drawn shows it (a software renderer under load draws one every few seconds)
 await h.until('the brake lights lit', () => page.evaluate(() => window.groundsim.vehicles[0].brakeLit), 20000, 50).catch(() => {});
 const braking = await car();
 await page.keyboard.up('s');
+await page.keyboard.up('w');
 console.log(`sedan: ${JSON.stringify(driving)}; braking: lit ${braking.lit}, glow ${braking.glow}`);
 for (const part of ['sedan', 'body', 'glass', 'headlights', 'brakelights'])
   if (!driving.parts.includes(part)) await h.fail(`the sedan has no ${part}: ${driving.parts.join(', ')}`);
