@@ -12,7 +12,7 @@ export const COLORS = [0xc8372d, 0x2f6fd0, 0x3fa34d, 0xe0a030, 0x8e4fc4, 0x2fb0b
 export const app = {
   session: null, role: null, vehicle: -1, layout: null, note: '',
   vehicles: [], events: [], lobby: null, configs: [], scenarios: [], cameraMode: 'chase',
-  frames: 0, fps: 0, frameMs: 0, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
+  frames: 0, fps: 0, frameMs: 0, pixelRatio: 1, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
   car: null,  // the newest {"op":"car"} of the session: its road cars' gear, rpm, applied controls
   objects: null, objectMeshes: 0,  // the scenario's obstacles as drawn (objects.js)

@@ -26,6 +26,8 @@ import { probeHorizon } from './probe.js';
 // ?render=0 runs everything but the drawing (the latency benchmark isolates
 // the network path from a software renderer's frame time with it)
 const DRAW = new URLSearchParams(location.search).get('render') !== '0';
+// ?res=fixed keeps the full resolution (screenshots); else it adapts (below)
+const ADAPT = new URLSearchParams(location.search).get('res') !== 'fixed';
 
 const world = new World($('view'));
 const { scene, camera } = world;
@@ -284,6 +286,19 @@ function drawState(s, wallDt) {
   updateHud(s, mine, { gear: app.role === 'drive' && !app.replay ? input.c.gear : null, rate: app.replay ? app.replay.speed : playback.rate });
 }
 
+// Dynamic resolution: every pixel now shows ground or sky, and a slow
+// renderer (software WebGL: SwiftShader draws a 1280 x 720 frame in about a
+// second on a busy 2-core machine) draws fewer pixels rather than fewer
+// frames; a fast one goes back up to the display's ratio.
+function adaptResolution(fps) {
+  const r = world.renderer.getPixelRatio(), max = Math.min(2, window.devicePixelRatio || 1);
+  let next = r;
+  if (fps < 24) next = Math.max(0.35, r * 0.75);
+  else if (fps > 50) next = Math.min(max, r * 1.25);
+  if (Math.abs(next - r) > 1e-3) world.renderer.setPixelRatio(next);
+  app.pixelRatio = next;
+}
+
 world.renderer.setAnimationLoop(() => {
   const now = performance.now();
   // the playback clock takes the whole wall time (a slow renderer must not
@@ -311,6 +326,7 @@ world.renderer.setAnimationLoop(() => {
     app.fps = (1000 * fpsCount) / (now - fpsStart);
     app.frameMs = frameSum / fpsCount;  // the render call's CPU time per frame
     fpsCount = 0; frameSum = 0; fpsStart = now;
+    if (ADAPT && DRAW && (app.session || app.replay)) adaptResolution(app.fps);
   }
 });
 showLobby(true);
