@@ -66,11 +66,12 @@ function sedanBody(lo, hi, hubZ, r, color) {
   const trim = new THREE.Mesh(mergeGeometries([box(0.12, W - 0.05, 0.16, xf - 0.03, 0, zb + 0.1), box(0.12, W - 0.05, 0.16, xr + 0.03, 0, zb + 0.1),
     box(0.6 * L, 0.04, 0.1, (xr + xf) / 2, W / 2, zb + 0.06), box(0.6 * L, 0.04, 0.1, (xr + xf) / 2, -W / 2, zb + 0.06)]),
   once('trim', () => new THREE.MeshLambertMaterial({ color: 0x1e1f22 })));
-  const lz = belt - 0.13, ly = W / 2 - 0.2;
-  const heads = new THREE.Mesh(mergeGeometries([box(0.06, 0.32, 0.1, xf - 0.03, ly, lz), box(0.06, 0.32, 0.1, xf - 0.03, -ly, lz)]),
+  // lamps proud of the bevelled body (5 cm beyond its profile)
+  const lz = belt - 0.16, ly = W / 2 - 0.22;
+  const heads = new THREE.Mesh(mergeGeometries([box(0.1, 0.34, 0.1, xf - 0.02, ly, lz), box(0.1, 0.34, 0.1, xf - 0.02, -ly, lz)]),
     once('head', () => new THREE.MeshLambertMaterial({ color: 0xfff6e0, emissive: 0xfff2d0, emissiveIntensity: 0.6 })));
   const tail = new THREE.MeshLambertMaterial({ color: 0x6a0c0c, emissive: 0xff1a10, emissiveIntensity: 0.15 });
-  const tails = new THREE.Mesh(mergeGeometries([box(0.06, 0.34, 0.12, xr + 0.01, ly, lz + 0.05), box(0.06, 0.34, 0.12, xr + 0.01, -ly, lz + 0.05)]), tail);
+  const tails = new THREE.Mesh(mergeGeometries([box(0.1, 0.36, 0.13, xr - 0.02, ly, lz + 0.04), box(0.1, 0.36, 0.13, xr - 0.02, -ly, lz + 0.04)]), tail);
   body.name = 'body'; glass.name = 'glass'; top.name = 'roof'; heads.name = 'headlights'; tails.name = 'brakelights'; trim.name = 'trim';
   group.add(body, glass, top, trim, heads, tails);
   return { group, tail };
@@ -114,9 +115,11 @@ function label(text, color) {
   g.fillStyle = `#${new THREE.Color(color).getHexString()}`;
   g.fillRect(14, 22, 20, 20);
   g.fillStyle = '#f2f2f2';
-  g.font = '600 28px system-ui, sans-serif';
   g.textBaseline = 'middle';
-  g.fillText(text.length > 14 ? `${text.slice(0, 13)}…` : text, 44, 33);
+  const shown = text.length > 18 ? `${text.slice(0, 17)}…` : text;
+  let px = 28;
+  do g.font = `600 ${px}px system-ui, sans-serif`; while (g.measureText(shown).width > 200 && --px > 12);
+  g.fillText(shown, 44, 33);
   const t = new THREE.CanvasTexture(c);
   t.colorSpace = THREE.SRGBColorSpace;
   const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: t, sizeAttenuation: false, depthWrite: false, fog: false }));
