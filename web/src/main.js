@@ -295,7 +295,10 @@ function adaptResolution(fps) {
   let next = r;
   if (fps < 24) next = Math.max(0.35, r * 0.75);
   else if (fps > 50) next = Math.min(max, r * 1.25);
-  if (Math.abs(next - r) > 1e-3) world.renderer.setPixelRatio(next);
+  if (Math.abs(next - r) > 1e-3) {
+    world.renderer.setPixelRatio(next);
+    world.render();  // a resized canvas is blank until drawn: never leave it so
+  }
   app.pixelRatio = next;
 }
 
