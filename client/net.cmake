@@ -14,6 +14,7 @@ target_sources(groundsim PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/record/ledger.cpp
   ${CMAKE_CURRENT_LIST_DIR}/record/message_json.cpp
   ${CMAKE_CURRENT_LIST_DIR}/record/recorder.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/record/replay.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/session_commands.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/terminal.cpp
   ${CMAKE_CURRENT_LIST_DIR}/net/tokens.cpp
@@ -22,3 +23,8 @@ target_sources(groundsim PRIVATE
 # commands.hpp and the CSV writer shared with `run` (run/telemetry_csv.hpp) are in client/
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
 target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario groundsim_recording CLI11::CLI11 nlohmann_json::nlohmann_json)
+# `replay --resimulate` re-simulates a recording as the server ran it: the
+# session layer's Resimulator and the adapter's frame conversion
+# (server/lcm/convert.cpp), so that its states are the server's to the bit.
+# Only that command uses them.
+target_link_libraries(groundsim PRIVATE groundsim_lcm)

@@ -34,6 +34,7 @@ void registerNetworkCommands(CLI::App& app) {
   registerLogCommand(app);
   registerRecordCommand(app);
   registerRecordingFileCommands(app);
+  registerReplayCommand(app);
   registerDriveCommand(app);
 }
 

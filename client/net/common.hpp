@@ -56,6 +56,7 @@ void registerWatchCommand(CLI::App& app);
 void registerLogCommand(CLI::App& app);
 void registerRecordCommand(CLI::App& app);
 void registerRecordingFileCommands(CLI::App& app);  // inspect, convert (client/record/file_commands.cpp)
+void registerReplayCommand(CLI::App& app);  // replay --resimulate (client/record/replay.cpp)
 void registerDriveCommand(CLI::App& app);
 
 }  // namespace groundsim::cli

@@ -112,7 +112,7 @@ void run(const RecordOptions& o) {
 
   // the session of a state, car state or contact channel ("" for others)
   const auto sessionOf = [](const std::string& ch) -> std::string {
-    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix})
+    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix, net::kAppliedPrefix})
       if (ch.rfind(p, 0) == 0) return ch.substr(std::string(p).size());
     return "";
   };
@@ -145,11 +145,12 @@ void run(const RecordOptions& o) {
   std::vector<std::string> channels{net::kEventChannel, net::kScenarioChannel, net::kDriveChannel,
                                     net::kControlsChannel};
   if (everything) {
-    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix})
+    for (const char* p : {net::kStatePrefix, net::kCarStatePrefix, net::kContactPrefix, net::kAppliedPrefix})
       channels.push_back(std::string(p) + ".*");
   } else {
     for (const auto& s : o.sessions)
-      for (const std::string& ch : {net::stateChannel(s), net::carStateChannel(s), net::contactChannel(s)})
+      for (const std::string& ch :
+           {net::stateChannel(s), net::carStateChannel(s), net::contactChannel(s), net::appliedChannel(s)})
         channels.push_back(ch);
   }
   using Handler = decltype(onBus);
@@ -171,6 +172,7 @@ void run(const RecordOptions& o) {
     // created here: every seq from 0 is owed (states heard before the
     // reply were added as not created; add() keeps the first)
     rec.add(r.session_id, true);
+    for (const scenario::Asset& a : create->assets) rec.addAsset(r.session_id, a.ref.name, a.bytes);
     std::printf("%s\n", net::printable(r.session_id).c_str());
     std::fflush(stdout);
   }

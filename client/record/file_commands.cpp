@@ -75,7 +75,7 @@ int lcmToMcap(const std::string& in, const std::string& out, int level, bool raw
   long long events = 0, skipped = 0;
   for (const lcm::LogEvent* ev = log.readNextEvent(); ev; ev = log.readNextEvent()) {
     ++events;
-    for (const char* p : {"GROUNDSIM_STATE_", "GROUNDSIM_CAR_STATE_", "GROUNDSIM_CONTACT_"})
+    for (const char* p : {"GROUNDSIM_STATE_", "GROUNDSIM_CAR_STATE_", "GROUNDSIM_CONTACT_", "GROUNDSIM_APPLIED_"})
       if (ev->channel.rfind(p, 0) == 0) rec.add(ev->channel.substr(std::string(p).size()), false);
     if (!rec.onDatagram(ev->channel, static_cast<const std::uint8_t*>(ev->data), ev->datalen)) ++skipped;
   }

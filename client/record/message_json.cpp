@@ -25,6 +25,13 @@ class Out {
     s_ += "\":";
     return *this;
   }
+  // exact: every number as the shortest text that reads back as the same
+  // double, whatever --digits says (the applied-command log, which a
+  // re-simulation needs to the bit)
+  Out& exact() {
+    exact_ = true;
+    return *this;
+  }
   Out& num(double x) {
     // the server never publishes NaN or infinity; JSON has no word for them
     if (!std::isfinite(x)) {
@@ -34,7 +41,7 @@ class Out {
     // exact: the shortest text that reads back as the same double (Ryu in
     // libstdc++: several times faster than printf's %.17g, and shorter)
     char b[32];
-    const auto r = g_digits >= 17 ? std::to_chars(b, b + sizeof b, x)
+    const auto r = g_digits >= 17 || exact_ ? std::to_chars(b, b + sizeof b, x)
                                   : std::to_chars(b, b + sizeof b, x, std::chars_format::general, g_digits);
     s_.append(b, r.ptr);
     return *this;
@@ -96,6 +103,7 @@ class Out {
 
  private:
   std::string s_;
+  bool exact_ = false;
 };
 
 void header(Out& o, long long utime, long long seq, const std::string& session, double t) {
@@ -209,6 +217,25 @@ std::string toJson(const groundsim::controls_t& m, long long after_seq) {
   return o.take();
 }
 
+std::string toJson(const groundsim::applied_t& m) {
+  Out o(400);
+  o.exact();
+  const int n = static_cast<int>(std::min<std::size_t>({m.drive_torque.size(), m.brake_torque.size(), m.steer.size(),
+                                                         static_cast<std::size_t>(std::max(0, int(m.nwheels)))}));
+  o.open('{');
+  o.key("utime").integer(m.utime).key("session_id").str(m.session_id).key("seq").integer(m.seq);
+  o.key("frame_seq").integer(m.frame_seq).key("tick").integer(m.tick).key("t").num(m.t);
+  o.key("kind").integer(m.kind).key("vehicle").integer(m.vehicle);
+  o.key("drive_torque").nums(m.drive_torque.data(), n).key("brake_torque").nums(m.brake_torque.data(), n);
+  o.key("steer").nums(m.steer.data(), n);
+  o.key("throttle").num(m.throttle).key("brake").num(m.brake).key("car_steer").num(m.car_steer);
+  o.key("handbrake").boolean(m.handbrake).key("gear").integer(m.gear).key("wheel_torque").nums(m.wheel_torque, 4);
+  o.key("steps").integer(m.steps).key("mode").integer(m.mode).key("rate").num(m.rate);
+  o.key("publish_rate").num(m.publish_rate).key("reason").str(m.reason);
+  o.close('}');
+  return o.take();
+}
+
 // The schemas: what each field is, in the units of the LCM types.
 #define GS_VEC(n, what) "{\"type\":\"array\",\"items\":{\"type\":[\"number\",\"null\"]},\"maxItems\":" #n ",\"description\":\"" what "\"}"
 #define GS_HEAD                                                                                              \
@@ -289,6 +316,24 @@ const char* controlsSchema() {
          "recorded)\",\"type\":\"object\",\"properties\":{" GS_CMD_HEAD
          "\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},\"steer\":{\"type\":\"number\"},"
          "\"handbrake\":{\"type\":\"boolean\"},\"gear\":{\"type\":\"integer\"}}}";
+}
+
+const char* appliedSchema() {
+  return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.applied\","
+         "\"description\":\"An entry of a session's applied-command log: what changed its simulation, at the tick it "
+         "took effect, with the values applied (lcmtypes/applied_t.lcm); numbers always exact\",\"type\":\"object\","
+         "\"properties\":{\"utime\":{\"type\":\"integer\",\"description\":\"simulation time, microseconds\"},"
+         "\"session_id\":{\"type\":\"string\"},\"seq\":{\"type\":\"integer\",\"description\":\"per session, from 0\"},"
+         "\"frame_seq\":{\"type\":\"integer\",\"description\":\"state seq of the frame published next\"},"
+         "\"tick\":{\"type\":\"integer\",\"description\":\"the step from tick to tick + 1 is the first to feel it\"},"
+         "\"t\":{\"type\":\"number\",\"description\":\"simulation time, s\"},"
+         "\"kind\":{\"type\":\"integer\",\"description\":\"1 drive, 2 controls, 3 drive timeout, 4 controls timeout, "
+         "5 reset, 6 pause, 7 resume, 8 step, 9 set mode, 10 stop, 11 end\"},"
+         "\"vehicle\":{\"type\":\"integer\"},\"drive_torque\":" GS_VEC(127, "N m") ",\"brake_torque\":" GS_VEC(127, "N m") ","
+         "\"steer\":" GS_VEC(127, "rad, as applied") ",\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},"
+         "\"car_steer\":{\"type\":\"number\"},\"handbrake\":{\"type\":\"boolean\"},\"gear\":{\"type\":\"integer\"},"
+         "\"wheel_torque\":" GS_VEC(4, "N m") ",\"steps\":{\"type\":\"integer\"},\"mode\":{\"type\":\"integer\"},"
+         "\"rate\":{\"type\":\"number\"},\"publish_rate\":{\"type\":\"number\"},\"reason\":{\"type\":\"string\"}}}";
 }
 
 #undef GS_CMD_HEAD

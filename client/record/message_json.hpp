@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include <groundsim/applied_t.hpp>
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/contact_state_t.hpp>
 #include <groundsim/controls_t.hpp>
@@ -32,6 +33,8 @@ std::string toJson(const groundsim::event_t& m);
 // when heard (a command applies from the step after it arrives).
 std::string toJson(const groundsim::drive_t& m, long long after_seq);
 std::string toJson(const groundsim::controls_t& m, long long after_seq);
+// An entry of a session's applied-command log, always exact (whatever setJsonDigits said).
+std::string toJson(const groundsim::applied_t& m);
 
 // JSON Schemas (draft 2020-12) of the four, by schema name
 // ("groundsim.state", "groundsim.car_state", "groundsim.contact_state",
@@ -42,5 +45,6 @@ const char* contactStateSchema();
 const char* eventSchema();
 const char* driveSchema();
 const char* controlsSchema();
+const char* appliedSchema();
 
 }  // namespace groundsim::record

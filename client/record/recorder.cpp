@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <groundsim/applied_t.hpp>
 #include <groundsim/car_state_t.hpp>
 #include <groundsim/contact_state_t.hpp>
 #include <groundsim/controls_t.hpp>
@@ -44,6 +45,7 @@ void Recorder::prepare() {
   event_schema_ = out_->addSchema("groundsim.event", "jsonschema", eventSchema());
   drive_schema_ = out_->addSchema("groundsim.drive", "jsonschema", driveSchema());
   controls_schema_ = out_->addSchema("groundsim.controls", "jsonschema", controlsSchema());
+  applied_schema_ = out_->addSchema("groundsim.applied", "jsonschema", appliedSchema());
   events_.events_ch = out_->addChannel(event_schema_, "/events", "json",
                                        {{"stream", "server-wide events of no recorded session"}});
   raw_channels_.clear();
@@ -51,10 +53,12 @@ void Recorder::prepare() {
   out_->metadata("groundsim", {{"log_time", "simulation time of the session (event: its session's, 0 without one)"},
                                {"sequence", "state_t.seq (events: event_t.seq), modulo 2^32"},
                                {"recorder", client_id_},
+                               {"json_digits", std::to_string(jsonDigits())},
                                {"part", std::to_string(part_)}});
   for (auto& [id, s] : sessions_) {
     channels(s);
     if (!s.scenario.empty()) out_->attach("scenario/" + id + ".json", "application/json", 0, s.scenario);
+    for (const auto& [name, bytes] : s.assets) out_->attach("assets/" + id + "/" + name, "application/octet-stream", 0, *bytes);
   }
 }
 
@@ -66,6 +70,7 @@ void Recorder::channels(Stream& s) {
   s.events_ch = out_->addChannel(event_schema_, "/" + s.id + "/events", "json", meta);
   s.drive_ch = out_->addChannel(drive_schema_, "/" + s.id + "/drive", "json", meta);
   s.controls_ch = out_->addChannel(controls_schema_, "/" + s.id + "/controls", "json", meta);
+  s.applied_ch = out_->addChannel(applied_schema_, "/" + s.id + "/applied", "json", meta);
 }
 
 void Recorder::rotate(std::unique_ptr<recording::McapWriter> next) {
@@ -97,6 +102,13 @@ void Recorder::add(const std::string& session, bool created) {
   s.group = static_cast<int>(sessions_.size());
   channels(s);
   if (created) s.ledger.owe(0);
+}
+
+void Recorder::addAsset(const std::string& session, const std::string& name, std::shared_ptr<const std::string> bytes) {
+  auto it = sessions_.find(session);
+  if (it == sessions_.end() || !bytes) return;
+  out_->attach("assets/" + session + "/" + name, "application/octet-stream", 0, *bytes);
+  it->second.assets.emplace_back(name, std::move(bytes));
 }
 
 std::uint16_t Recorder::rawChannel(const std::string& lcm_channel) {
@@ -135,7 +147,11 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     // the frame's other messages follow the state: owed up to the one before
     if (s.car.started()) s.car.reach(m.seq - 1);
     if (s.contact.started()) s.contact.reach(m.seq - 1);
-    if (m.status >= groundsim::state_t::STATUS_FINISHED) s.ended = true;
+    if (m.status >= groundsim::state_t::STATUS_FINISHED) {
+      s.ended = true;
+      if (!s.end_frames.count(m.seq)) s.end_owed.try_emplace(m.seq, Gap{});
+    }
+    appliedOwed(s);
     if (!repaired && m.seq > s.live_seq) {
       s.live_seq = m.seq;
       s.live_utime = m.utime;
@@ -156,6 +172,25 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     auto it = sessions_.find(m.session_id);
     if (it != sessions_.end())
       companion(it->second, it->second.contact, it->second.contact_ch, m, channel, data, size, repaired);
+    return true;
+  }
+  if (startsWith(channel, net::kAppliedPrefix)) {
+    groundsim::applied_t m;
+    if (!net::decodeMessage(data, size, m, "groundsim.applied_t").ok() || !usableSeq(m.seq) || !usableSeq(m.frame_seq))
+      return false;
+    auto it = sessions_.find(m.session_id);
+    if (it == sessions_.end()) return true;
+    Stream& s = it->second;
+    if (!s.applied.started()) s.applied.owe(s.ledger.started() && s.ledger.first() == 0 ? 0 : m.seq);
+    if (m.kind == groundsim::applied_t::KIND_END) {
+      s.end_frames.insert(m.frame_seq);
+      s.end_owed.erase(m.frame_seq);
+      s.end_missing.erase(m.frame_seq);
+    }
+    if (m.seq < s.applied.first()) return true;  // before the recording
+    if (!s.applied.arrive(m.seq, repaired)) return true;
+    s.applied_frame[m.seq] = m.frame_seq;
+    write(s, s.applied_ch, m.seq, m.utime, toJson(m), channel, data, size);
     return true;
   }
   if (channel == net::kEventChannel) {
@@ -303,9 +338,85 @@ void Recorder::ask(Stream& s, std::int8_t kind, Clock::time_point now, std::vect
   }
 }
 
+void Recorder::appliedOwed(Stream& s) {
+  // a session recorded from its first state owes its log from entry 0
+  if (!s.applied.started() && s.ledger.started() && s.ledger.first() == 0) s.applied.owe(0);
+}
+
+// Missing entries of the applied-command log are asked for as the frames
+// they were kept with: from the frame of the entry before the gap to the
+// frame of the entry after it (the states among them come again and are
+// dropped as duplicates). An ending frame without its END entry is asked
+// for again alone.
+void Recorder::askApplied(Stream& s, Clock::time_point now, std::vector<groundsim::resend_t>& out) {
+  const auto after = [](double sec) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sec));
+  };
+  const auto request = [&](std::int64_t from, std::int64_t to) {
+    groundsim::resend_t r{};
+    r.seq = request_seq_++;
+    r.client_id = client_id_;
+    r.stream = groundsim::resend_t::STREAM_SESSION;
+    r.session_id = s.id;
+    r.from_seq = std::max<std::int64_t>(0, from);
+    r.to_seq = std::max(r.from_seq, std::min(to, r.from_seq + o_.max_ask - 1));
+    out.push_back(r);
+    ++counts_.asked;
+  };
+  const auto due = [&](Gap& g) {
+    if (g.due == Clock::time_point{}) g.due = now + after(o_.first_ask_s);
+    return g.due <= now;
+  };
+  const auto next = [&](Gap& g) {
+    g.due = now + after(o_.retry_s * static_cast<double>(1 << std::min(g.asks, 10)));
+    ++g.asks;
+  };
+  const SeqRanges& u = s.applied.missing();
+  for (auto it = s.asking_applied.begin(); it != s.asking_applied.end();)
+    it = u.ranges().count(it->first) ? std::next(it) : s.asking_applied.erase(it);
+  for (const auto& [a, b] : u.ranges()) {
+    Gap& g = s.asking_applied[a];
+    if (!due(g)) continue;
+    if (g.asks >= o_.asks) {
+      std::fprintf(stderr, "record: %s: applied commands %lld..%lld never came after %d asks: lost\n", s.id.c_str(),
+                   static_cast<long long>(a), static_cast<long long>(b), g.asks);
+      s.applied.lose(a, b);
+      s.asking_applied.erase(a);
+      continue;
+    }
+    auto before = s.applied_frame.lower_bound(a);
+    const std::int64_t from = before == s.applied_frame.begin() ? std::max<std::int64_t>(0, s.ledger.first())
+                                                                 : std::prev(before)->second;
+    auto later = s.applied_frame.upper_bound(b);
+    const std::int64_t to = later == s.applied_frame.end() ? std::max(from, s.ledger.newest()) : later->second;
+    request(from, to);
+    next(g);
+  }
+  for (auto it = s.end_owed.begin(); it != s.end_owed.end();) {
+    Gap& g = it->second;
+    if (!due(g)) {
+      ++it;
+      continue;
+    }
+    if (g.asks >= o_.asks) {
+      std::fprintf(stderr, "record: %s: the applied-command log's end entry with frame %lld never came: its tail "
+                   "may be incomplete\n", s.id.c_str(), static_cast<long long>(it->first));
+      s.end_missing.insert(it->first);
+      it = s.end_owed.erase(it);
+      continue;
+    }
+    request(it->first, it->first);
+    next(g);
+    ++it;
+  }
+}
+
 std::vector<groundsim::resend_t> Recorder::requests(Clock::time_point now) {
   std::vector<groundsim::resend_t> out;
-  for (auto& [id, s] : sessions_) ask(s, groundsim::resend_t::STREAM_SESSION, now, out);
+  for (auto& [id, s] : sessions_) {
+    ask(s, groundsim::resend_t::STREAM_SESSION, now, out);
+    askApplied(s, now, out);
+  }
   ask(events_, groundsim::resend_t::STREAM_EVENTS, now, out);
   return out;
 }
@@ -329,7 +440,7 @@ std::vector<groundsim::resend_t> Recorder::tailRequests(Clock::time_point) {
 
 bool Recorder::repairing() const {
   for (const auto& [id, s] : sessions_)
-    if (missing(s).count() > 0) return true;
+    if (missing(s).count() > 0 || s.applied.missing().count() > 0 || !s.end_owed.empty()) return true;
   return events_.ledger.missing().count() > 0;
 }
 
@@ -358,6 +469,7 @@ Recorder::Totals Recorder::totals() const {
     add(s.ledger);
     add(s.car);
     add(s.contact);
+    add(s.applied);
   }
   add(events_.ledger);
   return t;
@@ -369,6 +481,8 @@ std::vector<std::string> Recorder::report() const {
     std::string line = id + " states: " + s.ledger.summary();
     if (s.car.started()) line += "; car states: " + s.car.summary();
     if (s.contact.started()) line += "; contacts: " + s.contact.summary();
+    if (s.applied.started()) line += "; applied commands: " + s.applied.summary();
+    if (!s.end_missing.empty()) line += "; the applied log's end entry missing";
     lines.push_back(line + (s.ended ? "; ended" : ""));
   }
   lines.push_back("events: " + events_.ledger.summary());
@@ -378,8 +492,11 @@ std::vector<std::string> Recorder::report() const {
 void Recorder::finish() {
   if (finished_) return;
   finished_ = true;
-  for (auto& [id, s] : sessions_)
-    for (Ledger* l : {&s.ledger, &s.car, &s.contact}) l->loseMissing();
+  for (auto& [id, s] : sessions_) {
+    for (Ledger* l : {&s.ledger, &s.car, &s.contact, &s.applied}) l->loseMissing();
+    for (const auto& [frame, gap] : s.end_owed) s.end_missing.insert(frame);
+    s.end_owed.clear();
+  }
   events_.ledger.loseMissing();
   writeLedgers();
   out_->close();
@@ -405,6 +522,12 @@ void Recorder::writeLedgers() {
     ledger(s.ledger, "state_", kv);
     if (s.car.started()) ledger(s.car, "car_state_", kv);
     if (s.contact.started()) ledger(s.contact, "contact_", kv);
+    if (s.applied.started()) ledger(s.applied, "applied_", kv);
+    if (!s.end_missing.empty()) {
+      SeqRanges r;
+      for (std::int64_t f : s.end_missing) r.add(f, f);
+      kv["applied_end_missing"] = r.text(100000);  // ending frames whose END entry never came
+    }
     out_->metadata("ledger/" + id, kv);
   }
   std::map<std::string, std::string> kv;

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,9 @@ class Recorder {
   // Sessions to record. created: the recording saw it begin (seq 0 is owed).
   void add(const std::string& session, bool created);
   bool has(const std::string& session) const { return sessions_.count(session) > 0; }
+  // A file the session's scenario names (the recorder created it and sent
+  // it): attached as assets/<session>/<name>, for re-simulation.
+  void addAsset(const std::string& session, const std::string& name, std::shared_ptr<const std::string> bytes);
 
   // A datagram from the bus (state, car state, contact, event, scenario,
   // a player's commands). Returns false when it could not be decoded or its
@@ -93,8 +97,20 @@ class Recorder {
     int group = 0;
     std::uint16_t state_ch = 0, car_ch = 0, contact_ch = 0, events_ch = 0;  // MCAP channels
     std::uint16_t drive_ch = 0, controls_ch = 0;  // players' commands as heard (no token)
+    // the session's applied-command log (applied_t): its own seqs, each
+    // entry kept by the server with a frame (frame_seq), so a gap is asked
+    // for as the frames around it; every ending frame (status finished,
+    // stopped, diverged) carries an END entry, owed until it arrives
+    Ledger applied;
+    std::uint16_t applied_ch = 0;
+    std::map<std::int64_t, std::int64_t> applied_frame;  // entry seq -> frame_seq (arrived entries)
+    std::map<std::int64_t, Gap> asking_applied;          // first entry seq of a missing range -> when to ask
+    std::set<std::int64_t> end_frames;                   // frame seqs whose END entry arrived
+    std::map<std::int64_t, Gap> end_owed;                // ending frames heard without their END entry
+    std::set<std::int64_t> end_missing;                  // ... never came after every ask
     std::int64_t live_seq = -1, live_utime = 0;   // the newest state heard live
     std::string scenario;  // the scenario's JSON, once heard
+    std::vector<std::pair<std::string, std::shared_ptr<const std::string>>> assets;  // by name
   };
   Stream& stream(const std::string& session);
   void write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
@@ -110,6 +126,8 @@ class Recorder {
   SeqRanges missing(const Stream& s) const;
   void lose(Stream& s, std::int64_t first, std::int64_t last);
   void ask(Stream& s, std::int8_t stream, Clock::time_point now, std::vector<groundsim::resend_t>& out);
+  void askApplied(Stream& s, Clock::time_point now, std::vector<groundsim::resend_t>& out);
+  void appliedOwed(Stream& s);  // the applied ledger starts where the state ledger does
   std::uint16_t rawChannel(const std::string& lcm_channel);
 
   std::unique_ptr<recording::McapWriter> out_;
@@ -118,7 +136,7 @@ class Recorder {
   std::map<std::string, Stream> sessions_;
   Stream events_;
   std::uint16_t state_schema_ = 0, car_schema_ = 0, contact_schema_ = 0, event_schema_ = 0;
-  std::uint16_t drive_schema_ = 0, controls_schema_ = 0;
+  std::uint16_t drive_schema_ = 0, controls_schema_ = 0, applied_schema_ = 0;
   std::map<std::string, std::uint16_t> raw_channels_;
   std::int64_t request_seq_ = 0;
   Totals counts_;

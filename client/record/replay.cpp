@@ -1,0 +1,363 @@
+// `groundsim replay --resimulate FILE.mcap [--session ID] [--assets DIR]`
+// (docs/logging.md, Re-simulation): re-simulates a recorded session from
+// the scenario attached to the file and its applied-command log
+// (/<session>/applied), and compares every recorded state, car state and
+// contact state with the re-simulated one.
+// - The re-simulated frame goes through the server's own conversion
+//   (net::toMessage) and the recorder's own JSON writer with the digits the
+//   recording was made with, so equal text is equal values: with the
+//   default 17 digits every double is compared to the bit (the shortest
+//   text that reads back as the same double; -0 and 0 differ). With fewer
+//   digits the comparison is at that precision, and the report says so.
+// - With --raw recordings, the raw LCM bytes of each state are compared too.
+// - The first difference is reported: seq, time, tick, the field, the
+//   recorded and the re-simulated value. Exit 0 identical, 5 a difference,
+//   1 the file cannot be re-simulated (no scenario, no applied log, a
+//   recording that began after the session did, ...).
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "lcm/convert.hpp"
+#include "net/common.hpp"
+#include "protocol/channels.hpp"
+#include "protocol/text.hpp"
+#include "record/message_json.hpp"
+#include "recording/mcap_reader.hpp"
+#include "session/resimulate.hpp"
+
+namespace groundsim::cli {
+namespace {
+
+constexpr int kExitDiffers = 5;
+
+struct ReplayOptions {
+  std::string file, session, assets_dir;
+  bool resimulate = false;
+};
+
+std::string exactText(double x) {
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, x);
+  return std::string(b, r.ptr);
+}
+
+std::string leafText(const nlohmann::json& j) {
+  if (j.is_number_float()) return exactText(j.get<double>());
+  return j.dump();
+}
+
+bool sameLeaf(const nlohmann::json& a, const nlohmann::json& b) {
+  if (a.is_number() && b.is_number()) {
+    const double x = a.get<double>(), y = b.get<double>();
+    std::uint64_t u, v;
+    std::memcpy(&u, &x, 8);
+    std::memcpy(&v, &y, 8);
+    return u == v;
+  }
+  return a == b;
+}
+
+// The first leaf (in the recorded message's field order) where the two
+// differ: its path, e.g. "vehicles[0].position[2]".
+std::optional<std::string> firstDifference(const nlohmann::json& rec, const nlohmann::json& sim, const std::string& path,
+                                           std::string* rv, std::string* sv) {
+  if (rec.is_object() && sim.is_object()) {
+    for (auto it = rec.begin(); it != rec.end(); ++it) {
+      const std::string p = path.empty() ? it.key() : path + "." + it.key();
+      if (!sim.contains(it.key())) {
+        *rv = leafText(it.value());
+        *sv = "(absent)";
+        return p;
+      }
+      if (auto d = firstDifference(it.value(), sim.at(it.key()), p, rv, sv)) return d;
+    }
+    for (auto it = sim.begin(); it != sim.end(); ++it)
+      if (!rec.contains(it.key())) {
+        *rv = "(absent)";
+        *sv = leafText(it.value());
+        return path.empty() ? it.key() : path + "." + it.key();
+      }
+    return std::nullopt;
+  }
+  if (rec.is_array() && sim.is_array()) {
+    for (size_t i = 0; i < rec.size() && i < sim.size(); ++i)
+      if (auto d = firstDifference(rec[i], sim[i], path + "[" + std::to_string(i) + "]", rv, sv)) return d;
+    if (rec.size() != sim.size()) {
+      *rv = std::to_string(rec.size()) + " elements";
+      *sv = std::to_string(sim.size()) + " elements";
+      return path + " (length)";
+    }
+    return std::nullopt;
+  }
+  if (sameLeaf(rec, sim)) return std::nullopt;
+  *rv = leafText(rec);
+  *sv = leafText(sim);
+  return path;
+}
+
+session::Applied appliedFrom(const nlohmann::json& j) {
+  session::Applied a;
+  a.session_id = j.value("session_id", "");
+  a.seq = j.at("seq").get<std::int64_t>();
+  a.frame_seq = j.at("frame_seq").get<std::int64_t>();
+  a.tick = j.at("tick").get<std::int64_t>();
+  a.t = j.at("t").get<double>();
+  a.kind = static_cast<session::AppliedKind>(j.at("kind").get<int>());
+  a.vehicle = j.at("vehicle").get<int>();
+  const auto& dt = j.at("drive_torque");
+  const auto& bt = j.at("brake_torque");
+  const auto& st = j.at("steer");
+  for (size_t k = 0; k < dt.size() && k < bt.size() && k < st.size(); ++k)
+    a.wheels.push_back(WheelControl{dt[k].get<double>(), bt[k].get<double>(), st[k].get<double>()});
+  a.controls.throttle = j.at("throttle").get<double>();
+  a.controls.brake = j.at("brake").get<double>();
+  a.controls.steer = j.at("car_steer").get<double>();
+  a.controls.handbrake = j.at("handbrake").get<bool>();
+  a.controls.gear = j.at("gear").get<int>();
+  const auto& wt = j.at("wheel_torque");
+  for (size_t k = 0; k < 4 && k < wt.size(); ++k) a.controls.wheel_torque[k] = wt[k].get<double>();
+  a.steps = j.value("steps", std::int64_t{0});
+  a.reason = j.value("reason", "");
+  return a;
+}
+
+int resimulate(const ReplayOptions& o) {
+  recording::McapReader r(o.file);
+  // the sessions the file holds a state channel of
+  std::map<std::string, std::map<std::string, std::uint16_t>> topics;  // session -> kind -> channel
+  for (const auto& [id, c] : r.channels()) {
+    if (c.topic.empty() || c.topic[0] != '/') continue;
+    const auto slash = c.topic.find('/', 1);
+    if (slash == std::string::npos) continue;
+    topics[c.topic.substr(1, slash - 1)][c.topic.substr(slash + 1)] = id;
+    (void)id;
+  }
+  std::map<std::string, std::uint16_t> raw_state;  // session -> raw channel of its states
+  for (const auto& [id, c] : r.channels())
+    if (c.message_encoding == "lcm" && c.topic.rfind(std::string("lcm/") + net::kStatePrefix, 0) == 0)
+      raw_state[c.topic.substr(4 + std::strlen(net::kStatePrefix))] = id;
+  std::vector<std::string> sessions;
+  for (const auto& [s, kinds] : topics)
+    if (kinds.count("state")) sessions.push_back(s);
+  std::string id = o.session;
+  if (id.empty()) {
+    if (sessions.size() != 1) {
+      std::string list;
+      for (const auto& s : sessions) list += (list.empty() ? "" : ", ") + s;
+      fail(kExitRefused, net::quoted(o.file) + " holds " + std::to_string(sessions.size()) +
+                             " sessions (" + list + "): name one with --session");
+    }
+    id = sessions.front();
+  } else if (!topics.count(id) || !topics[id].count("state")) {
+    fail(kExitRefused, net::quoted(o.file) + " holds no session " + net::quoted(id));
+  }
+  auto& kinds = topics[id];
+  if (!kinds.count("applied"))
+    fail(kExitRefused, "session " + id + ": the file has no applied-command log (/" + id +
+                           "/applied; recorded by a server or recorder from before it)");
+
+  // the scenario and the files it names
+  std::string scenario;
+  auto assets = std::make_shared<scenario::AssetBytes>();
+  const std::string asset_prefix = "assets/" + id + "/";
+  for (auto& [name, data] : r.attachments()) {
+    if (name == "scenario/" + id + ".json") scenario = data;
+    else if (name.rfind(asset_prefix, 0) == 0)
+      (*assets)[name.substr(asset_prefix.size())] = std::make_shared<const std::string>(std::move(data));
+  }
+  if (scenario.empty()) fail(kExitRefused, "session " + id + ": the file holds no scenario (scenario/" + id + ".json)");
+
+  // the precision the states were written with
+  int digits = 17;
+  bool digits_known = false;
+  const auto meta = r.metadata();
+  if (auto it = meta.find("groundsim"); it != meta.end())
+    if (auto d = it->second.find("json_digits"); d != it->second.end()) {
+      digits = std::atoi(d->second.c_str());
+      digits_known = digits >= 1 && digits <= 17;
+      if (!digits_known) digits = 17;
+    }
+  record::setJsonDigits(digits);
+
+  // the session's messages
+  std::map<std::int64_t, std::string> states, cars, contacts, raws;
+  std::map<std::int64_t, session::Applied> applied;
+  std::set<std::uint16_t> wanted;
+  const auto channelOf = [&](const char* k) -> int { return kinds.count(k) ? kinds[k] : -1; };
+  const int state_ch = channelOf("state"), car_ch = channelOf("car_state"), contact_ch = channelOf("contact"),
+            applied_ch = channelOf("applied");
+  const int raw_ch = raw_state.count(id) ? raw_state[id] : -1;
+  for (int c : {state_ch, car_ch, contact_ch, applied_ch, raw_ch})
+    if (c >= 0) wanted.insert(static_cast<std::uint16_t>(c));
+  std::string bad;
+  r.readMessages(
+      [&](const recording::McapMessage& m) {
+        if (m.channel == raw_ch) {
+          raws.emplace(m.sequence, m.data);  // seq mod 2^32: sessions of fewer states than that
+          return;
+        }
+        nlohmann::json j = nlohmann::json::parse(m.data, nullptr, false);
+        if (j.is_discarded() || !j.is_object() || !j.contains("seq")) {
+          if (bad.empty()) bad = "a message on channel " + std::to_string(m.channel) + " is not the JSON expected";
+          return;
+        }
+        const auto seq = j["seq"].get<std::int64_t>();
+        if (m.channel == state_ch) states.emplace(seq, m.data);
+        else if (m.channel == car_ch) cars.emplace(seq, m.data);
+        else if (m.channel == contact_ch) contacts.emplace(seq, m.data);
+        else if (m.channel == applied_ch) {
+          try {
+            applied.emplace(seq, appliedFrom(j));
+          } catch (const std::exception& e) {
+            if (bad.empty()) bad = "applied command " + std::to_string(seq) + ": " + e.what();
+          }
+        }
+      },
+      wanted);
+  if (!bad.empty()) fail(kExitRefused, "session " + id + ": " + bad);
+  if (states.empty()) fail(kExitRefused, "session " + id + ": no states recorded");
+  if (states.begin()->first != 0)
+    fail(kExitRefused, "session " + id + ": the recording begins at state seq " + std::to_string(states.begin()->first) +
+                           ", not 0: it began after the session did, and re-simulation needs the session from its "
+                           "start (record --create, or start the recorder first)");
+
+  // what the ledger says of the log: a gap is named before anything else
+  std::vector<std::string> warnings;
+  std::int64_t expect = 0;
+  for (const auto& [seq, a] : applied) {
+    if (seq != expect)
+      warnings.push_back("applied commands " + std::to_string(expect) + ".." + std::to_string(seq - 1) +
+                         " are missing from the file");
+    expect = seq + 1;
+  }
+  if (auto it = meta.find("ledger/" + id); it != meta.end()) {
+    for (const char* k : {"applied_lost", "applied_end_missing", "state_lost"})
+      if (auto v = it->second.find(k); v != it->second.end() && !v->second.empty())
+        warnings.push_back(std::string("the ledger's ") + k + ": " + net::printable(v->second, 200));
+  }
+  for (const auto& w : warnings) std::fprintf(stderr, "replay: %s: %s\n", id.c_str(), w.c_str());
+
+  scenario::FileAccess files = scenario::FileAccess::fromAssets(assets, o.assets_dir);
+  std::optional<session::Resimulator> sim;
+  try {
+    sim.emplace(scenario, files);
+  } catch (const std::exception& e) {
+    fail(kExitRefused, "session " + id + ": the recorded scenario cannot be built: " + net::printable(e.what(), 600) +
+                           (assets->empty() && o.assets_dir.empty() ? " (files it names: give --assets DIR)" : ""));
+  }
+
+  auto next = applied.begin();
+  std::int64_t compared_states = 0, compared_cars = 0, compared_contacts = 0, compared_raw = 0;
+  const auto differ = [&](const char* what, std::int64_t seq, const nlohmann::json& rec, const std::string& field,
+                          const std::string& rv, const std::string& sv) {
+    std::printf("differs: session %s, %s seq %lld (t %s s, tick %lld): %s recorded %s, re-simulated %s\n", id.c_str(),
+                what, static_cast<long long>(seq), leafText(rec.value("t", nlohmann::json(0.0))).c_str(),
+                static_cast<long long>(sim->tick()), field.c_str(), rv.c_str(), sv.c_str());
+    if (digits < 17) std::printf("compared at the recording's precision: %d significant digits\n", digits);
+    std::printf("applied commands replayed before it: %lld of %zu\n",
+                static_cast<long long>(std::distance(applied.begin(), next)), applied.size());
+    return kExitDiffers;
+  };
+  for (const auto& [seq, text] : states) {
+    nlohmann::json rec = nlohmann::json::parse(text, nullptr, false);
+    for (; next != applied.end() && next->second.frame_seq <= seq; ++next) {
+      if (std::string why = sim->apply(next->second); !why.empty())
+        return differ("state", seq, rec, "applied command " + std::to_string(next->first) + " (" +
+                                             session::appliedKindName(next->second.kind) + " at tick " +
+                                             std::to_string(next->second.tick) + ")",
+                      "applied", "cannot be: " + why);
+    }
+    const std::int64_t tick = rec.value("tick", std::int64_t{-1});
+    if (std::string why = sim->stepTo(tick); !why.empty()) return differ("state", seq, rec, "tick", std::to_string(tick), why);
+    session::Frame f = sim->frame();
+    f.session_id = rec.value("session_id", id);
+    f.seq = seq;
+    f.mode = static_cast<session::Mode>(rec.value("mode", 1));
+    f.status = static_cast<session::Status>(rec.value("status", 1));
+    f.reason = rec.value("status_reason", "");
+    const groundsim::state_t m = net::toMessage(f);
+    const std::string mine = record::toJson(m);
+    if (mine != text) {
+      std::string rv, sv;
+      const auto field = firstDifference(rec, nlohmann::json::parse(mine), "", &rv, &sv);
+      return differ("state", seq, rec, field.value_or("(text)"), rv, sv);
+    }
+    ++compared_states;
+    if (raw_ch >= 0) {
+      if (auto it = raws.find(static_cast<std::uint32_t>(seq)); it != raws.end()) {
+        std::string bytes(static_cast<size_t>(m.getEncodedSize()), '\0');
+        m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+        if (bytes != it->second) return differ("state (raw LCM bytes)", seq, rec, "bytes", "recorded", "differ");
+        ++compared_raw;
+      }
+    }
+    if (auto it = cars.find(seq); it != cars.end()) {
+      const std::string mine_car = record::toJson(net::toCarMessage(f));
+      if (mine_car != it->second) {
+        std::string rv, sv;
+        const nlohmann::json rc = nlohmann::json::parse(it->second);
+        const auto field = firstDifference(rc, nlohmann::json::parse(mine_car), "", &rv, &sv);
+        return differ("car state", seq, rc, field.value_or("(text)"), rv, sv);
+      }
+      ++compared_cars;
+    }
+    if (auto it = contacts.find(seq); it != contacts.end()) {
+      const std::string mine_contact = record::toJson(net::toContactMessage(f));
+      if (mine_contact != it->second) {
+        std::string rv, sv;
+        const nlohmann::json rc = nlohmann::json::parse(it->second);
+        const auto field = firstDifference(rc, nlohmann::json::parse(mine_contact), "", &rv, &sv);
+        return differ("contact state", seq, rc, field.value_or("(text)"), rv, sv);
+      }
+      ++compared_contacts;
+    }
+  }
+  std::printf("identical: session %s, %lld states, %lld car states, %lld contact states re-simulated from its "
+              "scenario and %zu applied commands (last state seq %lld, tick %lld)\n",
+              id.c_str(), static_cast<long long>(compared_states), static_cast<long long>(compared_cars),
+              static_cast<long long>(compared_contacts), applied.size(), static_cast<long long>(states.rbegin()->first),
+              static_cast<long long>(sim->tick()));
+  if (digits >= 17)
+    std::printf("compared bit for bit: every double as the shortest text that reads back as the same double%s\n",
+                digits_known ? "" : " (the file does not say its digits: taken as 17)");
+  else
+    std::printf("compared at the recording's precision only: %d significant digits (record with the default "
+                "--digits 17 for a bit-exact comparison)\n", digits);
+  if (compared_raw > 0) std::printf("raw LCM bytes identical too: %lld states\n", static_cast<long long>(compared_raw));
+  if (!warnings.empty()) {
+    std::printf("but the file is incomplete (above): a difference may hide in what is missing\n");
+    return kExitDiffers;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void registerReplayCommand(CLI::App& app) {
+  auto o = std::make_shared<ReplayOptions>();
+  auto* cmd = app.add_subcommand("replay", "re-simulate a recorded session and compare its states (docs/logging.md)");
+  cmd->add_option("FILE", o->file, "an .mcap recording")->required();
+  cmd->add_flag("--resimulate", o->resimulate, "re-simulate from the scenario and the applied-command log")->required();
+  cmd->add_option("--session", o->session, "the session (needed when the file holds several)");
+  cmd->add_option("--assets", o->assets_dir, "a folder holding files the scenario names that the file does not");
+  cmd->callback([o] {
+    int rc = 0;
+    try {
+      rc = resimulate(*o);
+    } catch (const std::exception& e) {
+      fail(kExitRefused, net::printable(e.what(), 600));
+    }
+    if (rc) throw CLI::RuntimeError(rc);
+  });
+}
+
+}  // namespace groundsim::cli

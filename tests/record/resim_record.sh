@@ -1,0 +1,89 @@
+#!/bin/sh
+# `groundsim replay --resimulate` (issue 23, docs/logging.md): a real server
+# and a real recorder; two sessions created after the recorder started, each
+# driven while it runs:
+#   plain.json (drive_t): throttle, turn, brake, then the driver leaves with
+#     the torque held and the command timeout releases it; paused, resumed,
+#     reset, driven again, stopped;
+#   sedan.json (a road car with a control table): controls_t take over from
+#     the table, the controls timeout releases the pedals, a reset hands the
+#     car back to the table.
+# Each session re-simulates to identical states (every double, and the raw
+# LCM bytes). Then copies of the file with one state's position nudged by one
+# unit in the last place, and with one applied command left out, each report
+# the first difference: the nudged state's seq and field, and the first state
+# after the dropped command.
+#   resim_record.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
+set -eu
+build=$1; src=$2; gs=$build/client/groundsim; tamper=$build/tests/record/mcap_tamper
+dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+"$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
+for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+"$gs" record --all --raw --duration 7 --out "$dir/run.mcap" 2> "$dir/rec.err" &
+rec=$!
+for _ in $(seq 100); do grep -q "recording to" "$dir/rec.err" && break; sleep 0.1; done
+a=$("$gs" create "$src/configs/plain.json" --publish-rate 200 --duration 30 | tail -1)
+b=$("$gs" create "$src/configs/sedan.json" --publish-rate 100 --duration 30 | tail -1)
+[ -n "$a" ] && [ -n "$b" ] || fail "no sessions"
+# the car: controls, then gone with the pedals held (timeout), then a reset
+printf 'throttle 0.6\nsteer 0.3\nwait 0.6\nbrake 0.4\nthrottle 0\nwait 0.3\nquit\n' |
+  "$gs" drive "$b" --controls car --hold > /dev/null 2>&1 &
+car=$!
+printf 'throttle 3\nwait 0.5\nturn 0.5\nwait 0.4\nbrake 2\nwait 0.2\nthrottle 4\nwait 0.3\nquit\n' |
+  "$gs" drive "$a" --hold > /dev/null
+sleep 0.8   # the command timeout (0.5 s) releases the torque
+"$gs" pause "$a" > /dev/null; sleep 0.2; "$gs" resume "$a" > /dev/null
+sleep 0.2
+"$gs" reset "$a" > /dev/null
+printf 'throttle 2\nturn -0.4\nwait 0.4\nrelease\nwait 0.1\nquit\n' | "$gs" drive "$a" > /dev/null
+"$gs" stop "$a" > /dev/null
+wait $car
+sleep 0.7
+"$gs" reset "$b" > /dev/null
+wait $rec || true
+grep "^record" "$dir/rec.err" | tail -4
+"$gs" inspect "$dir/run.mcap" | grep -E "^end|/applied"
+
+for s in "$a" "$b"; do
+  "$gs" replay --resimulate "$dir/run.mcap" --session "$s" > "$dir/same.txt" 2>&1 ||
+    { cat "$dir/same.txt"; fail "session $s did not re-simulate to the same states"; }
+  cat "$dir/same.txt"
+  grep -q "^identical: session $s" "$dir/same.txt" || fail "no identical line"
+  grep -q "^compared bit for bit" "$dir/same.txt" || fail "not bit for bit"
+  grep -q "^raw LCM bytes identical too" "$dir/same.txt" || fail "raw bytes not compared"
+done
+# the commands that took effect: drive, timeout, pause, resume, reset, stop, end;
+# controls, controls timeout, reset
+for k in '"kind":1,' '"kind":3,' '"kind":6,' '"kind":7,' '"kind":5,' '"kind":10,' '"kind":11,'; do
+  "$tamper" "$dir/run.mcap" - find "/$a/applied" "$k" > /dev/null || fail "session $a: no applied entry $k"
+done
+for k in '"kind":2,' '"kind":4,' '"kind":5,'; do
+  "$tamper" "$dir/run.mcap" - find "/$b/applied" "$k" > /dev/null || fail "session $b: no applied entry $k"
+done
+
+# one unit in the last place of one position, state seq 300 of the car
+"$tamper" "$dir/run.mcap" "$dir/nudged.mcap" nudge "/$b/state" 300 > "$dir/nudge.txt"
+read old new < "$dir/nudge.txt"
+set +e
+"$gs" replay --resimulate "$dir/nudged.mcap" --session "$b" > "$dir/nudged.txt" 2>&1
+rc=$?
+set -e
+cat "$dir/nudged.txt"
+[ $rc -eq 5 ] || fail "a nudged state: exit $rc, not 5"
+grep -q "^differs: session $b, state seq 300 .*: vehicles\[0\]\.position\[0\] recorded $new, re-simulated $old\$" \
+  "$dir/nudged.txt" || fail "the nudged value ($old -> $new) is not the first difference named"
+
+# the first drive command of the plain car left out
+first=$("$tamper" "$dir/run.mcap" - find "/$a/applied" '"kind":1,')
+"$tamper" "$dir/run.mcap" "$dir/dropped.mcap" drop "/$a/applied" "$first"
+set +e
+"$gs" replay --resimulate "$dir/dropped.mcap" --session "$a" > "$dir/dropped.txt" 2>&1
+rc=$?
+set -e
+cat "$dir/dropped.txt"
+[ $rc -eq 5 ] || fail "a dropped command: exit $rc, not 5"
+grep -q "applied commands $first\.\.$first are missing" "$dir/dropped.txt" || fail "the missing command is not named"
+grep -q "^differs: session $a, state seq [0-9]* .*: vehicles\[0\]\." "$dir/dropped.txt" ||
+  fail "no state difference named after the dropped command"
+echo PASS
