@@ -5,17 +5,20 @@
 # tool, another implementation) logs the same state channels. Prints the
 # states each holds, any state lcm-logger has that the recording lacks (a
 # silent loss: must be 0), the recorder's repaired/lost, CPU time and file
-# size. Run inside a private network namespace:
+# size, and the size per state beside lcm-logger's log of the same states
+# (the issue's "at most 25% of the same LCM log on the state stream").
+# Extra `record` options (e.g. --zstd-level 9) in RECORD_OPTS, another build
+# folder in BUILD; KEEP=DIR keeps the two files there. Run inside a private network namespace:
 #   tests/integration/netns_run.sh bench/service/record_bench.sh [N=20] [R=1000] [D=20]
 set -eu
 N=${1:-20}; R=${2:-1000}; D=${3:-20}
-root=$(cd "$(dirname "$0")/../.." && pwd); gs=$root/build/client/groundsim
-dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
-"$root/build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) > "$dir/server.out" 2>&1 &
+root=$(cd "$(dirname "$0")/../.." && pwd); build=${BUILD:-$root/build}; gs=$build/client/groundsim
+dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; [ -z "${KEEP:-}" ] || cp "$dir/bus.lcm" "$dir/all.mcap" "$KEEP"/; rm -rf "$dir"' EXIT
+"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
 logger=$!
-/usr/bin/time -f "%U %S" -o "$dir/rec.time" "$gs" record --all --out "$dir/all.mcap" --duration $((D + 6)) \
+/usr/bin/time -f "%U %S" -o "$dir/rec.time" "$gs" record --all ${RECORD_OPTS:-} --out "$dir/all.mcap" --duration $((D + 6)) \
   2> "$dir/rec.err" &
 for _ in $(seq 100); do grep -q "record: recording" "$dir/rec.err" && break; sleep 0.1; done
 ids=""
@@ -52,4 +55,11 @@ for line in out.splitlines():
 print(f"lcm-logger: {len(logged)} states")
 missing = [k for k in logged if k[0] not in recorded]
 print(f"states lcm-logger has from sessions the recording lacks: {len(missing)}")
+# size per state: the MCAP file (states, events, ledgers, indexes: all of it)
+# against lcm-logger's log (states only), each divided by the states it holds
+import os
+n_rec = sum(r[0] + r[1] for r in recorded.values())
+mb, lb = os.path.getsize(sys.argv[2]), os.path.getsize(sys.argv[1])
+print(f"bytes per state: MCAP {mb / n_rec:.1f}, LCM log {lb / len(logged):.1f}: "
+      f"the MCAP is {100 * (mb / n_rec) / (lb / len(logged)):.1f}% of the LCM log")
 PY
