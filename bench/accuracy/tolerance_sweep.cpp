@@ -23,6 +23,7 @@
 #include "accuracy/pilot.hpp"
 #include "accuracy/trajectory.hpp"
 #include "physics/checks/stability.hpp"
+#include "physics/collision/body_contact.hpp"
 #include "physics/integrators/integrator.hpp"
 #include "scenario/scenario.hpp"
 #include "tolerance_scenes.hpp"
@@ -39,6 +40,7 @@ struct Cell {
   double cost = 0.0;  // wall s per sim s
   double evals = 0.0; // force evaluations per sim s
   bool healthy = true;
+  int floor = 1;      // collisions.min_substeps
 };
 
 struct Row {
@@ -82,11 +84,16 @@ double stableDt(const scenario::Scenario& s, IntegratorKind k) {
   return dt;
 }
 
-Cell runCell(const scenario::Scenario& s, IntegratorKind k, double dt, const Trajectory& ref) {
-  const Trajectory t = accuracy::runTrajectory(accuracy::withSettings(s, k, dt), s.duration);
+Cell runCell(const scenario::Scenario& s, IntegratorKind k, double dt, int floor, const Trajectory& ref) {
+  const Trajectory t = accuracy::runTrajectory(accuracy::withSettings(s, k, dt, floor), s.duration);
   Cell c{k, dt, accuracy::compareRuns(t, ref).value(), t.cost(),
-         static_cast<double>(t.evaluations) / std::max(t.duration, 1e-9), t.healthy};
+         static_cast<double>(t.evaluations) / std::max(t.duration, 1e-9), t.healthy, floor};
   return c;
+}
+
+// contact's substeps at dt: the floor of the family whose coarsest step is dt
+int contactFloor(const scenario::Scenario& s, IntegratorKind k, double dt) {
+  return contactSubstepsBound(*scenario::buildScene(accuracy::withSettings(s, k, dt)).built.model, dt);
 }
 
 // The chosen setting run again with the live estimate: its final value, the
@@ -98,6 +105,7 @@ void liveEstimate(const accuracy::Choice& c, Row& row) {
   accuracy::LiveEstimateOptions o;
   o.duration = s.duration;
   accuracy::LiveEstimate live(s, c.order, o);
+  live.setPrediction(c.predicted_error, s.duration, c.growth);
   const long long n = std::llround(s.duration / s.options.dt);
   const auto t0 = std::chrono::steady_clock::now();
   for (long long i = 0; i < n; ++i) {
@@ -140,7 +148,7 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
-    csv << "scene,kind,dt,error,cost,evals,healthy\n";
+    csv << "scene,kind,dt,floor,error,cost,evals,healthy\n";
   }
   for (const ToleranceScene& sc : toleranceScenes()) {
     if (!only.empty() && std::find(only.begin(), only.end(), sc.name) == only.end()) continue;
@@ -150,25 +158,38 @@ int main(int argc, char** argv) {
     // below its coarsest stable step; its uncertainty from twice that step
     const IntegratorKind rk = accepts(s, IntegratorKind::Rk4) ? IntegratorKind::Rk4 : IntegratorKind::VelocityVerlet;
     const double top = accuracy::ladderStepAtMost(std::min(0.02, 1.0 / s.output_rate));
-    const double ref_dt =
-        std::max(accuracy::ladderStepAtMost(std::min(top, 0.9 * stableDt(s, rk)) / 64), 2.4e-6);
-    const Trajectory ref = accuracy::runTrajectory(accuracy::withSettings(s, rk, ref_dt), s.duration);
-    const Trajectory ref2 = accuracy::runTrajectory(accuracy::withSettings(s, rk, 2 * ref_dt), s.duration);
+    const double ref_top = accuracy::ladderStepAtMost(std::min(top, 0.9 * stableDt(s, rk)));
+    const double ref_dt = std::max(ref_top / 64, 2.4e-6);
+    // contact between bodies at the family's floor: its substep shrinks too
+    const int ref_floor = contactFloor(s, rk, ref_top);
+    const Trajectory ref = accuracy::runTrajectory(accuracy::withSettings(s, rk, ref_dt, ref_floor), s.duration);
+    const Trajectory ref2 = accuracy::runTrajectory(accuracy::withSettings(s, rk, 2 * ref_dt, ref_floor), s.duration);
     const double uncertainty = accuracy::compareRuns(ref2, ref).value();
     std::vector<Cell> cells;
     for (IntegratorKind k : kinds) {
       if (!accepts(s, k)) continue;
+      // the automatic contact substeps, then (in a scene with contact
+      // between bodies) the family whose floor is contact's need at the
+      // coarsest healthy step, as the pilot sets it
+      int floor = 0;
       for (double h = top; h >= 1e-5 * (1 - 1e-9); h /= 2) {
-        cells.push_back(runCell(s, k, h, ref));
+        cells.push_back(runCell(s, k, h, 1, ref));
+        if (cells.back().healthy && floor == 0) floor = contactFloor(s, k, h);
         if (cells.back().healthy && cells.back().error < 2e-5) break;
       }
+      if (floor > 1)
+        for (double h = top; h >= 1e-5 * (1 - 1e-9); h /= 2) {
+          if (contactFloor(s, k, h) > floor) continue;  // unhealthy at the automatic count already
+          cells.push_back(runCell(s, k, h, floor, ref));
+          if (cells.back().healthy && cells.back().error < 2e-5) break;
+        }
     }
     if (verbose)
       for (const Cell& c : cells)
-        std::printf("  cell %-19s dt %-9.3g error %s cost %.3g%s\n", integratorName(c.kind), c.dt, fmt(c.error).c_str(),
-                    c.cost, c.healthy ? "" : " DIVERGED");
+        std::printf("  cell %-19s dt %-9.3g floor %-2d error %s cost %.3g%s\n", integratorName(c.kind), c.dt, c.floor,
+                    fmt(c.error).c_str(), c.cost, c.healthy ? "" : " DIVERGED");
     for (const Cell& c : cells)
-      if (csv) csv << sc.name << ',' << integratorName(c.kind) << ',' << c.dt << ',' << c.error << ',' << c.cost << ','
+      if (csv) csv << sc.name << ',' << integratorName(c.kind) << ',' << c.dt << ',' << c.floor << ',' << c.error << ',' << c.cost << ','
                    << c.evals << ',' << c.healthy << '\n';
     std::printf("\n## %s: reference %s dt %.3g (uncertainty %s), %zu oracle cells, %.1f s\n", sc.name.c_str(),
                 integratorName(rk), ref_dt, fmt(uncertainty).c_str(), cells.size(),
@@ -180,9 +201,11 @@ int main(int argc, char** argv) {
       accuracy::PilotOptions po;
       row.choice = accuracy::chooseSettings(s, tol, po);
       const auto same = std::find_if(cells.begin(), cells.end(), [&](const Cell& c) {
-        return c.kind == row.choice.integrator && std::abs(c.dt / row.choice.dt - 1) < 1e-9;
+        return c.kind == row.choice.integrator && std::abs(c.dt / row.choice.dt - 1) < 1e-9 &&
+               c.floor == row.choice.contact_substeps;
       });
-      row.chosen = same != cells.end() ? *same : runCell(s, row.choice.integrator, row.choice.dt, ref);
+      row.chosen = same != cells.end() ? *same
+                                       : runCell(s, row.choice.integrator, row.choice.dt, row.choice.contact_substeps, ref);
       for (const Cell& c : cells)
         if (c.healthy && c.error <= tol && (!row.oracle_found || c.cost < row.oracle.cost)) {
           row.oracle = c;

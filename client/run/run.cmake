@@ -7,4 +7,4 @@ target_sources(groundsim PRIVATE
 )
 # "telemetry_csv.hpp" for the network logger too
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
-target_link_libraries(groundsim PRIVATE groundsim_scenario CLI11::CLI11)
+target_link_libraries(groundsim PRIVATE groundsim_scenario groundsim_accuracy CLI11::CLI11)

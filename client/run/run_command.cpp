@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <limits>
 #include <new>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,8 @@
 #include "physics/integrators/integrator.hpp"
 #include "physics/simulator.hpp"
 #include "physics/checks/telemetry.hpp"
+#include "accuracy/live_estimate.hpp"
+#include "accuracy/pilot.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 #include "speed_plot.hpp"
@@ -51,6 +54,8 @@ struct RunOptions {
   std::vector<std::string> overrides;
   std::string preset, integrator;
   std::optional<double> dt;
+  std::string tolerance;  // "0.01" or "1%": the accuracy section's tolerance
+  bool pilot_report = false;
   std::string csv_path;
   std::string hits_path;
   std::string plot_path;
@@ -128,7 +133,10 @@ struct RunResult {
 };
 
 // The frame loop: step to each frame's tick, sample every vehicle, write.
-RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* csv, bool progress) {
+// live: the live error estimate, stepped around every step (then one step
+// at a time); tolerance: warn once when its estimate passes it.
+RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* csv, bool progress,
+                   accuracy::LiveEstimate* live = nullptr, double tolerance = 0.0) {
   const double dt = sim.model().opt.dt;
   const long long last_frame = toCount(std::floor(scene.duration * scene.output_rate + 1e-9));
   const long long end_tick = toCount(scene.duration / dt);
@@ -144,13 +152,30 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     for (Hit& h : sim.takeEndedHits()) r.hits.push_back(h);
   };
 
+  bool warned = false;
+  // n steps, with the live estimate around each when there is one
+  auto advance = [&](long long n) {
+    if (!live) return scenario::stepScene(scene, sim, n);
+    for (long long i = 0; i < n; ++i) {
+      live->beforeStep(sim);
+      if (!scenario::stepScene(scene, sim, 1)) return false;
+      live->afterStep(sim);
+    }
+    if (!warned && tolerance > 0.0 && live->estimate() > tolerance) {
+      warned = true;
+      std::fprintf(stderr, "%swarning: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s\n",
+                   progress ? "\n" : "", live->estimate(), tolerance, sim.state().t);
+    }
+    return true;
+  };
   auto writeFrame = [&]() {
     r.final_samples.clear();
+    const double estimate = live ? live->estimate() : std::numeric_limits<double>::quiet_NaN();
     for (size_t v = 0; v < scene.cars.size(); ++v) {
       // energy is the whole scene's: compute it once per frame
       VehicleSample s = sampleVehicle(sim, scene.cars[v].vehicle, v == 0);
       if (v > 0) s.energy = r.final_samples.front().energy;
-      if (csv) *csv << csvRow(s, scene.vehicle_names[v]) << '\n';
+      if (csv) *csv << csvRow(s, scene.vehicle_names[v], estimate) << '\n';
       r.final_samples.push_back(s);
     }
   };
@@ -164,7 +189,7 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     while (sim.state().tick < target) {
       // progress is checked between chunks: a clock read per step costs more than the step
       const long long chunk = std::min<long long>(target - sim.state().tick, most);
-      const bool ok = scenario::stepScene(scene, sim, chunk);  // with the road cars' control tables
+      const bool ok = advance(chunk);  // with the road cars' control tables
       collectHits();
       if (!ok) break;
       bar.update(sim.state().t);
@@ -173,12 +198,13 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
   }
   // a duration that is not a whole number of frames still runs to its end
   while (sim.healthy() && sim.state().tick < end_tick) {
-    const bool ok = scenario::stepScene(scene, sim, std::min<long long>(end_tick - sim.state().tick, most));
+    const bool ok = advance(std::min<long long>(end_tick - sim.state().tick, most));
     collectHits();
     if (!ok) break;
     bar.update(sim.state().t);
   }
   collectHits();
+  if (live) live->beforeStep(sim);  // the estimate at the end
   r.hits.insert(r.hits.end(), sim.hits().begin(), sim.hits().end());
   r.wall = secondsSince(t0);
   bar.done();
@@ -245,6 +271,24 @@ void printSummary(const scenario::Scenario& s, const Simulator& sim, const scena
                 sim.state().health_reason.c_str());
 }
 
+// "0.01" or "1%" as a fraction; nullopt for anything else (CLI validator).
+std::optional<double> parseTolerance(const std::string& text) {
+  std::string t = text;
+  double scale = 1.0;
+  if (!t.empty() && t.back() == '%') {
+    t.pop_back();
+    scale = 0.01;
+  }
+  try {
+    size_t used = 0;
+    const double v = std::stod(t, &used);
+    if (used != t.size() || !std::isfinite(v)) return std::nullopt;
+    return v * scale;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
 int run(const RunOptions& o) {
   // load, override, validate: the problems of the file are reported at once
   const scenario::Budget& budget = o.budget;
@@ -260,6 +304,9 @@ int run(const RunOptions& o) {
     }
     if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"", budget);
     if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump(), budget);
+    // --tolerance sets the accuracy section; its range is validated there
+    if (!o.tolerance.empty())
+      scenario::applyOverride(doc, "accuracy.tolerance=" + nlohmann::json(*parseTolerance(o.tolerance)).dump(), budget);
     for (const std::string& a : o.overrides) scenario::applyOverride(doc, a, budget);
     if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump(), budget);
     s = scenario::parseScenario(std::move(doc), budget,
@@ -267,6 +314,26 @@ int run(const RunOptions& o) {
   } catch (const scenario::ScenarioError& e) {
     printIssues(o.scenario_path, e);
     return kExitInvalid;
+  }
+  // a tolerance: the pilot chooses integrator, step and contact substeps
+  std::optional<accuracy::Choice> choice;
+  if (s.accuracy) {
+    try {
+      accuracy::PilotOptions po;
+      po.pilot_duration = s.accuracy->pilot_duration;
+      choice = accuracy::chooseSettings(s, s.accuracy->tolerance, po);
+    } catch (const scenario::ScenarioError& e) {
+      printIssues(o.scenario_path, e);
+      return kExitInvalid;
+    }
+    if (!o.quiet) {
+      std::fprintf(stderr, "accuracy: %s\n", choice->line().c_str());
+      if (o.pilot_report) std::fprintf(stderr, "%s", choice->report().c_str());
+    }
+    if (!choice->meets)
+      std::fprintf(stderr, "warning: no setting is predicted to meet the tolerance %g; running the closest\n",
+                   s.accuracy->tolerance);
+    s = choice->scenario;
   }
   std::optional<scenario::Scene> scene;
   try {
@@ -302,7 +369,15 @@ int run(const RunOptions& o) {
   }
 
   Simulator sim(scene->built.model, scene->built.initial);
-  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet);
+  std::unique_ptr<accuracy::LiveEstimate> live;
+  if (s.accuracy && s.accuracy->live_estimate) {
+    accuracy::LiveEstimateOptions lo;
+    lo.duration = s.duration;
+    live = std::make_unique<accuracy::LiveEstimate>(s, accuracy::nominalOrder(s.options.integrator), lo);
+    if (choice) live->setPrediction(choice->predicted_error, s.duration, choice->growth);
+  }
+  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(),
+                               s.accuracy ? s.accuracy->tolerance : 0.0);
   int code = 0;
   if (csv.is_open()) {
     csv.close();
@@ -316,6 +391,16 @@ int run(const RunOptions& o) {
     code = kExitOutput;
   }
   if (!o.quiet) printSummary(s, sim, *scene, r);
+  if (!o.quiet && choice) {
+    std::printf("accuracy   tolerance %.3g: %s\n", choice->tolerance, choice->line().c_str());
+    std::printf("pilot      %.3g s of the scene per trial, %.3g s wall\n", choice->pilot_duration,
+                choice->pilot_wall_seconds);
+    if (live)
+      std::printf("estimate   %.3g (path %.3g, speed %.3g; %d windows, shadow steps %.1f%% of the run's)%s\n",
+                  live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),
+                  100.0 * static_cast<double>(live->shadowSteps()) / std::max(1.0, static_cast<double>(r.steps)),
+                  live->estimate() > choice->tolerance ? "  ABOVE THE TOLERANCE" : "");
+  }
   if (!o.plot_path.empty() && code == 0) {
     const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,
                                            s.name + ": speed of the body per frame"});
@@ -382,6 +467,18 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("--integrator", opts->integrator, "Integrator (overrides the file and the preset)")
       ->check(CLI::IsMember({"semi_implicit_euler", "velocity_verlet", "rk4", "implicit_euler", "adaptive"}));
   cmd->add_option("--dt", opts->dt, "Step in s (overrides the file and the preset)")->check(CLI::PositiveNumber);
+  cmd->add_option("--tolerance", opts->tolerance,
+                  "The error you accept (0.01 or 1%): a pilot on the scene chooses integrator, step and contact "
+                  "substeps, and a live estimate watches the run (docs/accuracy.md, \"Accuracy on demand\")")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            return parseTolerance(v) ? std::string() : "--tolerance: a number (0.01) or a percentage (1%), got " + v;
+          },
+          "TOLERANCE"))
+      ->excludes("--preset")
+      ->excludes("--integrator")
+      ->excludes("--dt");
+  cmd->add_flag("--pilot-report", opts->pilot_report, "With a tolerance: print what the pilot learnt of each integrator");
   cmd->add_option("--set", opts->overrides, "Override a value before validation: key.path=value (repeatable)")
       ->allow_extra_args(false);
   cmd->add_option("--csv", opts->csv_path, "Write frames at the output rate to this CSV file");

@@ -44,10 +44,12 @@ std::string csvHeader() {
   h += ",gear,engine_rpm,drive_power,yaw_rate";
   for (const char* col : {"slip_ratio", "slip_angle", "travel"})
     for (const char* w : kWheelSuffix) h += std::string(",") + col + "_" + w;
+  // the live error estimate (docs/accuracy.md): empty without one
+  h += ",error_estimate";
   return h;
 }
 
-std::string csvRow(const groundsim::VehicleSample& s, const std::string& vehicle_name) {
+std::string csvRow(const groundsim::VehicleSample& s, const std::string& vehicle_name, double error_estimate) {
   std::string row;
   row.reserve(400);
   char buf[32];
@@ -82,6 +84,7 @@ std::string csvRow(const groundsim::VehicleSample& s, const std::string& vehicle
   wheels([](const groundsim::WheelSample& w) { return w.slip_ratio; });
   wheels([](const groundsim::WheelSample& w) { return w.slip_angle; });
   wheels([](const groundsim::WheelSample& w) { return w.travel; });
+  put(row, error_estimate);
   return row;
 }
 

@@ -3,6 +3,7 @@
 id, a scenario file, JSON text or a dict."""
 
 import json
+import math
 import os
 from collections.abc import Mapping
 
@@ -36,6 +37,36 @@ def _scenario_source(scenario):
                                       f"{type(scenario).__name__}")
 
 
+def _reject_duplicates(pairs):
+    keys = [k for k, _ in pairs]
+    if len(keys) != len(set(keys)):
+        raise ValueError("duplicate key")
+    return dict(pairs)
+
+
+def _with_tolerance(text, path, files_dir, tolerance):
+    """(text, files_dir) of the scenario with ``accuracy.tolerance`` set.
+    Anything this cannot read as a JSON object (malformed, duplicate keys, an
+    ``accuracy`` that is not an object) is passed on unchanged, so the
+    scenario layer names the problem as it would without a tolerance."""
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not math.isfinite(tolerance):
+        raise ExperimentError("tolerance", f"tolerance: must be a finite number (0.01 for 1%), got {tolerance!r}")
+    if path is not None:
+        with open(path, "rb") as f:
+            text = f.read().decode("utf-8", errors="replace")
+        files_dir = os.path.dirname(os.path.abspath(path))
+    try:
+        doc = json.loads(text, object_pairs_hook=_reject_duplicates)
+    except ValueError:
+        return text, files_dir
+    if not isinstance(doc, dict) or not isinstance(doc.get("accuracy", {}), dict):
+        return text, files_dir
+    doc.setdefault("accuracy", {})["tolerance"] = float(tolerance)
+    if path is not None:
+        doc.setdefault("name", os.path.splitext(os.path.basename(path))[0])
+    return json.dumps(doc, allow_nan=False), files_dir
+
+
 _OPTIONS_DOC = """
     render_mode: None or "rgb_array" (render() returns frames);
     render_size: (width, height) of a frame, default (128, 96).
@@ -50,7 +81,7 @@ _OPTIONS_DOC = """
 
 
 def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, autoreset_mode="next_step",
-             episode_statistics=True, drawn_in_infos=False, render_mode=None, render_size=(128, 96)):
+             episode_statistics=True, drawn_in_infos=False, render_mode=None, render_size=(128, 96), tolerance=None):
     """num_envs environments of a scenario with a ``task`` section, stepped
     in this process on num_threads threads (0: one per core, 1: the calling
     thread) with the GIL released.
@@ -59,6 +90,9 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
     or short name ("goal"), a path to a JSON file (the heightfields it names
     are read next to it), a JSON string, or a dict. For the last two, files_dir says
     where named files are read from (none are readable without it).
+    tolerance: the error you accept (0.01 for 1%; docs/accuracy.md,
+    "Accuracy on demand"): one pilot on the scene chooses integrator, step and
+    contact substeps for every environment, replacing the scenario's own.
     Raises ScenarioError for a bad scenario or task, ExperimentError for bad
     arguments. The result does not depend on num_threads, bit for bit."""
     options = {"copy": copy, "autoreset_mode": autoreset_mode_of(autoreset_mode),
@@ -73,6 +107,9 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
         raise ExperimentError("num_threads", f"num_threads: must be >= 0 (0: one per core), got {threads}")
     scenario, files_dir = task_source(scenario, files_dir)
     text, path, name = _scenario_source(scenario)
+    if tolerance is not None:
+        text, files_dir = _with_tolerance(text, path, files_dir, tolerance)
+        path = None
     if path is not None:
         return VecEnv(_core.make_vec_env_from_file(path, n, threads), name, **options)
     if files_dir is not None:

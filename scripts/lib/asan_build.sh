@@ -12,7 +12,7 @@
 asan_build_dir=build-asan
 # the ASan + UBSan suite's executables (ctest -L '^(unit|cli)$'): the
 # in-process suites and the groundsim binary the CLI tests run
-asan_test_targets="physics_tests physics_shared_model_tests vehicle_tests scenario_tests terrain_tests
+asan_test_targets="physics_tests physics_shared_model_tests vehicle_tests scenario_tests accuracy_tests terrain_tests
   experiments_tests experiments_alloc_tests session_tests contact_tests kernel_tests record_tests recording_tests
   mcap_sample groundsim"
 # scripts/fuzz.sh's: the libFuzzer targets and their seed corpora

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "accuracy/error_measure.hpp"
 #include "accuracy/trajectory.hpp"
@@ -81,6 +80,17 @@ void LiveEstimate::endWindow(const Simulator& main) {
   update(main);
 }
 
+void LiveEstimate::setPrediction(double error, double duration, double growth) {
+  prediction_ = error;
+  prediction_duration_ = duration;
+  prediction_growth_ = growth;
+}
+
+double LiveEstimate::predicted(double t) const {
+  if (!(prediction_ > 0.0) || !(prediction_duration_ > 0.0) || !(t > 0.0)) return 0.0;
+  return prediction_ * std::pow(std::min(t / prediction_duration_, 1e6), prediction_growth_);
+}
+
 void LiveEstimate::update(const Simulator& main) {
   const bool first = last_pos_.empty();
   if (first) last_pos_.resize(vehicles_.size());
@@ -90,17 +100,21 @@ void LiveEstimate::update(const Simulator& main) {
     last_pos_[i] = a.position;
     speed_now_[i] = a.velocity.norm();
   }
-  if (sampled_time_ <= 0.0) return;
   const double t = main.state().t;
+  if (sampled_time_ <= 0.0) {
+    estimate_ = predicted(t);
+    return;
+  }
   path_ = speed_ = 0.0;
   for (size_t i = 0; i < vehicles_.size(); ++i) {
     const double rate_p = sum_p_[i] / sampled_time_, rate_v = sum_v_[i] / sampled_time_;
-    static const int variant = std::getenv("GS_LIVE") ? std::atoi(std::getenv("GS_LIVE")) : 0;
-    const double e_pos = variant == 1 ? rate_p * t : variant == 2 ? rate_p * t + 0.5 * rate_v * t * std::min(t, 1.0) : rate_p * t + 0.5 * rate_v * t * t;
-    path_ = std::max(path_, e_pos / std::max(distance_[i], kMinDistance));
-    speed_ = std::max(speed_, rate_v * t / std::max(speed_now_[i], kMinSpeed));
+    (void)rate_v;
+    path_ = std::max(path_, rate_p * t / std::max(distance_[i], kMinDistance));
+    // a speed error does not pile up window on window (grip, drive and
+    // brakes pull the speed back): the mean made in one window
+    speed_ = std::max(speed_, sum_v_[i] / windows_ / std::max(speed_now_[i], kMinSpeed));
   }
-  estimate_ = std::max(path_, speed_);
+  estimate_ = std::max({path_, speed_, predicted(t)});
 }
 
 }  // namespace groundsim::accuracy

@@ -3,13 +3,17 @@
 // commands, over sampled windows (one window in `every`, the first at t = 0).
 // At a window's end the difference between the two, times 2^p / (2^p - 1)
 // (Richardson, p the integrator's order), is the error the main run made in
-// that window: a position error and a velocity error per vehicle. Their
-// rates over the sampled windows stand for the whole run: the position error
-// at time t is rate_p t + rate_v t^2 / 2 (a velocity error carries the car
-// on), the speed error rate_v t, each relative to the distance travelled and
-// the speed as the error measure (error_measure.hpp) has them. Cost: two
-// shadow steps per main step in one window of `every`, so 2 / every of the
-// run (12.5% at 16). docs/accuracy.md, "The live estimate".
+// that window: a position error and a speed error per vehicle. The position
+// errors' rate over the sampled windows stands for the whole run (the path
+// error at time t is rate t, relative to the distance travelled); the speed
+// error is the mean made in one window (grip and drive pull a speed back,
+// so it does not pile up), relative to the speed. Windows see the error a
+// step makes locally, not what an impact between two windows amplifies: a
+// run whose settings came from a pilot (pilot.hpp) also carries the pilot's
+// measured global error, scaled to the time elapsed by its growth, and the
+// estimate is the larger of the two. Cost: two shadow steps per main step in
+// one window of `every`, so 2 / every of the run (12.5% at 16).
+// docs/accuracy.md, "The live estimate".
 #pragma once
 
 #include <memory>
@@ -42,6 +46,10 @@ class LiveEstimate {
   void beforeStep(const Simulator& main);
   void afterStep(const Simulator& main);
 
+  // The pilot's prediction for the whole run (error at `duration`, growing
+  // as t^growth): a floor of the estimate (0: none).
+  void setPrediction(double error, double duration, double growth);
+
   // The estimated error of the run so far (the error measure's value), 0
   // before the first window ends.
   double estimate() const { return estimate_; }
@@ -58,6 +66,7 @@ class LiveEstimate {
   void startWindow(const Simulator& main);
   void endWindow(const Simulator& main);
   void update(const Simulator& main);
+  double predicted(double t) const;
 
   std::unique_ptr<scenario::Scene> scene_;  // the shadow's (dt / 2)
   std::unique_ptr<Simulator> shadow_;
@@ -75,6 +84,7 @@ class LiveEstimate {
   long long shadow_steps_ = 0;
   int windows_ = 0;
   double estimate_ = 0.0, path_ = 0.0, speed_ = 0.0;
+  double prediction_ = 0.0, prediction_duration_ = 0.0, prediction_growth_ = 0.0;
 };
 
 }  // namespace groundsim::accuracy

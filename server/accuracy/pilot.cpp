@@ -9,6 +9,7 @@
 
 #include "accuracy/error_measure.hpp"
 #include "physics/checks/stability.hpp"
+#include "physics/collision/body_contact.hpp"
 #include "physics/integrators/integrator.hpp"
 
 namespace groundsim::accuracy {
@@ -51,8 +52,62 @@ Fit richardson(double d_coarse, double d_fine, int nominal) {
   return {p, std::max(d_fine, 1e-16) / (std::pow(2.0, p) - 1.0)};
 }
 
+// The coarsest ladder step (dt0 / 2^k, k >= 0) whose predicted error, times
+// the safety factor, is within the tolerance; 0 when none down to min_dt.
+double stepMeeting(const IntegratorTrial& t, double tolerance, const PilotOptions& o) {
+  for (double h = t.dt0; h >= o.min_dt * (1 - 1e-9); h /= 2)
+    if (t.error(h) * o.safety <= tolerance) return h;
+  return 0.0;
+}
+
+// Fits t's error law on the last three runs (steps h, h/2, h/4).
+void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, double duration) {
+  const size_t n = r.size();
+  const Trajectory &a = r[n - 3], &b = r[n - 2], &c = r[n - 1];
+  t.diff_coarse = compareRuns(a, b).value();
+  t.diff_fine = compareRuns(b, c).value();
+  const Fit f = richardson(t.diff_coarse, t.diff_fine, nominalOrder(t.kind));
+  t.order = f.order;
+  t.raw_order = t.diff_fine > 0.0 && t.diff_coarse > 0.0 ? std::log2(t.diff_coarse / t.diff_fine) : 0.0;
+  // how the error grows over the segment: the fine pair's path error over
+  // the first half against the whole, E ~ t^q, carried to the duration
+  const size_t half = (c.positions.size() + 1) / 2;
+  const double e_half = compareRuns(b, c, half).path, e_all = compareRuns(b, c).path;
+  t.growth = e_half > kRoundoff && e_all > kRoundoff ? std::clamp(std::log2(e_all / e_half), 0.0, 2.0) : 0.0;
+  const double scale = std::pow(std::max(1.0, duration / segment), t.growth);
+  const double finest = c.duration / static_cast<double>(std::max<long long>(1, c.steps));
+  t.error_constant = f.e_fine * scale / std::pow(finest, t.order);
+  // each pilot step's error as measured: its difference to the next finer
+  // run plus that run's error (a coarse step out of the asymptotic range
+  // is not credited with the fitted law's smaller value)
+  t.level_dt.assign(n, 0.0);
+  t.level_error.assign(n, 0.0);
+  double e = f.e_fine;
+  for (size_t k = n; k-- > 0;) {
+    if (k + 1 < n) e += compareRuns(r[k], r[k + 1]).value();
+    t.level_dt[k] = r[k].duration / static_cast<double>(std::max<long long>(1, r[k].steps));
+    t.level_error[k] = e * scale;
+  }
+  long long steps = 0;
+  double wall = 0.0;
+  for (const Trajectory& x : r) {
+    steps += x.steps;
+    wall += x.wall_seconds;
+  }
+  t.step_cost = wall / static_cast<double>(std::max(1LL, steps));
+}
+
+// A fit is clean when the differences shrink at close to the integrator's
+// order: then extrapolating below the pilot's finest step is trusted.
+bool clean(const IntegratorTrial& t) {
+  if (t.diff_coarse < kRoundoff && t.diff_fine < kRoundoff) return true;
+  return t.diff_coarse > 1.05 * t.diff_fine && std::abs(t.raw_order - nominalOrder(t.kind)) <= 0.5;
+}
+
+// floor: the contact substeps floor, 0 for the family's (contact's need at
+// dt0); finest: the finest healthy run, for the caller
 IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double segment, double top,
-                      const PilotOptions& o) {
+                      double tolerance, const PilotOptions& o, int floor, Trajectory& finest_run) {
   IntegratorTrial t;
   t.kind = kind;
   std::optional<scenario::Scene> scene;
@@ -70,47 +125,54 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
   if (worst && dt < top)
     avoided = "steps above " + fmt(dt) + " s pass 90% of the limit of the stiffest mode (" + worst->what +
               ", stable below " + fmt(worst->dt_limit) + " s)";
+  auto note = [&](const std::string& why) { avoided += (avoided.empty() ? "" : "; ") + why; };
   for (int attempt = 0; attempt <= kMaxHalvings; ++attempt, dt /= 2) {
-    if (dt / 4 < o.min_dt * (1 - 1e-9)) {
-      t.refusal = (avoided.empty() ? "" : avoided + "; ") + "no step down to " + fmt(o.min_dt) + " s stays healthy";
-      return t;
-    }
-    Trajectory r[3];
+    if (dt / 4 < o.min_dt * (1 - 1e-9)) break;
+    std::vector<Trajectory> r;
     bool healthy = true;
+    long long steps = 0;
+    // contact's substeps at dt0 become the family's floor
+    t.contact_substeps =
+        floor > 0 ? floor : contactSubstepsBound(*scenario::buildScene(withSettings(s, kind, dt)).built.model, dt);
+    const int nc = t.contact_substeps;
     for (int k = 0; k < 3 && healthy; ++k) {
-      r[k] = runTrajectory(withSettings(s, kind, dt / (1 << k)), segment);
-      if (!r[k].healthy) {
-        if (!avoided.empty()) avoided += "; ";
-        avoided += "dt " + fmt(dt / (1 << k)) + " s diverged in the pilot (" + r[k].failure + ")";
+      r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment));
+      steps += r.back().steps;
+      if (!r.back().healthy) {
+        note("dt " + fmt(dt / (1 << k)) + " s diverged in the pilot (" + r.back().failure + ")");
         healthy = false;
       }
     }
     if (!healthy) continue;
-    const int nominal = nominalOrder(kind);
-    const Fit fit = richardson(compareRuns(r[0], r[1]).value(), compareRuns(r[1], r[2]).value(), nominal);
     t.dt0 = dt;
-    t.diff_coarse = compareRuns(r[0], r[1]).value();
-    t.diff_fine = compareRuns(r[1], r[2]).value();
-    t.order = fit.order;
-    // how the error grows over the segment: the fine pair's path error over
-    // the first half against the whole, E ~ t^q, carried to the duration
-    const size_t half = (r[2].positions.size() + 1) / 2;
-    const double e_half = compareRuns(r[1], r[2], half).path, e_all = compareRuns(r[1], r[2]).path;
-    t.growth = e_half > kRoundoff && e_all > kRoundoff ? std::clamp(std::log2(e_all / e_half), 0.0, 2.0) : 0.0;
-    const double scale = std::pow(std::max(1.0, s.duration / segment), t.growth);
-    t.error_constant = fit.e_fine * scale / std::pow(dt / 4, t.order);
-    long long steps = 0;
-    double wall = 0.0;
-    for (const Trajectory& x : r) {
-      steps += x.steps;
-      wall += x.wall_seconds;
+    fit(t, r, segment, s.duration);
+    // a fit that is not clean is not extrapolated far: while the step it
+    // asks for lies below the finest run, run finer and fit again
+    double finest = dt / 4;
+    while (!clean(t)) {
+      const double want = stepMeeting(t, tolerance, o);
+      if (want >= finest || finest / 2 < o.min_dt * (1 - 1e-9)) break;
+      const long long more = std::llround(segment / (finest / 2));
+      if (steps + more > o.max_pilot_steps) {
+        note("the fit is not clean (order " + fmt(t.order) + ") and refining it below dt " + fmt(finest) +
+             " s would pass the pilot's step budget");
+        break;
+      }
+      r.push_back(runTrajectory(withSettings(s, kind, finest / 2, nc), segment));
+      steps += more;
+      if (!r.back().healthy) {
+        r.pop_back();
+        break;
+      }
+      finest /= 2;
+      fit(t, r, segment, s.duration);
     }
-    t.step_cost = wall / static_cast<double>(std::max(1LL, steps));
+    finest_run = std::move(r.back());
     t.usable = true;
     t.refusal = avoided;
     return t;
   }
-  t.refusal = avoided;
+  t.refusal = (avoided.empty() ? "" : avoided + "; ") + "no step down to " + fmt(o.min_dt) + " s stays healthy";
   return t;
 }
 
@@ -133,7 +195,12 @@ int nominalOrder(IntegratorKind kind) {
   return 1;
 }
 
-double IntegratorTrial::error(double h) const { return error_constant * std::pow(h, order); }
+double IntegratorTrial::error(double h) const {
+  if (level_dt.empty() || h > level_dt.front() * (1 + 1e-9)) return std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < level_dt.size(); ++k)
+    if (std::abs(h / level_dt[k] - 1.0) < 1e-9) return level_error[k];
+  return contact_offset + error_constant * std::pow(h, order);
+}
 
 Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -142,7 +209,24 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   c.pilot_duration = std::min(s.duration, o.pilot_duration);
   // a step longer than the output period would skip frames
   const double top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
-  for (IntegratorKind k : o.integrators) c.trials.push_back(trial(s, k, c.pilot_duration, top, o));
+  for (IntegratorKind k : o.integrators) {
+    Trajectory refined, automatic;
+    c.trials.push_back(trial(s, k, c.pilot_duration, top, tolerance, o, 0, refined));
+    const IntegratorTrial& tf = c.trials.back();
+    if (!tf.usable || tf.contact_substeps <= 1) continue;
+    // With contact between bodies, also the automatic substeps (cheaper:
+    // contact only as finely as stability asks). Its own differences cannot
+    // see contact's error, since contact's substep does not shrink with its
+    // step: the gap between its finest run and the refined family's, plus
+    // that one's error, is added to each of its errors.
+    IntegratorTrial ta = trial(s, k, c.pilot_duration, top, tolerance, o, 1, automatic);
+    if (ta.usable) {
+      const double scale = std::pow(std::max(1.0, s.duration / c.pilot_duration), tf.growth);
+      ta.contact_offset = compareRuns(automatic, refined).value() * scale + tf.level_error.back();
+      for (double& e : ta.level_error) e += ta.contact_offset;
+    }
+    c.trials.push_back(ta);
+  }
 
   const IntegratorTrial* best = nullptr;
   const IntegratorTrial* closest = nullptr;
@@ -182,15 +266,19 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   c.dt = best_dt;
   c.order = nominalOrder(best->kind);
   c.observed_order = best->order;
+  c.growth = best->growth;
   c.predicted_error = best->error(best_dt);
   c.predicted_cost = best->step_cost / best_dt;
-  c.scenario = withSettings(s, c.integrator, c.dt);
+  c.contact_substeps = best->contact_substeps;
+  c.scenario = withSettings(s, c.integrator, c.dt, c.contact_substeps);
   c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
 }
 
 std::string Choice::line() const {
-  std::string out = std::string(integratorName(integrator)) + " at dt " + fmt(dt) + " s: predicted error " +
+  std::string out = std::string(integratorName(integrator)) + " at dt " + fmt(dt) + " s" +
+                    (contact_substeps > 1 ? ", contact in at least " + std::to_string(contact_substeps) + " substeps" : "") +
+                    ": predicted error " +
                     fmt(predicted_error) + " (tolerance " + fmt(tolerance) + "), predicted cost " +
                     fmt(predicted_cost) + " wall-s per sim-s";
   if (!meets) out += "; NO setting down to the finest step is predicted to meet the tolerance";
@@ -206,9 +294,10 @@ std::string Choice::report() const {
   for (const IntegratorTrial& t : trials) {
     if (t.usable)
       std::snprintf(buf, sizeof buf,
-                    "  %-20s dt0 %-8.3g diffs %.2e %.2e  order %.2f  growth %.2f  E(h) = %.3g h^%.2f  %.3g us/step\n",
-                    integratorName(t.kind), t.dt0, t.diff_coarse, t.diff_fine, t.order, t.growth, t.error_constant,
-                    t.order, t.step_cost * 1e6);
+                    "  %-20s dt0 %-8.3g contact substeps %d  diffs %.2e %.2e  order %.2f (%.2f)  growth %.2f  "
+                    "E(h) = %.3g h^%.2f  %.3g us/step\n",
+                    integratorName(t.kind), t.dt0, t.contact_substeps, t.diff_coarse, t.diff_fine, t.order, t.raw_order,
+                    t.growth, t.error_constant, t.order, t.step_cost * 1e6);
     else
       std::snprintf(buf, sizeof buf, "  %-20s refused\n", integratorName(t.kind));
     out += buf;

@@ -19,7 +19,11 @@
 namespace groundsim::accuracy {
 
 struct PilotOptions {
-  double pilot_duration = 2.0;  // simulated s of the scene per trial (capped by its duration)
+  double pilot_duration = 5.0;  // simulated s of the scene per trial (capped by its duration)
+  // the pilot refines a fit that is not clean (order off its nominal, or
+  // differences that do not shrink) with finer runs, while their steps
+  // stay within this many in all per integrator
+  long long max_pilot_steps = 4000000;
   // predicted error x safety must be within the tolerance: the prediction
   // is an extrapolation, and an error twice the prediction still meets the
   // tolerance at 1.5 only when the two differ by less than that
@@ -42,14 +46,29 @@ struct IntegratorTrial {
   double growth = 0.0;            // error growth exponent over the segment
   double error_constant = 0.0;    // C of E(h) = C h^p, over the whole duration
   double step_cost = 0.0;         // wall s per step
-  double error(double h) const;   // predicted over the whole duration
+  // the contact substeps floor of the family (collisions.min_substeps):
+  // what contact takes at dt0, kept at every finer step so that halving the
+  // step halves the contact's substep too
+  int contact_substeps = 1;
+  // added to every error of a trial at the automatic contact substeps: the
+  // contact error its own differences cannot see (pilot.cpp)
+  double contact_offset = 0.0;
+  // the pilot's steps and each one's error (its difference to the next
+  // finer run plus that run's error; the finest from the fit)
+  std::vector<double> level_dt, level_error;
+  double raw_order = 0.0;         // log2 of the last two differences' ratio, unclamped
+  // predicted over the whole duration: measured at the pilot's steps, the
+  // fitted law below them, infinite above dt0
+  double error(double h) const;
 };
 
 struct Choice {
   IntegratorKind integrator{};
   double dt = 0.0;
   int order = 1;                  // the chosen integrator's nominal order (for the live estimate)
+  int contact_substeps = 1;       // collisions.min_substeps of the choice
   double observed_order = 1.0;
+  double growth = 0.0;            // the chosen trial's error growth exponent
   double predicted_error = 0.0;
   double predicted_cost = 0.0;    // wall s per simulated s
   bool meets = false;             // predicted within the tolerance

@@ -9,7 +9,7 @@
 
 namespace groundsim::accuracy {
 
-scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt) {
+scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps) {
   scenario::Scenario c = s;
   c.options.integrator = kind;
   c.options.dt = dt;
@@ -18,6 +18,10 @@ scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind
   physics["integrator"] = integratorName(kind);
   physics["dt"] = dt;
   physics["substeps"] = 1;
+  c.options.collision.min_substeps = contact_substeps;
+  if (contact_substeps > 1) c.document["collisions"]["min_substeps"] = contact_substeps;
+  else if (c.document.contains("collisions") && c.document["collisions"].is_object())
+    c.document["collisions"]["min_substeps"] = 1;
   return c;
 }
 

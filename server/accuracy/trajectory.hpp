@@ -31,9 +31,10 @@ struct Trajectory {
   double cost() const { return duration > 0.0 ? wall_seconds / duration : 0.0; }
 };
 
-// A copy of s stepped with integrator `kind` at dt (one substep), its
-// document saying so.
-scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt);
+// A copy of s stepped with integrator `kind` at dt (one substep), contact
+// with at least contact_substeps (collisions.min_substeps), its document
+// saying so.
+scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps = 1);
 
 // Runs s (its scene built here; ScenarioError when it cannot be) for
 // `duration` simulated seconds with the scene's scripted controls.

@@ -10,6 +10,8 @@
 // or its neighbours, so the bits stay independent of the thread count.
 #include "experiments/vec_env.hpp"
 
+#include "accuracy/pilot.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -231,6 +233,13 @@ std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_e
   if (options.num_threads < 0)
     throw ExperimentError("num_threads", "must be >= 0 (0: one per core), got " + std::to_string(options.num_threads));
   scenario::Scenario s = scenario::parseScenario(scenario_text, options.budget, options.files);
+  // a tolerance: one pilot on the scene for all the environments (it sees
+  // the scene's scripted controls, not the agents' actions to come)
+  if (s.accuracy) {
+    accuracy::PilotOptions po;
+    po.pilot_duration = s.accuracy->pilot_duration;
+    s = accuracy::chooseSettings(s, s.accuracy->tolerance, po).scenario;
+  }
   // one batched step is bounded like a run: its integrator steps times
   // their estimated cost within the budget's work limit
   if (s.task) {

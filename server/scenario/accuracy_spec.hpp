@@ -13,13 +13,10 @@ struct AccuracySpec {
   double tolerance = 0.01;
   // simulated seconds of the scene the pilot runs at each trial step
   // (capped by the scenario's duration)
-  double pilot_duration = 2.0;
+  double pilot_duration = 5.0;
   // the live estimate (a shadow stepped at half the step over sampled
   // windows) while the run goes
   bool live_estimate = true;
-  // halve the step at the next window when the live estimate exceeds the
-  // tolerance (fixed-step integrators)
-  bool refine = false;
 };
 
 }  // namespace groundsim::scenario

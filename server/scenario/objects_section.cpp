@@ -69,6 +69,7 @@ void readCollisions(ObjectReader r, CollisionParams& c) {
   c.slip_velocity = r.number("slip_velocity", def.slip_velocity, Range::positive(1e3));
   c.probe_spacing = r.number("probe_spacing", def.probe_spacing, Range::closed(0.01, 100.0));
   c.hard_impact_dv = r.number("hard_impact_dv", def.hard_impact_dv, Range::positive(1e6));
+  c.min_substeps = r.integer("min_substeps", def.min_substeps, 1, kMaxContactSubsteps);
   r.finish();
 }
 

@@ -6,6 +6,7 @@
 #include <new>
 #include <thread>
 
+#include "accuracy/pilot.hpp"
 #include "answers.hpp"
 #include "experiments/vec_env.hpp"
 #include "scenario/scenario.hpp"
@@ -278,7 +279,22 @@ void SessionService::build(const Request& r) {
     nlohmann::json doc = scenario::parseScenarioDocument(r.scenario_json, cfg_.budget);
     std::shared_ptr<const scenario::AssetBytes> assets;
     const scenario::FileAccess files = filesFor(doc, r.request_id, r.client_id, &assets);
-    const scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
+    scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
+    // a tolerance: the pilot chooses the settings here, on the worker (it
+    // runs the scene a few times: seconds for a large one); the session
+    // keeps the chosen document without its `accuracy`, so a re-simulation
+    // runs the same settings without a pilot whose timing may choose others
+    std::string scenario_json = r.scenario_json;
+    if (sc.accuracy) {
+      accuracy::PilotOptions po;
+      po.pilot_duration = sc.accuracy->pilot_duration;
+      const accuracy::Choice choice = accuracy::chooseSettings(sc, sc.accuracy->tolerance, po);
+      std::fprintf(stderr, "groundsim-server: %s: %s\n", sc.name.c_str(), choice.line().c_str());
+      nlohmann::json chosen = choice.scenario.document;
+      chosen.erase("accuracy");
+      scenario_json = chosen.dump();
+      sc = scenario::parseScenario(std::move(chosen), cfg_.budget, files);
+    }
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
     const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
@@ -288,7 +304,7 @@ void SessionService::build(const Request& r) {
     SessionSetup setup;
     setup.token = newToken();
     setup.name = sc.name;
-    setup.scenario_json = r.scenario_json;
+    setup.scenario_json = scenario_json;
     setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
                               ? scene.vehicle_names
                               : scene.built.model->vehicle_names;
@@ -309,7 +325,7 @@ void SessionService::build(const Request& r) {
     Reply reply;
     reply.session_id = setup.id;
     reply.token = setup.token;
-    reply.scenario_json = r.scenario_json;  // published for viewers and loggers (scenario_t)
+    reply.scenario_json = scenario_json;  // published for viewers and loggers (scenario_t): what runs
     reply.scenario_name = sc.name;
     reply.sessions.push_back(session->info(clock_.now()));
     replyOk(r, std::move(reply));

@@ -278,6 +278,23 @@ int contactSubsteps(const Model& m, const Workspace& ws, double dt) {
   return n;
 }
 
+int contactSubstepsBound(const Model& m, double dt) {
+  int n = std::max(1, m.object_substeps);
+  if (!m.collisions) return n;
+  for (size_t a = 0; a < m.groups.size(); ++a)
+    for (size_t b = a + 1; b < m.groups.size(); ++b) {
+      const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
+      if (ga.ref_body < 0 && gb.ref_body < 0) continue;  // two static groups never meet
+      const PairLaw law = pairLaw(m, ga, gb);
+      const double mr = reducedMass(ga, gb);
+      if (!(mr > 0.0)) continue;
+      const double probes = ga.face_probes + gb.face_probes;
+      const double k = law.k * probes, c = law.c * probes;
+      n = std::max(n, substepsFor(std::sqrt(k / mr), c / (2.0 * std::sqrt(k * mr)), dt));
+    }
+  return n;
+}
+
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspace& ws) {
   if (!m.collisions) return false;
   // pad each movable group by twice what its reference body's motion

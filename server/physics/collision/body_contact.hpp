@@ -27,4 +27,9 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
 // pressing at once. 1 when no pair may touch.
 int contactSubsteps(const Model& m, const Workspace& ws, double dt);
 
+// The most substeps contact could take at dt: contactSubsteps over every
+// pair of groups that can touch (one of them movable), and the objects'
+// own (Model::object_substeps). 1 for a scene without contact between bodies.
+int contactSubstepsBound(const Model& m, double dt);
+
 }  // namespace groundsim

@@ -45,6 +45,12 @@ struct CollisionParams {
   // delta-v, which does not depend on the penalty's stiffness (a peak
   // force does: a stiff contact makes every bump tens of g)
   double hard_impact_dv = 5.0;      // m/s
+  // at least this many integrator substeps per step while bodies may touch
+  // (and for objects resting on the ground): the automatic count keeps the
+  // contact stable, and stops refining it once the step is below what
+  // stability asks; a fixed floor makes the contact's substep shrink with
+  // the step, so halving dt halves it too (accuracy/pilot.hpp uses this)
+  int min_substeps = 1;
 };
 
 struct Collider {

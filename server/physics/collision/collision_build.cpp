@@ -394,7 +394,7 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     const double n = m.groups[o.group].face_probes, w = kPi * cp.frequency;
     b.ground_stiffness = b.mass * w * w / n;
     b.ground_damping = 2.0 * cp.damping_ratio * b.mass * w / n;
-    m.object_substeps = std::max(m.object_substeps, substepsFor(w, cp.damping_ratio, m.opt.dt));
+    m.object_substeps = std::max({m.object_substeps, substepsFor(w, cp.damping_ratio, m.opt.dt), cp.min_substeps});
   }
   m.object_substeps = std::min(m.object_substeps, kMaxContactSubsteps);
 }
