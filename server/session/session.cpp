@@ -187,8 +187,8 @@ void Session::apply(const Request& r, TimePoint now) {
   switch (r.op) {
     case Op::Reset:
       failSteps(ErrorCode::BadRequest, "interrupted by a reset");
+      logApplied(entry(AppliedKind::Reset));  // at the tick it left
       resetTo(sim_, cars_, initial_);
-      logApplied(entry(AppliedKind::Reset));
       status_ = Status::Running;
       reason_.clear();
       drive_held_ = false;
