@@ -93,7 +93,9 @@ ShippedList listShippedScenarios(const std::string& dir, double margin, int max_
     ShippedScenario s;
     s.id = id;
     try {
-      const scenario::Scenario sc = scenario::parseScenario(doc, scenario::Budget{}, scenario::FileAccess::local(folder));
+      // within the server's vehicle limit: a scenario of more vehicles than
+      // it takes is not offered (its create would be refused)
+      const scenario::Scenario sc = scenario::parseScenario(doc, budget, scenario::FileAccess::local(folder));
       s.name = sc.name;
       s.description = sc.description;
       s.vehicles = static_cast<int>(sc.vehicles.size());
