@@ -3,8 +3,9 @@
 // Exit codes (README, docs/protocol.md): 0 done; 2 a usage error (unknown
 // subcommand or option, bad or missing value; the message names it, with
 // user text quoted, escaped and cut); other codes are the subcommand's own
-// (run: 1 output, 2 invalid scenario, 3 diverged; network commands: 1
-// refused, 3 log loss, 4 no server).
+// (run: 1 output, 2 invalid scenario, 3 diverged, 4 out of memory; network
+// commands: 1 refused, 3 log loss, 4 no server; replay --resimulate: 1 not
+// re-simulable, 5 a state differs, docs/logging.md).
 #include <cstdio>
 #include <string>
 
