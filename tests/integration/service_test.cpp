@@ -155,6 +155,48 @@ TEST_F(Service, TorqueCommandChangesTheMotion) {
   EXPECT_GT(field(la, kX), field(lb, kX)) << la << "\n" << lb;
 }
 
+// A create with a tolerance (docs/accuracy.md): the server's pilot replaces
+// the file's step (0.004 s, off the ladder) with one of its ladder, 0.02 s /
+// 2^k, and the session runs it; a tolerance out of range is refused naming
+// the field, and the server keeps serving.
+TEST_F(Service, ATolerancePicksTheStepTheSessionRuns) {
+  const std::string file = tokenFile("slalom_tolerance") + ".json";
+  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/sedan_slalom.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string doc = text.str();
+  doc.insert(doc.find('{') + 1, "\"accuracy\": {\"tolerance\": 0.01, \"pilot_duration\": 1}, ");
+  {
+    std::ofstream out(file);
+    out << doc;
+  }
+  const Result c = cli({"create", file, "--mode", "lockstep", "--duration", "2"}, true);
+  ASSERT_EQ(c.status, 0) << c.err;
+  const std::string id = lastLine(c.out);
+  ASSERT_EQ(step(id, 10).status, 0);
+  const Result l = cli({"list"}, false);
+  ASSERT_EQ(l.status, 0) << l.err;
+  double dt = 0.0;
+  for (const std::string& line : lines(l.out))
+    if (line.rfind(id, 0) == 0) dt = field(line, 7);  // SESSION NAME MODE STATUS T TICK RATE DT
+  ASSERT_GT(dt, 0.0) << l.out;
+  const double k = std::log2(0.02 / dt);
+  EXPECT_NEAR(k, std::round(k), 1e-6) << "dt " << dt << " is not 0.02 s / 2^k";
+  EXPECT_NE(dt, 0.004);
+
+  std::string bad = doc;
+  bad.replace(bad.find("0.01"), 4, "0");
+  {
+    std::ofstream out(file);
+    out << bad;
+  }
+  const Result refused = cli({"create", file, "--mode", "lockstep"}, true);
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE((refused.out + refused.err).find("/accuracy/tolerance"), std::string::npos) << refused.err;
+  EXPECT_EQ(step(id, 10).status, 0);  // the first session is untouched
+  std::remove(file.c_str());
+}
+
 TEST_F(Service, LockstepIsBitIdenticalAcrossRuns) {
   auto runOnce = [&] {
     const std::string id = create({"--mode", "lockstep"});
