@@ -80,6 +80,18 @@ void LiveEstimate::endWindow(const Simulator& main) {
   update(main);
 }
 
+void LiveEstimate::reset() {
+  active_ = failed_ = false;
+  std::fill(sum_p_.begin(), sum_p_.end(), 0.0);
+  std::fill(sum_v_.begin(), sum_v_.end(), 0.0);
+  std::fill(distance_.begin(), distance_.end(), 0.0);
+  std::fill(speed_now_.begin(), speed_now_.end(), 0.0);
+  last_pos_.clear();
+  sampled_time_ = 0.0;
+  windows_ = 0;
+  estimate_ = path_ = speed_ = 0.0;
+}
+
 void LiveEstimate::setPrediction(double error, double duration, double growth) {
   prediction_ = error;
   prediction_duration_ = duration;

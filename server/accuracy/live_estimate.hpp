@@ -46,6 +46,9 @@ class LiveEstimate {
   void beforeStep(const Simulator& main);
   void afterStep(const Simulator& main);
 
+  // Forgets what it measured: the run starts again (a session's reset).
+  void reset();
+
   // The pilot's prediction for the whole run (error at `duration`, growing
   // as t^growth): a floor of the estimate (0: none).
   void setPrediction(double error, double duration, double growth);

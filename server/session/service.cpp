@@ -6,6 +6,7 @@
 #include <new>
 #include <thread>
 
+#include "accuracy/live_estimate.hpp"
 #include "accuracy/pilot.hpp"
 #include "answers.hpp"
 #include "experiments/vec_env.hpp"
@@ -285,15 +286,26 @@ void SessionService::build(const Request& r) {
     // keeps the chosen document without its `accuracy`, so a re-simulation
     // runs the same settings without a pilot whose timing may choose others
     std::string scenario_json = r.scenario_json;
+    std::shared_ptr<accuracy::LiveEstimate> live;
+    double tolerance = 0.0;
     if (sc.accuracy) {
       accuracy::PilotOptions po;
       po.pilot_duration = sc.accuracy->pilot_duration;
-      const accuracy::Choice choice = accuracy::chooseSettings(sc, sc.accuracy->tolerance, po);
+      const scenario::AccuracySpec spec = *sc.accuracy;
+      const accuracy::Choice choice = accuracy::chooseSettings(sc, spec.tolerance, po);
       std::fprintf(stderr, "groundsim-server: %s: %s\n", sc.name.c_str(), choice.line().c_str());
       nlohmann::json chosen = choice.scenario.document;
       chosen.erase("accuracy");
       scenario_json = chosen.dump();
       sc = scenario::parseScenario(std::move(chosen), cfg_.budget, files);
+      if (spec.live_estimate) {
+        accuracy::LiveEstimateOptions lo;
+        const double run = r.duration == 0 ? sc.duration : r.duration;
+        lo.duration = run > 0 ? run : 0.0;  // a session without end: windows of 0.25 s
+        live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
+        live->setPrediction(choice.predicted_error, sc.duration, choice.growth);
+        tolerance = spec.tolerance;
+      }
     }
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
@@ -305,6 +317,8 @@ void SessionService::build(const Request& r) {
     setup.token = newToken();
     setup.name = sc.name;
     setup.scenario_json = scenario_json;
+    setup.live_estimate = std::move(live);
+    setup.tolerance = tolerance;
     setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
                               ? scene.vehicle_names
                               : scene.built.model->vehicle_names;

@@ -189,6 +189,8 @@ void Session::apply(const Request& r, TimePoint now) {
       failSteps(ErrorCode::BadRequest, "interrupted by a reset");
       logApplied(entry(AppliedKind::Reset));  // at the tick it left
       resetTo(sim_, cars_, initial_);
+      if (setup_.live_estimate) setup_.live_estimate->reset();
+      live_warned_ = false;
       status_ = Status::Running;
       reason_.clear();
       drive_held_ = false;
@@ -326,9 +328,21 @@ bool Session::finished() const {
 
 bool Session::stepOnce() {
   if (!setup_.control_tables.empty()) followControlTables(sim_, cars_, setup_.control_tables);
+  accuracy::LiveEstimate* live = setup_.live_estimate.get();
+  if (live) live->beforeStep(sim_);
   if (!sim_.step()) {
     diverged(sim_.state().health_reason, ErrorCode::Diverged);
     return false;
+  }
+  if (live) {
+    live->afterStep(sim_);
+    if (!live_warned_ && live->estimate() > setup_.tolerance) {
+      live_warned_ = true;
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "accuracy: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s",
+                    live->estimate(), setup_.tolerance, sim_.state().t);
+      event(Severity::Warning, ErrorCode::None, buf);
+    }
   }
   if (sim_.model().collisions) reportHits();
   if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;

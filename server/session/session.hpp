@@ -16,6 +16,7 @@
 #include "frame_build.hpp"
 #include "config.hpp"
 #include "pacing.hpp"
+#include "accuracy/live_estimate.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 #include "scheduler.hpp"
@@ -40,6 +41,11 @@ struct SessionSetup {
   // The files its scenario named (sent with the create), kept with the
   // session: they stay in the server's asset store while it runs.
   std::shared_ptr<const scenario::AssetBytes> assets;
+  // A scenario with a tolerance (docs/accuracy.md): the live error estimate
+  // the session steps beside its simulation, and the tolerance it warns at
+  // (one warning event when the estimate passes it). Null otherwise.
+  std::shared_ptr<accuracy::LiveEstimate> live_estimate;
+  double tolerance = 0.0;
 };
 
 
@@ -111,6 +117,7 @@ class Session : public Task {
   Output& out_;
   const SessionClock& clock_;
   Simulator sim_;
+  bool live_warned_ = false;  // the live estimate's warning was sent (until a reset)
   State initial_;
   std::vector<VehicleWheels> vehicles_;
   std::shared_ptr<const std::vector<std::string>> names_;

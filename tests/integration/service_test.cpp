@@ -342,4 +342,32 @@ TEST_F(Service, CleanShutdownOnSigterm) {
 }
 
 }  // namespace
+// A tolerance no setting meets: the session's live error estimate passes
+// it while the session steps, and the session says so in one warning event.
+TEST_F(Service, TheLiveEstimateWarnsWhenItPassesTheTolerance) {
+  const std::string file = tokenFile("slalom_tight") + ".json";
+  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/sedan_slalom.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string doc = text.str();
+  doc.insert(doc.find('{') + 1, "\"accuracy\": {\"tolerance\": 1e-6, \"pilot_duration\": 1}, ");
+  {
+    std::ofstream out(file);
+    out << doc;
+  }
+  EventListener events;
+  ASSERT_TRUE(events.lcm().good());
+  const Result c = cli({"create", file, "--mode", "lockstep", "--duration", "4"}, true);
+  ASSERT_EQ(c.status, 0) << c.err;
+  const std::string id = lastLine(c.out);
+  ASSERT_EQ(step(id, 400).status, 0);
+  std::string warning;
+  for (int i = 0; i < 20 && warning.empty(); ++i) {
+    const std::string r = events.waitFor(groundsim::event_t::ERR_NONE + 0, 1);
+    if (r.find("live error estimate") != std::string::npos) warning = r;
+  }
+  EXPECT_NE(warning.find("passed the tolerance 1e-06"), std::string::npos) << warning;
+  std::remove(file.c_str());
+}
+
 }  // namespace groundsim::itest
