@@ -88,13 +88,16 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
     t.level_dt[k] = r[k].duration / static_cast<double>(std::max<long long>(1, r[k].steps));
     t.level_error[k] = e * scale;
   }
-  long long steps = 0;
-  double wall = 0.0;
+  // the cost: force evaluations per step (contact substeps included), a
+  // count, not a timing, so the same scene always gets the same choice (a
+  // wall-clock cost picked differently under load, and two make_vec calls
+  // of one seed ran different settings)
+  long long steps = 0, evaluations = 0;
   for (const Trajectory& x : r) {
     steps += x.steps;
-    wall += x.wall_seconds;
+    evaluations += x.evaluations;
   }
-  t.step_cost = wall / static_cast<double>(std::max(1LL, steps));
+  t.step_cost = static_cast<double>(evaluations) / static_cast<double>(std::max(1LL, steps));
 }
 
 // A fit is clean when the differences shrink at close to the integrator's
@@ -280,7 +283,7 @@ std::string Choice::line() const {
                     (contact_substeps > 1 ? ", contact in at least " + std::to_string(contact_substeps) + " substeps" : "") +
                     ": predicted error " +
                     fmt(predicted_error) + " (tolerance " + fmt(tolerance) + "), predicted cost " +
-                    fmt(predicted_cost) + " wall-s per sim-s";
+                    fmt(predicted_cost) + " force evaluations per sim-s";
   if (!meets) out += "; NO setting down to the finest step is predicted to meet the tolerance";
   return out;
 }
@@ -295,9 +298,9 @@ std::string Choice::report() const {
     if (t.usable)
       std::snprintf(buf, sizeof buf,
                     "  %-20s dt0 %-8.3g contact substeps %d  diffs %.2e %.2e  order %.2f (%.2f)  growth %.2f  "
-                    "E(h) = %.3g h^%.2f  %.3g us/step\n",
+                    "E(h) = %.3g h^%.2f  %.3g evaluations/step\n",
                     integratorName(t.kind), t.dt0, t.contact_substeps, t.diff_coarse, t.diff_fine, t.order, t.raw_order,
-                    t.growth, t.error_constant, t.order, t.step_cost * 1e6);
+                    t.growth, t.error_constant, t.order, t.step_cost);
     else
       std::snprintf(buf, sizeof buf, "  %-20s refused\n", integratorName(t.kind));
     out += buf;

@@ -3,7 +3,8 @@
 // largest step of the ladder inside the scene's stability limit), fits the
 // error law E(h) = C h^p from the differences (Richardson: p observed, not
 // assumed), extrapolates from the pilot's segment to the whole duration by
-// the error's observed growth over the segment, and times the steps; the
+// the error's observed growth over the segment, and counts the force
+// evaluations per step (a count, not a timing: the same choice every time); the
 // cheapest (integrator, step) whose predicted error, times a safety factor,
 // is within the tolerance is chosen. Every refusal (an integrator the scene
 // does not accept, a step that diverged in the pilot, a step beyond the
@@ -45,7 +46,7 @@ struct IntegratorTrial {
   double order = 0.0;             // observed p (clamped)
   double growth = 0.0;            // error growth exponent over the segment
   double error_constant = 0.0;    // C of E(h) = C h^p, over the whole duration
-  double step_cost = 0.0;         // wall s per step
+  double step_cost = 0.0;         // force evaluations per step (deterministic: the same scene, the same choice)
   // the contact substeps floor of the family (collisions.min_substeps):
   // what contact takes at dt0, kept at every finer step so that halving the
   // step halves the contact's substep too
@@ -70,7 +71,7 @@ struct Choice {
   double observed_order = 1.0;
   double growth = 0.0;            // the chosen trial's error growth exponent
   double predicted_error = 0.0;
-  double predicted_cost = 0.0;    // wall s per simulated s
+  double predicted_cost = 0.0;    // force evaluations per simulated s
   bool meets = false;             // predicted within the tolerance
   double tolerance = 0.0;
   std::vector<IntegratorTrial> trials;
@@ -78,7 +79,8 @@ struct Choice {
   double pilot_wall_seconds = 0.0;
   // s with the chosen settings (its document says so; its `accuracy` kept)
   scenario::Scenario scenario;
-  // one line: "velocity_verlet dt 1e-3: predicted error 2.1e-4 (tolerance 1e-2), 0.01 wall-s per sim-s"
+  // one line: "velocity_verlet at dt 0.001 s: predicted error 2.1e-04 (tolerance 0.01), predicted cost 2000 force
+  // evaluations per sim-s"
   std::string line() const;
   // the table of trials, one line each, for --verbose output and docs
   std::string report() const;
