@@ -267,6 +267,16 @@ int resimulate(const ReplayOptions& o) {
                 static_cast<long long>(std::distance(applied.begin(), next)), applied.size());
     return kExitDiffers;
   };
+  // a car or contact state against its recorded text: the first differing
+  // field's exit, or nothing when the two are the same
+  const auto differsFrom = [&](const char* what, std::int64_t seq, const std::string& mine,
+                               const std::string& recorded) -> std::optional<int> {
+    if (mine == recorded) return std::nullopt;
+    std::string rv, sv;
+    const nlohmann::json rc = nlohmann::json::parse(recorded);
+    const auto field = firstDifference(rc, nlohmann::json::parse(mine), "", &rv, &sv);
+    return differ(what, seq, rc, field.value_or("(text)"), rv, sv);
+  };
   for (const auto& [seq, text] : states) {
     nlohmann::json rec = nlohmann::json::parse(text, nullptr, false);
     for (; next != applied.end() && next->second.frame_seq <= seq; ++next) {
@@ -301,23 +311,12 @@ int resimulate(const ReplayOptions& o) {
       }
     }
     if (auto it = cars.find(seq); it != cars.end()) {
-      const std::string mine_car = record::toJson(net::toCarMessage(f));
-      if (mine_car != it->second) {
-        std::string rv, sv;
-        const nlohmann::json rc = nlohmann::json::parse(it->second);
-        const auto field = firstDifference(rc, nlohmann::json::parse(mine_car), "", &rv, &sv);
-        return differ("car state", seq, rc, field.value_or("(text)"), rv, sv);
-      }
+      if (auto code = differsFrom("car state", seq, record::toJson(net::toCarMessage(f)), it->second)) return *code;
       ++compared_cars;
     }
     if (auto it = contacts.find(seq); it != contacts.end()) {
-      const std::string mine_contact = record::toJson(net::toContactMessage(f));
-      if (mine_contact != it->second) {
-        std::string rv, sv;
-        const nlohmann::json rc = nlohmann::json::parse(it->second);
-        const auto field = firstDifference(rc, nlohmann::json::parse(mine_contact), "", &rv, &sv);
-        return differ("contact state", seq, rc, field.value_or("(text)"), rv, sv);
-      }
+      if (auto code = differsFrom("contact state", seq, record::toJson(net::toContactMessage(f)), it->second))
+        return *code;
       ++compared_contacts;
     }
   }

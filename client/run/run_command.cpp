@@ -319,9 +319,7 @@ int run(const RunOptions& o) {
   std::optional<accuracy::Choice> choice;
   if (s.accuracy) {
     try {
-      accuracy::PilotOptions po;
-      po.pilot_duration = s.accuracy->pilot_duration;
-      choice = accuracy::chooseSettings(s, s.accuracy->tolerance, po);
+      choice = accuracy::chooseSettings(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, budget));
     } catch (const scenario::ScenarioError& e) {
       printIssues(o.scenario_path, e);
       return kExitInvalid;

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "accuracy/error_measure.hpp"
-#include "accuracy/trajectory.hpp"
 #include "physics/checks/telemetry.hpp"
 
 namespace groundsim::accuracy {
@@ -20,7 +19,6 @@ LiveEstimate::LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateO
   // step-dependent parts of the model, e.g. object substeps, follow dt)
   scenario::Scenario half = s;
   half.options.dt = dt_ / 2;
-  half.options.substeps = s.options.substeps;
   scene_ = std::make_unique<scenario::Scene>(scenario::buildScene(half));
   shadow_ = std::make_unique<Simulator>(scene_->built.model, scene_->built.initial);
   for (const CarHandle& car : scene_->cars) vehicles_.push_back(car.vehicle);
@@ -119,8 +117,7 @@ void LiveEstimate::update(const Simulator& main) {
   }
   path_ = speed_ = 0.0;
   for (size_t i = 0; i < vehicles_.size(); ++i) {
-    const double rate_p = sum_p_[i] / sampled_time_, rate_v = sum_v_[i] / sampled_time_;
-    (void)rate_v;
+    const double rate_p = sum_p_[i] / sampled_time_;
     path_ = std::max(path_, rate_p * t / std::max(distance_[i], kMinDistance));
     // a speed error does not pile up window on window (grip, drive and
     // brakes pull the speed back): the mean made in one window

@@ -64,15 +64,16 @@ double stepMeeting(const IntegratorTrial& t, double tolerance, const PilotOption
 void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, double duration) {
   const size_t n = r.size();
   const Trajectory &a = r[n - 3], &b = r[n - 2], &c = r[n - 1];
+  const RunError fine = compareRuns(b, c);
   t.diff_coarse = compareRuns(a, b).value();
-  t.diff_fine = compareRuns(b, c).value();
+  t.diff_fine = fine.value();
   const Fit f = richardson(t.diff_coarse, t.diff_fine, nominalOrder(t.kind));
   t.order = f.order;
   t.raw_order = t.diff_fine > 0.0 && t.diff_coarse > 0.0 ? std::log2(t.diff_coarse / t.diff_fine) : 0.0;
   // how the error grows over the segment: the fine pair's path error over
   // the first half against the whole, E ~ t^q, carried to the duration
   const size_t half = (c.positions.size() + 1) / 2;
-  const double e_half = compareRuns(b, c, half).path, e_all = compareRuns(b, c).path;
+  const double e_half = compareRuns(b, c, half).path, e_all = fine.path;
   t.growth = e_half > kRoundoff && e_all > kRoundoff ? std::clamp(std::log2(e_all / e_half), 0.0, 2.0) : 0.0;
   const double scale = std::pow(std::max(1.0, duration / segment), t.growth);
   const double finest = c.duration / static_cast<double>(std::max<long long>(1, c.steps));
@@ -129,6 +130,16 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
     avoided = "steps above " + fmt(dt) + " s pass 90% of the limit of the stiffest mode (" + worst->what +
               ", stable below " + fmt(worst->dt_limit) + " s)";
   auto note = [&](const std::string& why) { avoided += (avoided.empty() ? "" : "; ") + why; };
+  // the trial's runs together stay within the work budget (budget.hpp: steps
+  // times the model's cost of a step), as one run of the scene must
+  const double step_work = std::max(1.0, scenario::estimateModelSize(s).work_per_step);
+  double spent = 0.0;
+  auto afford = [&](double h, int substeps) {
+    const double work = std::ceil(segment / h) * std::max(1, substeps) * step_work;
+    if (spent + work > o.max_work) return false;
+    spent += work;
+    return true;
+  };
   for (int attempt = 0; attempt <= kMaxHalvings; ++attempt, dt /= 2) {
     if (dt / 4 < o.min_dt * (1 - 1e-9)) break;
     std::vector<Trajectory> r;
@@ -139,6 +150,12 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
         floor > 0 ? floor : contactSubstepsBound(*scenario::buildScene(withSettings(s, kind, dt)).built.model, dt);
     const int nc = t.contact_substeps;
     for (int k = 0; k < 3 && healthy; ++k) {
+      if (!afford(dt / (1 << k), nc)) {
+        note("the pilot's run at dt " + fmt(dt / (1 << k)) + " s would pass the work budget (" +
+             fmt(o.max_work) + " units, --max-work)");
+        t.refusal = avoided;
+        return t;
+      }
       r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment));
       steps += r.back().steps;
       if (!r.back().healthy) {
@@ -156,9 +173,9 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
       const double want = stepMeeting(t, tolerance, o);
       if (want >= finest || finest / 2 < o.min_dt * (1 - 1e-9)) break;
       const long long more = std::llround(segment / (finest / 2));
-      if (steps + more > o.max_pilot_steps) {
+      if (steps + more > o.max_pilot_steps || !afford(finest / 2, nc)) {
         note("the fit is not clean (order " + fmt(t.order) + ") and refining it below dt " + fmt(finest) +
-             " s would pass the pilot's step budget");
+             " s would pass the pilot's step or work budget");
         break;
       }
       r.push_back(runTrajectory(withSettings(s, kind, finest / 2, nc), segment));
@@ -180,6 +197,13 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
 }
 
 }  // namespace
+
+PilotOptions pilotOptions(const scenario::AccuracySpec& a, const scenario::Budget& budget) {
+  PilotOptions o;
+  o.pilot_duration = a.pilot_duration;
+  o.max_work = budget.max_work;
+  return o;
+}
 
 double ladderStepAtMost(double h) {
   double d = kLadderTop;

@@ -25,6 +25,9 @@ struct PilotOptions {
   // differences that do not shrink) with finer runs, while their steps
   // stay within this many in all per integrator
   long long max_pilot_steps = 4000000;
+  // work units (scenario/budget.hpp) the runs of one integrator's trial may
+  // take together: a pilot is bounded like the run it prepares
+  double max_work = scenario::Budget{}.max_work;
   // predicted error x safety must be within the tolerance: the prediction
   // is an extrapolation, and an error twice the prediction still meets the
   // tolerance at 1.5 only when the two differ by less than that
@@ -85,6 +88,9 @@ struct Choice {
   // the table of trials, one line each, for --verbose output and docs
   std::string report() const;
 };
+
+// The options a scenario's `accuracy` section and a budget give.
+PilotOptions pilotOptions(const scenario::AccuracySpec& a, const scenario::Budget& budget);
 
 // The largest step of the ladder (0.02 s / 2^k) at or below h.
 double ladderStepAtMost(double h);

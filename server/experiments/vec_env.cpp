@@ -236,9 +236,8 @@ std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_e
   // a tolerance: one pilot on the scene for all the environments (it sees
   // the scene's scripted controls, not the agents' actions to come)
   if (s.accuracy) {
-    accuracy::PilotOptions po;
-    po.pilot_duration = s.accuracy->pilot_duration;
-    s = accuracy::chooseSettings(s, s.accuracy->tolerance, po).scenario;
+    s = accuracy::chooseSettings(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, options.budget))
+            .scenario;
   }
   // one batched step is bounded like a run: its integrator steps times
   // their estimated cost within the budget's work limit

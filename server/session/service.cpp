@@ -289,10 +289,9 @@ void SessionService::build(const Request& r) {
     std::shared_ptr<accuracy::LiveEstimate> live;
     double tolerance = 0.0;
     if (sc.accuracy) {
-      accuracy::PilotOptions po;
-      po.pilot_duration = sc.accuracy->pilot_duration;
       const scenario::AccuracySpec spec = *sc.accuracy;
-      const accuracy::Choice choice = accuracy::chooseSettings(sc, spec.tolerance, po);
+      const accuracy::Choice choice =
+          accuracy::chooseSettings(sc, spec.tolerance, accuracy::pilotOptions(spec, cfg_.budget));
       std::fprintf(stderr, "groundsim-server: %s: %s\n", sc.name.c_str(), choice.line().c_str());
       nlohmann::json chosen = choice.scenario.document;
       chosen.erase("accuracy");

@@ -42,6 +42,16 @@ double field(const std::string& line, int index) {
 }
 constexpr int kX = 4, kVx = 11, kVy = 12;
 
+// configs/sedan_slalom.json with an `accuracy` section, written to `file`.
+void slalomWithAccuracy(const std::string& file, const std::string& accuracy) {
+  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/sedan_slalom.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string doc = text.str();
+  doc.insert(doc.find('{') + 1, "\"accuracy\": " + accuracy + ", ");
+  std::ofstream(file) << doc;
+}
+
 class Service : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -161,15 +171,7 @@ TEST_F(Service, TorqueCommandChangesTheMotion) {
 // the field, and the server keeps serving.
 TEST_F(Service, ATolerancePicksTheStepTheSessionRuns) {
   const std::string file = tokenFile("slalom_tolerance") + ".json";
-  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/sedan_slalom.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string doc = text.str();
-  doc.insert(doc.find('{') + 1, "\"accuracy\": {\"tolerance\": 0.01, \"pilot_duration\": 1}, ");
-  {
-    std::ofstream out(file);
-    out << doc;
-  }
+  slalomWithAccuracy(file, "{\"tolerance\": 0.01, \"pilot_duration\": 1}");
   const Result c = cli({"create", file, "--mode", "lockstep", "--duration", "2"}, true);
   ASSERT_EQ(c.status, 0) << c.err;
   const std::string id = lastLine(c.out);
@@ -184,12 +186,7 @@ TEST_F(Service, ATolerancePicksTheStepTheSessionRuns) {
   EXPECT_NEAR(k, std::round(k), 1e-6) << "dt " << dt << " is not 0.02 s / 2^k";
   EXPECT_NE(dt, 0.004);
 
-  std::string bad = doc;
-  bad.replace(bad.find("0.01"), 4, "0");
-  {
-    std::ofstream out(file);
-    out << bad;
-  }
+  slalomWithAccuracy(file, "{\"tolerance\": 0}");
   const Result refused = cli({"create", file, "--mode", "lockstep"}, true);
   EXPECT_NE(refused.status, 0);
   EXPECT_NE((refused.out + refused.err).find("/accuracy/tolerance"), std::string::npos) << refused.err;
@@ -346,15 +343,7 @@ TEST_F(Service, CleanShutdownOnSigterm) {
 // it while the session steps, and the session says so in one warning event.
 TEST_F(Service, TheLiveEstimateWarnsWhenItPassesTheTolerance) {
   const std::string file = tokenFile("slalom_tight") + ".json";
-  std::ifstream in(std::string(GROUNDSIM_CONFIG_DIR) + "/sedan_slalom.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string doc = text.str();
-  doc.insert(doc.find('{') + 1, "\"accuracy\": {\"tolerance\": 1e-6, \"pilot_duration\": 1}, ");
-  {
-    std::ofstream out(file);
-    out << doc;
-  }
+  slalomWithAccuracy(file, "{\"tolerance\": 1e-6, \"pilot_duration\": 1}");
   EventListener events;
   ASSERT_TRUE(events.lcm().good());
   const Result c = cli({"create", file, "--mode", "lockstep", "--duration", "4"}, true);

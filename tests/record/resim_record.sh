@@ -62,15 +62,22 @@ for k in '"kind":2,' '"kind":4,' '"kind":5,'; do
   "$tamper" "$dir/run.mcap" - find "/$b/applied" "$k" > /dev/null || fail "session $b: no applied entry $k"
 done
 
+# replay --resimulate of $dir/NAME.mcap, session ID, into $dir/NAME.txt:
+# it must exit 5 (a state differs)
+differs_expected() {
+  local name=$1 id=$2 what=$3 rc
+  set +e
+  "$gs" replay --resimulate "$dir/$name.mcap" --session "$id" > "$dir/$name.txt" 2>&1
+  rc=$?
+  set -e
+  cat "$dir/$name.txt"
+  [ $rc -eq 5 ] || fail "$what: exit $rc, not 5"
+}
+
 # one unit in the last place of one position, state seq 300 of the car
 "$tamper" "$dir/run.mcap" "$dir/nudged.mcap" nudge "/$b/state" 300 > "$dir/nudge.txt"
 read old new < "$dir/nudge.txt"
-set +e
-"$gs" replay --resimulate "$dir/nudged.mcap" --session "$b" > "$dir/nudged.txt" 2>&1
-rc=$?
-set -e
-cat "$dir/nudged.txt"
-[ $rc -eq 5 ] || fail "a nudged state: exit $rc, not 5"
+differs_expected nudged "$b" "a nudged state"
 grep -q "^differs: session $b, state seq 300 .*: vehicles\[0\]\.position\[0\] recorded $new, re-simulated $old\$" \
   "$dir/nudged.txt" || fail "the nudged value ($old -> $new) is not the first difference named"
 
@@ -78,12 +85,7 @@ grep -q "^differs: session $b, state seq 300 .*: vehicles\[0\]\.position\[0\] re
 # same tick: the next comes with the driver's next send, 50 ms later)
 first=$("$tamper" "$dir/run.mcap" - find "/$a/applied" '"drive_torque":[3,3,3,3]')
 "$tamper" "$dir/run.mcap" "$dir/dropped.mcap" drop "/$a/applied" "$first"
-set +e
-"$gs" replay --resimulate "$dir/dropped.mcap" --session "$a" > "$dir/dropped.txt" 2>&1
-rc=$?
-set -e
-cat "$dir/dropped.txt"
-[ $rc -eq 5 ] || fail "a dropped command: exit $rc, not 5"
+differs_expected dropped "$a" "a dropped command"
 grep -q "applied commands $first\.\.$first are missing" "$dir/dropped.txt" || fail "the missing command is not named"
 grep -q "^differs: session $a, state seq [0-9]* (t [0-9.e-]* s, tick [0-9]*): [a-z_]" "$dir/dropped.txt" ||
   fail "no state difference named after the dropped command"
