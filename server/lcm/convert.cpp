@@ -81,6 +81,7 @@ groundsim::car_state_t toCarMessage(const session::Frame& f) {
   m.seq = f.seq;
   m.session_id = f.session_id;
   m.t = f.t;
+  m.epoch = f.epoch;
   for (const session::CarFrame& c : f.cars) {
     if (c.vehicle < 0 || c.vehicle >= static_cast<int>(f.vehicles.size())) continue;
     const VehicleSample& s = f.vehicles[c.vehicle];
@@ -116,6 +117,7 @@ groundsim::contact_state_t toContactMessage(const session::Frame& f) {
   m.seq = f.seq;
   m.session_id = f.session_id;
   m.t = f.t;
+  m.epoch = f.epoch;
   const Model* model = f.model.get();
   for (const session::ObjectSample& o : f.objects) {
     groundsim::object_state_t s;
@@ -178,6 +180,7 @@ groundsim::applied_t toMessage(const session::Applied& a) {
   m.rate = a.rate;
   m.publish_rate = a.publish_rate;
   m.reason = a.reason;
+  m.epoch = a.epoch;
   return m;
 }
 
@@ -193,6 +196,8 @@ groundsim::state_t toMessage(const session::Frame& f) {
   m.health = static_cast<int8_t>(f.health);
   m.status_reason = f.reason;
   m.energy = f.energy;
+  m.epoch = f.epoch;
+  m.error_estimate = std::isfinite(f.error_estimate) ? f.error_estimate : -1.0;
   m.nvehicles = static_cast<int32_t>(f.vehicles.size());
   m.vehicles.resize(f.vehicles.size());
   for (size_t v = 0; v < f.vehicles.size(); ++v) {
@@ -319,6 +324,8 @@ groundsim::session_info_t toMessage(const session::SessionInfo& s, bool with_lay
   m.num_envs = s.num_envs;
   if (with_layout && s.layout) m.layout.push_back(toMessage(*s.layout));
   m.nlayout = static_cast<int32_t>(m.layout.size());
+  m.server_id = s.server_id;
+  m.epoch = s.epoch;
   return m;
 }
 
@@ -352,6 +359,7 @@ groundsim::event_t toMessage(const session::Event& e, std::int64_t seq) {
   m.code = static_cast<int32_t>(e.code);
   m.channel = e.channel;
   m.reason = e.reason;
+  m.epoch = e.epoch;
   return m;
 }
 

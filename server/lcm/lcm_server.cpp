@@ -130,7 +130,9 @@ void LcmServer::publishReply(const session::Reply& r) {
       m.scenario_json = r.scenario_json;
       publish(kScenarioChannel, m);
     }
-    publish(kReplyChannel, toMessage(r, reply_seq_++));
+    groundsim::reply_t m = toMessage(r, reply_seq_++);
+    for (auto& s : m.sessions) if (s.server_id.empty()) s.server_id = server_id_;
+    publish(kReplyChannel, m);
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a reply: %s\n", e.what());
@@ -141,6 +143,7 @@ void LcmServer::publishVecReply(const session::VecReply& r) {
   try {
     groundsim::vec_reply_t whole = toMessage(r, 0);
     whole.utime = wallMicros();
+    for (auto& s : whole.sessions) if (s.server_id.empty()) s.server_id = server_id_;
     // each part one datagram; a client accounts for each (protocol/vec_parts.hpp)
     for (groundsim::vec_reply_t& part : splitVecReply(whole)) {
       part.seq = vec_seq_++;
@@ -174,7 +177,9 @@ void LcmServer::publishAssetWant(const session::AssetWant& w) {
 
 void LcmServer::publishEvent(const session::Event& e) try {
   const std::int64_t seq = event_seq_++;
-  publish(kEventChannel, toMessage(e, seq), nullptr, seq);
+  groundsim::event_t m = toMessage(e, seq);
+  m.server_id = server_id_;
+  publish(kEventChannel, m, nullptr, seq);
   if (e.severity == session::Severity::Info) {
     if (verbose_)
       std::fprintf(stderr, "groundsim-server: %s%s%s\n", e.session_id.c_str(), e.session_id.empty() ? "" : ": ",
@@ -401,6 +406,7 @@ void LcmServer::heartbeat() {
   // state was lost learn from here that the session ended and at which seq
   for (const auto& s : st.sessions) m.sessions.push_back(toMessage(s, false));
   for (const auto& s : st.ended) m.sessions.push_back(toMessage(s, false));
+  for (auto& s : m.sessions) if (s.server_id.empty()) s.server_id = server_id_;
   m.nsessions = static_cast<int32_t>(m.sessions.size());
   publish(kStatusChannel, m);
   Counters c;

@@ -35,6 +35,7 @@ struct Applied {
   int mode = 0;                      // SetMode (0: unchanged)
   double rate = 0.0, publish_rate = 0.0;
   std::string reason;                // Stop, End
+  std::int64_t epoch = 0;            // the owner's epoch (docs/fleet.md)
 };
 
 // What the session and the re-simulator both keep between entries.

@@ -488,6 +488,7 @@ Frame Session::makeFrame(bool published) {
   f.drive_received = last_drive_;
   f.drive_applied = drive_applied_;
   fillFrame(f, sim_, vehicles_);
+  if (setup_.live_estimate) f.error_estimate = setup_.live_estimate->estimate();
   return f;
 }
 

@@ -110,6 +110,8 @@ struct Frame {
   std::vector<Hit> hits;
   std::shared_ptr<const Model> model;
   std::shared_ptr<const std::vector<std::string>> names;
+  std::int64_t epoch = 0;            // the owner's claim (docs/fleet.md): 0 on a lone server
+  double error_estimate = -1.0;      // the live error estimate (docs/accuracy.md); -1 without a tolerance
   // the last drive command applied before this frame: when the server got
   // it and when the session applied it (the latency trace, bench/web)
   TimePoint drive_received{}, drive_applied{};
@@ -133,6 +135,8 @@ struct SessionInfo {
   int control_period = 0;         // vectorised: physics steps per action, else 0
   int num_envs = 0;               // vectorised: environments, else 0
   std::shared_ptr<const experiments::Layout> layout;  // vectorised sessions
+  std::string server_id;          // the owner (filled by the adapter when empty)
+  std::int64_t epoch = 0;
 };
 
 struct Reply {
@@ -160,6 +164,7 @@ struct Event {
   std::string channel;
   std::string reason;
   double t = 0.0;
+  std::int64_t epoch = 0;         // the session's epoch when session_id is set
 };
 
 // A request to a vectorised session (vec_request_t), numbered as its OP_*.
