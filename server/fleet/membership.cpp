@@ -8,6 +8,8 @@ using nlohmann::json;
 
 namespace {
 
+constexpr std::chrono::milliseconds kRetry{200};
+
 bool validId(const std::string& id) {
   if (id.empty() || id.size() > 64) return false;
   return std::all_of(id.begin(), id.end(), [](char c) {
@@ -154,6 +156,26 @@ bool Membership::registerOnce(std::string* why_not) {
     old = old_lease_;
   }
   try {
+    if (old != 0 && options_.resume_lease) {
+      const auto sent = Clock::now();
+      if (client_.leaseKeepAliveOnce(old) > 0) {
+        auto kv = client_.get(key);
+        if (kv && kv->lease == old) {
+          std::lock_guard lock(mutex_);
+          lease_ = old;
+          old_lease_ = 0;
+          renewed_sent_ = sent;
+          registered_ = true;
+          dirty_ = true;  // what changed while lost
+          republish_ = false;
+          last_error_.clear();
+        }
+      }
+      if (leaseId() == old) {
+        wake_.notify_all();
+        return true;
+      }
+    }
     if (old != 0) {
       client_.leaseRevoke(old);
       std::lock_guard lock(mutex_);
@@ -213,11 +235,11 @@ void Membership::markLost(const std::string& reason) {
   if (callbacks_.on_lost) callbacks_.on_lost(reason);
 }
 
-void Membership::keepAlive() {
+bool Membership::keepAlive() {
   std::int64_t lease;
   {
     std::lock_guard lock(mutex_);
-    if (!registered_) return;
+    if (!registered_) return true;
     lease = lease_;
   }
   const auto sent = Clock::now();
@@ -226,15 +248,17 @@ void Membership::keepAlive() {
     if (left <= 0) {
       setError("lease " + std::to_string(lease) + " expired in etcd");
       markLost("lease " + std::to_string(lease) + " expired in etcd");
-      return;
+      return true;
     }
     std::lock_guard lock(mutex_);
     if (registered_ && lease_ == lease) {
       renewed_sent_ = sent;
       last_error_.clear();
     }
+    return true;
   } catch (const EtcdError& e) {
     setError(e.what());
+    return false;
   }
 }
 
@@ -304,8 +328,8 @@ void Membership::run() {
     if (registered) {
       publish();
       if (now >= next_keepalive) {
-        next_keepalive = now + keepalive_period;
-        keepAlive();
+        // a failed renewal is tried again sooner: the fence counts from the last success
+        next_keepalive = now + (keepAlive() ? keepalive_period : std::min(keepalive_period, kRetry));
         std::lock_guard lock(mutex_);
         if (republish_) {
           republish_ = false;
@@ -313,7 +337,7 @@ void Membership::run() {
         }
       }
     } else if (now >= next_register) {
-      next_register = now + keepalive_period;
+      next_register = now + std::min(keepalive_period, kRetry);
       std::string why;
       if (registerOnce(&why)) {
         next_keepalive = Clock::now() + keepalive_period;

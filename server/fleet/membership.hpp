@@ -13,7 +13,13 @@
 // lost: on_lost is called once, healthy() is false and the owner stops
 // publishing (self-fencing). Its thread then revokes the old lease (its keys
 // go with it, if they are still there), grants a new one and registers again
-// as soon as etcd answers; on_registered gives the new lease.
+// as soon as etcd answers; on_registered gives the new lease. With
+// Options::resume_lease it first renews the old lease: when etcd still holds
+// it (etcd extends every lease when a new leader is elected or a member
+// restarts, so an etcd outage or a leader's death need not have expired it)
+// and the key is still under it, the member resumes it, keys and all, and
+// on_registered gives the same lease: nothing bound to it can have been
+// taken by another server meanwhile, since that needs the key gone.
 #pragma once
 
 #include <chrono>
@@ -55,6 +61,7 @@ class Membership {
     std::int64_t ttl_s = 2;              // etcd grants at least 2 s with its default timings
     std::string prefix = "/groundsim";   // the fleet's key space
     std::chrono::milliseconds view_period{250};
+    bool resume_lease = false;  // after a loss, take the old lease back if etcd still holds it
     // {"sessions_free", "max_sessions", "workers", "load"} (update() replaces it)
     nlohmann::json capacity = {{"sessions_free", 0}, {"max_sessions", 0}, {"workers", 0}, {"load", 0.0}};
   };
@@ -62,7 +69,8 @@ class Membership {
   // read the membership (healthy(), members()) but not leave() or abandon().
   struct Callbacks {
     std::function<void(const std::string& reason)> on_lost;      // once per loss
-    std::function<void(std::int64_t lease)> on_registered;       // registered again after a loss (not the first time)
+    std::function<void(std::int64_t lease)> on_registered;       // registered again after a loss (not the first
+                                                                 // time); the lost lease when resumed
     std::function<void(const std::vector<Member>&)> on_members;  // the view changed (ids, leases, revisions)
   };
 
@@ -105,7 +113,7 @@ class Membership {
   void run();
   void fence();
   bool registerOnce(std::string* why_not);
-  void keepAlive();
+  bool keepAlive();  // false: no answer
   void publish();
   void refreshView();
   void markLost(const std::string& reason);

@@ -224,6 +224,40 @@ TEST(Membership, ReRegistersWithANewLeaseWhenEtcdIsBack) {
   EXPECT_EQ(lost.load(), 1);
 }
 
+TEST(Membership, ResumesItsLeaseWhenEtcdStillHoldsIt) {
+  EtcdProcess etcd;
+  EtcdClient c({etcd.endpoint()});
+  std::atomic<int> lost{0}, registered{0};
+  std::atomic<std::int64_t> back_with{0};
+  Membership::Callbacks cb;
+  cb.on_lost = [&](const std::string&) { ++lost; };
+  cb.on_registered = [&](std::int64_t lease) {
+    back_with = lease;
+    ++registered;
+  };
+  auto o = options("keeper");
+  o.resume_lease = true;
+  Membership m(c, o, cb);
+  const auto first_lease = m.leaseId();
+  c.put("/gs-test/owned/s1", "keeper", first_lease);  // something the owner holds under its lease
+  etcd.kill();
+  ASSERT_TRUE(waitFor([&] { return lost.load() > 0; }, m.ttl() + 3.0));
+  m.update({{"sessions_free", 3}});  // changed while lost: published once back
+  etcd.start();  // etcd restores its leases and extends them
+  ASSERT_TRUE(waitFor([&] { return registered.load() > 0; }, 10.0)) << m.lastError();
+  EXPECT_EQ(back_with.load(), first_lease);
+  EXPECT_EQ(m.leaseId(), first_lease);
+  EXPECT_TRUE(m.healthy());
+  auto owned = c.get("/gs-test/owned/s1");
+  ASSERT_TRUE(owned.has_value()) << "a resumed lease keeps its keys";
+  EXPECT_EQ(owned->lease, first_lease);
+  ASSERT_TRUE(waitFor([&] {
+    auto kv = c.get("/gs-test/servers/keeper");
+    return kv && kv->lease == first_lease && nlohmann::json::parse(kv->value)["capacity"]["sessions_free"] == 3;
+  }, 3.0));
+  EXPECT_EQ(lost.load(), 1);
+}
+
 TEST(Membership, ALeaseEtcdEndedIsLostAtOnceAndReplaced) {
   EtcdProcess etcd;
   EtcdClient c({etcd.endpoint()});
