@@ -75,7 +75,29 @@ std::optional<std::string> badText(const std::string& text, size_t most) {
   return std::nullopt;
 }
 
+// The race's grid places vehicle k at slot k (x, y, heading), on the ground.
+void placeOnGrid(const RaceSpec& race, std::vector<VehicleSpec>& vehicles) {
+  for (std::size_t k = 0; k < vehicles.size() && k < race.grid.size(); ++k) {
+    CarPlacement& p = vehicles[k].placement;
+    p.position.x() = race.grid[k].position[0];
+    p.position.y() = race.grid[k].position[1];
+    p.yaw = race.grid[k].yaw;
+  }
+}
+
 }  // namespace
+
+std::optional<RaceSpec> readRaceSection(const nlohmann::json& document) {
+  if (!document.is_object() || !document.contains("race")) return std::nullopt;
+  nlohmann::json copy = document["race"];
+  int vehicles = 1;
+  if (document.contains("vehicles") && document["vehicles"].is_array())
+    vehicles = static_cast<int>(document["vehicles"].size());
+  IssueList issues;
+  RaceSpec r = readRace(ObjectReader(copy, "/race", issues), vehicles);
+  issues.throwIfAny();
+  return r;
+}
 
 nlohmann::json parseScenarioDocument(const std::string& json_text, const Budget& budget) {
   if (json_text.size() <= budget.max_document_bytes && json_text.find_first_not_of(" \t\r\n") == std::string::npos)
@@ -157,6 +179,12 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
   if (top.has("task") && issues.empty()) s.task = readTask(top.object("task"), s.vehicles);
   else top.allow("task");
   if (top.has("accuracy")) s.accuracy = readAccuracy(top.object("accuracy"));
+  if (top.has("race")) {
+    s.race = readRace(top.object("race"), static_cast<int>(s.vehicles.size()));
+    placeOnGrid(*s.race, s.vehicles);
+  } else {
+    top.allow("race");
+  }
   top.finish();
   issues.throwIfAny();
   checkBudget(s, budget);

@@ -27,6 +27,7 @@
 #include "scenario/file_access.hpp"
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_spec.hpp"
+#include "scenario/race_spec.hpp"
 #include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -86,7 +87,13 @@ struct Scenario {
   std::optional<TaskSpec> task;   // the `task` section (experiments), when present
   std::vector<AssetRef> assets;   // the `assets` manifest (files sent with the scenario), when present
   std::optional<AccuracySpec> accuracy;  // the `accuracy` section, when present
+  std::optional<RaceSpec> race;   // the `race` section, when present (its grid already placed the vehicles)
 };
+
+// The `race` section of a validated document (Scenario::document), read
+// again without the rest (a session reads it from the document it keeps);
+// nullopt when it has none. Throws ScenarioError as parseScenario would.
+std::optional<RaceSpec> readRaceSection(const nlohmann::json& document);
 
 // Parses and validates against the budget; throws ScenarioError listing
 // the problems found (the first kMaxListedIssues). A Scenario returned is

@@ -9,6 +9,7 @@
 #include "scenario/ground_spec.hpp"
 #include "scenario/object_reader.hpp"
 #include "scenario/object_spec.hpp"
+#include "scenario/race_spec.hpp"
 #include "scenario/task_spec.hpp"
 #include "scenario/vehicle_spec.hpp"
 
@@ -37,5 +38,9 @@ TaskSpec readTask(ObjectReader task, const std::vector<VehicleSpec>& vehicles);
 
 // accuracy_section.cpp: `accuracy` (the error a user accepts).
 AccuracySpec readAccuracy(ObjectReader accuracy);
+
+// race_section.cpp: `race` (gates, laps, start grid, boundary) for a
+// scenario of `vehicles` vehicles.
+RaceSpec readRace(ObjectReader race, int vehicles);
 
 }  // namespace groundsim::scenario
