@@ -8,12 +8,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "fleet/etcd_client.hpp"
 #include "fleet/membership.hpp"
+#include "fleet/watch.hpp"
 
 using namespace groundsim::fleet;
 using Clock = std::chrono::steady_clock;
@@ -135,6 +138,17 @@ int main(int argc, char** argv) {
   Membership member(client, mo, cb);
   const std::int64_t first_lease = member.leaseId();
 
+  // a watch of everything written, through the same client (its stream
+  // starts on the member about to be cut off)
+  std::mutex watch_mu;
+  std::vector<Kv> seen;
+  Watch watch(client, "/lab/", 0, [&](const Watch::Event& e) {
+    std::lock_guard lock(watch_mu);
+    seen.push_back(e.kv);
+  });
+  for (auto t0 = Clock::now(); !watch.connected() && since(t0) < 10.0;) std::this_thread::sleep_for(50ms);
+  if (!watch.connected()) return fail("the watch did not start");
+
   std::string why;
   if (!labDo("partition", cut)) return fail("partition failed");
   Phase a;
@@ -177,6 +191,21 @@ int main(int argc, char** argv) {
     return fail("the membership's lease was not resumed over the leader's death (etcd extends leases on election)");
   auto kv = client_b.get(Membership::serverKey("/groundsim", "check"));
   if (!kv || kv->lease != member.leaseId()) return fail("membership key missing or not under the current lease");
+  // the watch moved with the failures and saw every write once, in order
+  std::set<std::string> keys;
+  for (auto t0 = Clock::now(); since(t0) < 10.0; std::this_thread::sleep_for(100ms)) {
+    std::lock_guard lock(watch_mu);
+    keys.clear();
+    for (const auto& kv : seen) keys.insert(kv.key);
+    if (keys.size() == 63) break;
+  }
+  {
+    std::lock_guard lock(watch_mu);
+    if (keys.size() != 63) return fail("the watch saw " + std::to_string(keys.size()) + " of the 63 keys written");
+    for (std::size_t i = 1; i < seen.size(); ++i)
+      if (seen[i].mod_revision <= seen[i - 1].mod_revision) return fail("the watch repeated or reordered an event");
+    std::printf("watch: %zu events for 63 keys in revision order over %d streams\n", seen.size(), watch.streams());
+  }
   std::printf("cluster_check: OK\n");
   return 0;
 }
