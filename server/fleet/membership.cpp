@@ -133,7 +133,7 @@ std::int64_t Membership::leaseId() const {
 
 bool Membership::healthy() const {
   std::lock_guard lock(mutex_);
-  return registered_ && Clock::now() - renewed_sent_ < std::chrono::seconds(ttl_s_);
+  return registered_ && Clock::now() - renewed_sent_ < std::chrono::seconds(ttl_s_.load());
 }
 
 std::string Membership::lastError() const {
@@ -311,7 +311,7 @@ void Membership::refreshView() {
 }
 
 void Membership::run() {
-  const auto keepalive_period = std::chrono::milliseconds(ttl_s_ * 1000 / 3);
+  const auto keepalive_period = std::chrono::milliseconds(ttl_s_.load() * 1000 / 3);
   auto next_keepalive = Clock::now() + keepalive_period;
   auto next_view = Clock::now() + options_.view_period;
   auto next_register = Clock::now();
@@ -365,10 +365,10 @@ void Membership::fence() {
       wake_.wait(lock);
       continue;
     }
-    const auto deadline = renewed_sent_ + std::chrono::seconds(ttl_s_);
+    const auto deadline = renewed_sent_ + std::chrono::seconds(ttl_s_.load());
     if (Clock::now() >= deadline) {
       lock.unlock();
-      markLost("no lease renewal for " + std::to_string(ttl_s_) + " s (etcd unreachable: " + lastError() + ")");
+      markLost("no lease renewal for " + std::to_string(ttl_s_.load()) + " s (etcd unreachable: " + lastError() + ")");
       lock.lock();
       continue;
     }

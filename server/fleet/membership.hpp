@@ -22,6 +22,7 @@
 // taken by another server meanwhile, since that needs the key gone.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -96,7 +97,7 @@ class Membership {
   std::optional<Member> member(const std::string& id) const;
   // The lease held now; 0 while lost.
   std::int64_t leaseId() const;
-  std::int64_t ttl() const { return ttl_s_; }  // as granted
+  std::int64_t ttl() const { return ttl_s_.load(); }  // as granted
   // Registered and renewed within the TTL.
   bool healthy() const;
   // Why the last etcd call failed ("" when the last one succeeded).
@@ -124,7 +125,7 @@ class Membership {
   Options options_;
   Callbacks callbacks_;
   std::int64_t started_utime_ = 0;
-  std::int64_t ttl_s_ = 0;
+  std::atomic<std::int64_t> ttl_s_{0};
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

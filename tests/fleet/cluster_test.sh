@@ -22,7 +22,11 @@ cleanup() {
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
-"$lab" down "$name" 2>/dev/null || true  # a namespace left by a killed run of the same pid
+# labs of earlier runs killed before their trap ran (fc<pid> with that pid gone)
+for old in $(ip netns list | awk '{print $1}' | sed -n 's/^gs-fc\([0-9]\{1,\}\)-sw$/\1/p'); do
+  kill -0 "$old" 2>/dev/null || "$lab" down "fc$old" || true
+done
+"$lab" down "$name" 2>/dev/null || true
 "$lab" up "$name" 4
 
 cluster="e1=http://192.0.2.1:2380,e2=http://192.0.2.2:2380,e3=http://192.0.2.3:2380"

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -45,7 +46,7 @@ std::string EtcdProcess::log() const {
 void EtcdProcess::start() {
   if (pid_ > 0) return;
   const char* bin = std::getenv("GROUNDSIM_ETCD");
-  std::string exe = bin && *bin ? bin : "etcd";
+  std::string exe = bin && *bin ? bin : "/usr/bin/etcd";
   std::string client = "http://127.0.0.1:" + std::to_string(client_port_);
   std::string peer = "http://127.0.0.1:" + std::to_string(peer_port_);
   std::vector<std::string> args = {exe,
@@ -57,20 +58,24 @@ void EtcdProcess::start() {
                                    "--initial-advertise-peer-urls", peer,
                                    "--initial-cluster", "solo=" + peer,
                                    "--log-level", "warn"};
+  // everything the child needs is made before fork(): the test has threads
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string log_path = dir_ + "/etcd.log";
   pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
-    int fd = open((dir_ + "/etcd.log").c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    // dies with the test, even one that crashed or was killed by its timeout
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (fd >= 0) {
       dup2(fd, 1);
       dup2(fd, 2);
     }
     int null = open("/dev/null", O_RDONLY);
     if (null >= 0) dup2(null, 0);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execvp(argv[0], argv.data());
+    execv(argv[0], argv.data());
     _exit(127);
   }
   pid_ = pid;
