@@ -104,7 +104,9 @@ case "$cmd" in
     ip netns exec "$s" nft list chain bridge gslab "lossy$2" >/dev/null 2>&1 ||
       ip netns exec "$s" nft add chain bridge gslab "lossy$2" "{ type filter hook forward priority 0; }"
     ip netns exec "$s" nft flush chain bridge gslab "lossy$2"
-    if (( pct > 0 )); then
+    if (( pct == 100 )); then  # numgen's "< 100" is out of its range
+      ip netns exec "$s" nft add rule bridge gslab "lossy$2" iifname "vh$2" drop
+    elif (( pct > 0 )); then
       ip netns exec "$s" nft add rule bridge gslab "lossy$2" iifname "vh$2" numgen random mod 100 "<" "$pct" drop
     fi
     ;;
