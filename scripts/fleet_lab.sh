@@ -16,6 +16,10 @@
 #   scripts/fleet_lab.sh heal LAB I            plug it back
 #   scripts/fleet_lab.sh loss LAB I PERCENT    drop PERCENT % of host I's frames on the switch (nftables; 0: none)
 #   scripts/fleet_lab.sh addr I                192.0.2.I
+#   scripts/fleet_lab.sh etcd-up LAB DIR I...  an etcd cluster of one member in each host I (data and logs
+#                                              in DIR); waits until every member answers (30 s) and prints
+#                                              the client endpoints, comma-separated
+#   scripts/fleet_lab.sh etcd-start LAB DIR I  (re)start host I's member on its data in DIR (after a kill)
 #   scripts/fleet_lab.sh hosts LAB             the lab's host namespaces, one a line
 #   scripts/fleet_lab.sh check                 exit 0 when a lab can be made here, else 77 saying why
 set -euo pipefail
@@ -113,6 +117,45 @@ case "$cmd" in
   addr)
     host_index "${1:-}"
     echo "192.0.2.$1"
+    ;;
+  etcd-up)
+    lab_name "${1:-}"; lab=$1; dir=${2:-}; shift 2 || die "etcd-up needs LAB DIR I..."
+    [ -n "$dir" ] && [ $# -ge 1 ] || die "etcd-up needs LAB DIR I..."
+    command -v etcd >/dev/null || die "no etcd (apt-get install etcd-server)"
+    mkdir -p "$dir"
+    cluster="" endpoints=""
+    for i in "$@"; do
+      host_index "$i"
+      cluster+="${cluster:+,}e$i=http://192.0.2.$i:2380"
+      endpoints+="${endpoints:+,}http://192.0.2.$i:2379"
+    done
+    for i in "$@"; do
+      a=192.0.2.$i
+      # the command line, for etcd-start after a kill (the data dir then holds the cluster)
+      printf '%q ' etcd --name "e$i" --data-dir "$dir/e$i" \
+        --listen-client-urls "http://$a:2379" --advertise-client-urls "http://$a:2379" \
+        --listen-peer-urls "http://$a:2380" --initial-advertise-peer-urls "http://$a:2380" \
+        --initial-cluster "$cluster" --initial-cluster-token "gs-$lab" --initial-cluster-state new \
+        --log-level warn >"$dir/e$i.cmd"
+      "$0" etcd-start "$lab" "$dir" "$i"
+    done
+    for i in "$@"; do
+      ok=0
+      for _ in $(seq 150); do
+        if ip netns exec "$(host "$lab" "$i")" etcdctl --endpoints "http://192.0.2.$i:2379" \
+             --dial-timeout 1s --command-timeout 1s endpoint health >/dev/null 2>&1; then ok=1; break; fi
+        sleep 0.2
+      done
+      [ $ok = 1 ] || { tail -n 20 "$dir/e$i.log" >&2; die "etcd member e$i (host $i) not healthy within 30 s"; }
+    done
+    echo "$endpoints"
+    ;;
+  etcd-start)
+    lab_name "${1:-}"; dir=${2:-}; host_index "${3:-}"
+    [ -f "$dir/e$3.cmd" ] || die "no $dir/e$3.cmd: start the cluster with etcd-up"
+    # detached: output to its log, no terminal, outlives this script
+    ip netns exec "$(host "$1" "$3")" setsid sh -c "exec $(cat "$dir/e$3.cmd")" \
+      >>"$dir/e$3.log" 2>&1 </dev/null &
     ;;
   hosts)
     lab_name "${1:-}"

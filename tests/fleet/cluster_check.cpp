@@ -3,7 +3,9 @@
 // leader's host dies (kill -9 of every process of it). Run in a host of the
 // lab by cluster_test.sh, which made the lab and started the members; this
 // program partitions, heals and kills through scripts/fleet_lab.sh.
-//   cluster_check --lab SCRIPT --name LAB --endpoints URL,URL,URL
+// Last, the killed member is started again on its data and must serve the
+// writes made while it was dead.
+//   cluster_check --lab SCRIPT --name LAB --dir ETCD_DIR --endpoints URL,URL,URL
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -95,16 +97,17 @@ bool writeAll(EtcdClient& c, const std::string& prefix, int count, Phase& p, Clo
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string lab, name, list;
+  std::string lab, name, list, dir;
   for (int i = 1; i + 1 < argc; i += 2) {
     std::string a = argv[i];
     if (a == "--lab") lab = argv[i + 1];
     else if (a == "--name") name = argv[i + 1];
     else if (a == "--endpoints") list = argv[i + 1];
+    else if (a == "--dir") dir = argv[i + 1];
   }
   auto endpoints = EtcdClient::parseEndpoints(list);
-  if (lab.empty() || name.empty() || endpoints.size() != 3) {
-    std::fprintf(stderr, "usage: cluster_check --lab SCRIPT --name LAB --endpoints URL,URL,URL\n");
+  if (lab.empty() || name.empty() || dir.empty() || endpoints.size() != 3) {
+    std::fprintf(stderr, "usage: cluster_check --lab SCRIPT --name LAB --dir ETCD_DIR --endpoints URL,URL,URL\n");
     return 2;
   }
   auto labDo = [&](const std::string& what, int index) {
@@ -206,6 +209,29 @@ int main(int argc, char** argv) {
       if (seen[i].mod_revision <= seen[i - 1].mod_revision) return fail("the watch repeated or reordered an event");
     std::printf("watch: %zu events for 63 keys in revision order over %d streams\n", seen.size(), watch.streams());
   }
+  // the dead member comes back on its data, catches up and serves
+  const int dead = leader;
+  if (std::system(("'" + lab + "' etcd-start " + name + " '" + dir + "' " + std::to_string(dead + 1)).c_str()) != 0)
+    return fail("etcd-start failed");
+  const auto restarted = Clock::now();
+  int agreed = -1;
+  for (; agreed < 0 && since(restarted) < 30.0;) {
+    agreed = leaderIndex(endpoints);
+    if (agreed < 0) std::this_thread::sleep_for(200ms);
+  }
+  if (agreed < 0) return fail("the restarted member did not rejoin within 30 s");
+  EtcdClient only_back({endpoints[dead]});
+  std::size_t caught_up = 0;
+  for (auto t0 = Clock::now(); since(t0) < 10.0; std::this_thread::sleep_for(100ms)) {
+    try {
+      caught_up = only_back.range("/lab/b/").size();
+      if (caught_up == 40) break;
+    } catch (const EtcdError&) {
+    }
+  }
+  if (caught_up != 40) return fail("the restarted member serves " + std::to_string(caught_up) + " of the 40 writes made while it was dead");
+  std::printf("member %d restarted: rejoined %.2f s after its start and serves the writes it missed\n", dead + 1,
+              since(restarted));
   std::printf("cluster_check: OK\n");
   return 0;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A 3-member etcd in three lab hosts (scripts/fleet_lab.sh) and a client in a
 # fourth (cluster_check): the client keeps working while a member is cut off
-# and when the leader's host is killed. The lab's name is unique to this run
+# and when the leader's host is killed, and the killed member rejoins. The lab's name is unique to this run
 # (the pid) and it is always torn down (trap). Exit 77 where the lab cannot
 # be made (not root, no namespaces) or there is no etcd.
 #   tests/fleet/cluster_test.sh FLEET_LAB_SH CLUSTER_CHECK
@@ -9,9 +9,8 @@ set -euo pipefail
 lab=$1
 check=$2
 "$lab" check || exit $?
-etcd=${GROUNDSIM_ETCD:-$(command -v etcd || true)}
-if [ -z "$etcd" ] || [ ! -x "$etcd" ]; then
-  echo "SKIP: no etcd (apt-get install etcd-server, or set GROUNDSIM_ETCD)" >&2
+if ! command -v etcd >/dev/null || ! command -v etcdctl >/dev/null; then
+  echo "SKIP: no etcd or etcdctl (apt-get install etcd-server etcd-client)" >&2
   exit 77
 fi
 name="fc$$"
@@ -29,17 +28,9 @@ done
 "$lab" down "$name" 2>/dev/null || true
 "$lab" up "$name" 4
 
-cluster="e1=http://192.0.2.1:2380,e2=http://192.0.2.2:2380,e3=http://192.0.2.3:2380"
-for i in 1 2 3; do
-  a=192.0.2.$i
-  "$lab" exec "$name" "$i" "$etcd" --name "e$i" --data-dir "$tmp/e$i" \
-    --listen-client-urls "http://$a:2379" --advertise-client-urls "http://$a:2379" \
-    --listen-peer-urls "http://$a:2380" --initial-advertise-peer-urls "http://$a:2380" \
-    --initial-cluster "$cluster" --initial-cluster-token "$name" --initial-cluster-state new \
-    --log-level warn >"$tmp/e$i.log" 2>&1 &
-done
+"$lab" etcd-up "$name" "$tmp" 1 2 3 >/dev/null
 rc=0
-"$lab" exec "$name" 4 "$check" --lab "$lab" --name "$name" \
+"$lab" exec "$name" 4 "$check" --lab "$lab" --name "$name" --dir "$tmp" \
   --endpoints http://192.0.2.1:2379,http://192.0.2.2:2379,http://192.0.2.3:2379 || rc=$?
 if [ $rc != 0 ]; then
   for i in 1 2 3; do echo "--- etcd e$i (last lines)"; tail -n 15 "$tmp/e$i.log"; done
