@@ -129,6 +129,8 @@ case "$cmd" in
       cluster+="${cluster:+,}e$i=http://192.0.2.$i:2380"
       endpoints+="${endpoints:+,}http://192.0.2.$i:2379"
     done
+    # --pre-vote (3.5's default): a member cut off and back does not depose
+    # the leader by its higher term
     for i in "$@"; do
       a=192.0.2.$i
       # the command line, for etcd-start after a kill (the data dir then holds the cluster)
@@ -136,7 +138,7 @@ case "$cmd" in
         --listen-client-urls "http://$a:2379" --advertise-client-urls "http://$a:2379" \
         --listen-peer-urls "http://$a:2380" --initial-advertise-peer-urls "http://$a:2380" \
         --initial-cluster "$cluster" --initial-cluster-token "gs-$lab" --initial-cluster-state new \
-        --log-level warn >"$dir/e$i.cmd"
+        --pre-vote --log-level warn >"$dir/e$i.cmd"
       "$0" etcd-start "$lab" "$dir" "$i"
     done
     for i in "$@"; do

@@ -3,8 +3,12 @@
 // leader's host dies (kill -9 of every process of it). Run in a host of the
 // lab by cluster_test.sh, which made the lab and started the members; this
 // program partitions, heals and kills through scripts/fleet_lab.sh.
-// Last, the killed member is started again on its data and must serve the
-// writes made while it was dead.
+// Then the killed member is started again on its data and must serve the
+// writes made while it was dead. Last, this program's own host is cut off
+// for 5 s: its membership fences itself within the TTL, etcd expires the
+// lease meanwhile, and after the heal the membership registers with a new
+// lease; a watch of the servers, reopened after the heal, reports the
+// expiry's DELETE before the new registration.
 //   cluster_check --lab SCRIPT --name LAB --dir ETCD_DIR --endpoints URL,URL,URL
 #include <chrono>
 #include <cstdio>
@@ -128,7 +132,7 @@ int main(int argc, char** argv) {
   const int cut = (leader + 1) % 3;
   std::vector<std::string> order = {endpoints[cut], endpoints[leader], endpoints[(leader + 2) % 3]};
   EtcdClient client(order);
-  std::atomic<int> lost{0};
+  std::atomic<int> lost{0}, registered{0};
   Membership::Options mo;
   mo.id = "check";
   mo.address = "192.0.2.4";
@@ -138,6 +142,7 @@ int main(int argc, char** argv) {
     ++lost;
     std::printf("membership lost: %s\n", why.c_str());
   };
+  cb.on_registered = [&](std::int64_t) { ++registered; };
   Membership member(client, mo, cb);
   const std::int64_t first_lease = member.leaseId();
 
@@ -232,6 +237,45 @@ int main(int argc, char** argv) {
   if (caught_up != 40) return fail("the restarted member serves " + std::to_string(caught_up) + " of the 40 writes made while it was dead");
   std::printf("member %d restarted: rejoined %.2f s after its start and serves the writes it missed\n", dead + 1,
               since(restarted));
+  // our own host cut off for 5 s
+  const int self_host = 4;
+  std::mutex servers_mu;
+  std::vector<Watch::Event> server_events;
+  Watch servers(client_b, Membership::serversPrefix("/groundsim"), 0, [&](const Watch::Event& e) {
+    std::lock_guard lock(servers_mu);
+    server_events.push_back(e);
+  });
+  for (auto t0 = Clock::now(); !servers.connected() && since(t0) < 10.0;) std::this_thread::sleep_for(50ms);
+  const std::int64_t lease_before = member.leaseId();
+  const int lost_before_cut = lost.load(), registered_before_cut = registered.load();
+  if (!member.healthy()) return fail("membership not healthy before the self partition");
+  if (std::system(("'" + lab + "' partition " + name + " " + std::to_string(self_host)).c_str()) != 0)
+    return fail("self partition failed");
+  const auto self_cut = Clock::now();
+  for (; lost.load() == lost_before_cut && since(self_cut) < member.ttl() + 2.0;) std::this_thread::sleep_for(20ms);
+  const double fenced_after = since(self_cut);
+  if (lost.load() == lost_before_cut) return fail("no on_lost within TTL + 2 s of the cut");
+  if (member.healthy()) return fail("healthy while cut off");
+  while (since(self_cut) < 5.0) std::this_thread::sleep_for(50ms);
+  std::system(("'" + lab + "' heal " + name + " " + std::to_string(self_host)).c_str());
+  const auto healed = Clock::now();
+  for (; registered.load() == registered_before_cut && since(healed) < 10.0;) std::this_thread::sleep_for(20ms);
+  if (registered.load() == registered_before_cut) return fail("not registered again within 10 s of the heal: " + member.lastError());
+  const double back_after = since(healed);
+  if (member.leaseId() == lease_before) return fail("the lease outlived a 5 s partition (TTL 2 s)");
+  bool deleted = false, put_after = false;
+  for (auto t0 = Clock::now(); !(deleted && put_after) && since(t0) < 10.0; std::this_thread::sleep_for(50ms)) {
+    std::lock_guard lock(servers_mu);
+    deleted = put_after = false;
+    for (const auto& e : server_events) {
+      if (e.kv.key != Membership::serverKey("/groundsim", "check")) continue;
+      if (e.type == Watch::Event::Type::Delete) deleted = true;
+      else if (deleted && e.kv.lease == member.leaseId()) put_after = true;
+    }
+  }
+  if (!deleted || !put_after) return fail("the servers' watch did not report the expiry and the new registration");
+  std::printf("own host cut off 5 s: on_lost %.2f s after the cut, registered again with a new lease %.2f s after "
+              "the heal; the watch saw the DELETE then the new PUT\n", fenced_after, back_after);
   std::printf("cluster_check: OK\n");
   return 0;
 }
