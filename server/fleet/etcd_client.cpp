@@ -245,6 +245,20 @@ void EtcdClient::leaseRevoke(std::int64_t id) {
   }
 }
 
+LeaseInfo EtcdClient::leaseTimeToLive(std::int64_t id, bool with_keys) {
+  json body{{"ID", std::to_string(id)}};
+  if (with_keys) body["keys"] = true;
+  json j = call("/v3/lease/timetolive", body);
+  LeaseInfo info;
+  info.id = id;
+  info.ttl_s = j.contains("TTL") ? i64(j, "TTL") : 0;  // proto3: 0 is left out
+  info.granted_ttl_s = i64(j, "grantedTTL");
+  if (info.ttl_s < 0) info.ttl_s = -1;
+  if (auto it = j.find("keys"); it != j.end())
+    for (const auto& k : *it) info.keys.push_back(base64Decode(k.get<std::string>()));
+  return info;
+}
+
 std::int64_t EtcdClient::put(const std::string& key, const std::string& value, std::int64_t lease) {
   return headerRevision(call("/v3/kv/put", putBody(key, value, lease)));
 }

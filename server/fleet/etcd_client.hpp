@@ -1,6 +1,7 @@
 // A synchronous, thread-safe client of etcd's v3 JSON gateway (etcd 3.4:
 // POST /v3/kv/range, /v3/kv/put, /v3/kv/deleterange, /v3/kv/txn,
-// /v3/lease/grant, /v3/lease/keepalive, /v3/lease/revoke, /v3/watch) over
+// /v3/lease/grant, /v3/lease/keepalive, /v3/lease/revoke,
+// /v3/lease/timetolive, /v3/watch) over
 // HTTP/1.1 with Boost.Beast. Keys and values are bytes (base64 on the wire);
 // 64-bit numbers travel as JSON strings and absent fields mean 0 (proto3).
 //
@@ -40,6 +41,14 @@ struct Kv {
 struct LeaseGrant {
   std::int64_t id = 0;
   std::int64_t ttl_s = 0;  // granted (etcd raises a smaller ask to its minimum, 2 s here)
+};
+
+struct LeaseInfo {
+  std::int64_t id = 0;
+  std::int64_t ttl_s = -1;          // remaining, whole seconds (0: under a second left); -1: gone
+  std::int64_t granted_ttl_s = 0;
+  std::vector<std::string> keys;    // bound to it (when asked for)
+  bool alive() const { return ttl_s >= 0; }
 };
 
 class EtcdError : public std::runtime_error {
@@ -116,6 +125,8 @@ class EtcdClient {
   std::int64_t leaseKeepAliveOnce(std::int64_t id);
   // Ends the lease and deletes its keys; a lease already gone is not an error.
   void leaseRevoke(std::int64_t id);
+  // What is left of a lease, without renewing it (e.g. another server's).
+  LeaseInfo leaseTimeToLive(std::int64_t id, bool with_keys = false);
 
   // The revision of the store after the write.
   std::int64_t put(const std::string& key, const std::string& value, std::int64_t lease = 0);

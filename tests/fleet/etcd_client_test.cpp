@@ -2,6 +2,8 @@
 // etcd_process.hpp starts the member).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -209,6 +211,26 @@ TEST(EtcdClient, ALeasedKeyVanishesAfterItsHolderStopsRenewing) {
   EXPECT_TRUE(c.range("/lease/").empty());
   EXPECT_EQ(c.leaseKeepAliveOnce(other.id), 0);
   EXPECT_NO_THROW(c.leaseRevoke(other.id));  // already gone: not an error
+}
+
+TEST(EtcdClient, LeaseTimeToLiveTellsWhatIsLeftWithoutRenewing) {
+  EtcdProcess etcd;
+  EtcdClient c({etcd.endpoint()});
+  auto lease = c.leaseGrant(10);
+  c.put("/ttl/a", "1", lease.id);
+  c.put("/ttl/b", std::string("\0", 1), lease.id);
+  auto info = c.leaseTimeToLive(lease.id, true);
+  EXPECT_TRUE(info.alive());
+  EXPECT_EQ(info.granted_ttl_s, 10);
+  EXPECT_GT(info.ttl_s, 5);
+  EXPECT_LE(info.ttl_s, 10);
+  ASSERT_EQ(info.keys.size(), 2u);
+  std::sort(info.keys.begin(), info.keys.end());
+  EXPECT_EQ(info.keys[0], "/ttl/a");
+  EXPECT_TRUE(c.leaseTimeToLive(lease.id).keys.empty());  // not asked for
+  c.leaseRevoke(lease.id);
+  EXPECT_FALSE(c.leaseTimeToLive(lease.id).alive());
+  EXPECT_FALSE(c.leaseTimeToLive(123456789).alive());
 }
 
 TEST(EtcdClient, ErrorsNameTheEndpointAndTheReason) {
