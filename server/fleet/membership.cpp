@@ -155,6 +155,7 @@ bool Membership::registerOnce(std::string* why_not) {
     std::lock_guard lock(mutex_);
     old = old_lease_;
   }
+  std::int64_t granted = 0;  // a lease of this attempt, revoked by the next one if this one fails
   try {
     if (old != 0 && options_.resume_lease) {
       const auto sent = Clock::now();
@@ -183,6 +184,7 @@ bool Membership::registerOnce(std::string* why_not) {
     }
     const auto sent = Clock::now();
     LeaseGrant grant = client_.leaseGrant(options_.ttl_s);
+    granted = grant.id;
     const std::string text = value().dump();
     if (!client_.createIfAbsent(key, text, grant.id)) {
       std::string holder;
@@ -219,7 +221,13 @@ bool Membership::registerOnce(std::string* why_not) {
   } catch (const EtcdError& e) {
     *why_not = e.what();
     setError(e.what());
-    if (ttl_s_ == 0) throw;  // the first registration: the caller hears why
+    if (ttl_s_ == 0) throw;  // the first registration: the caller hears why (its lease lapses alone)
+    if (granted != 0) {
+      // the create's answer may be lost after etcd applied it: our key under
+      // this lease would refuse the next attempt until it lapsed
+      std::lock_guard lock(mutex_);
+      if (old_lease_ == 0) old_lease_ = granted;
+    }
     return false;
   }
 }
