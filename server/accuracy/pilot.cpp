@@ -78,14 +78,17 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
   const double scale = std::pow(std::max(1.0, duration / segment), t.growth);
   const double finest = c.duration / static_cast<double>(std::max<long long>(1, c.steps));
   t.error_constant = f.e_fine * scale / std::pow(finest, t.order);
-  // each pilot step's error as measured: its difference to the next finer
-  // run plus that run's error (a coarse step out of the asymptotic range
-  // is not credited with the fitted law's smaller value)
+  // each pilot step's error as measured: its difference to the finest run
+  // plus that run's error (the triangle inequality; a coarse step out of
+  // the asymptotic range is not credited with the fitted law's smaller
+  // value). Against the finest run directly, not the chain of differences
+  // between neighbours: where the runs scatter about the solution (a path
+  // that is sensitive to its step, e.g. rims in stick-slip), the chain adds
+  // every scatter up and charges a coarse step several times its error.
   t.level_dt.assign(n, 0.0);
   t.level_error.assign(n, 0.0);
-  double e = f.e_fine;
-  for (size_t k = n; k-- > 0;) {
-    if (k + 1 < n) e += compareRuns(r[k], r[k + 1]).value();
+  for (size_t k = 0; k < n; ++k) {
+    const double e = f.e_fine + (k + 1 < n ? compareRuns(r[k], c).value() : 0.0);
     t.level_dt[k] = r[k].duration / static_cast<double>(std::max<long long>(1, r[k].steps));
     t.level_error[k] = e * scale;
   }
