@@ -51,6 +51,7 @@ struct Row {
   bool oracle_found = false;
   double estimate = 0.0, estimate_cost = 0.0;  // live estimate at the end; shadow steps / main steps
   double live_wall_ratio = 0.0;                // wall with the estimate / without
+  double windows = 0.0;                        // the windows' own estimate (without the pilot's floor)
 };
 
 std::string fmt(double x) {
@@ -116,6 +117,7 @@ void liveEstimate(const accuracy::Choice& c, Row& row) {
   live.beforeStep(sim);  // a last update at the end
   const double with = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   row.estimate = live.estimate();
+  row.windows = std::max(live.pathEstimate(), live.speedEstimate());
   row.estimate_cost = static_cast<double>(live.shadowSteps()) / static_cast<double>(std::max<long long>(1, sim.state().tick));
   Simulator plain(scene.built.model, scene.built.initial);
   const auto t1 = std::chrono::steady_clock::now();
@@ -138,10 +140,45 @@ int main(int argc, char** argv) {
   app.add_option("--tolerances", tolerances, "Tolerances")->delimiter(',');
   app.add_option("--csv", csv_path, "Write every oracle cell and choice here");
   app.add_option("--configs", configs, "The configs directory");
+  std::string reuse;
+  app.add_option("--reuse", reuse,
+                 "Take the oracle cells from this --csv of an earlier sweep and the references' uncertainties from its "
+                 "stdout (FILE.txt beside FILE.csv): the chooser and the live estimate only (for development)");
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "Print each pilot's trials and the oracle cells");
   CLI11_PARSE(app, argc, argv);
 
+  std::map<std::string, std::vector<Cell>> reused;
+  std::map<std::string, double> reused_uncertainty;
+  if (!reuse.empty()) {
+    std::ifstream in(reuse);
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      std::vector<std::string> f;
+      size_t a = 0;
+      for (size_t b; (b = line.find(',', a)) != std::string::npos; a = b + 1) f.push_back(line.substr(a, b - a));
+      f.push_back(line.substr(a));
+      if (f.size() < 8) continue;
+      Cell c;
+      for (IntegratorKind k : {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet, IntegratorKind::Rk4})
+        if (f[1] == integratorName(k)) c.kind = k;
+      c.dt = std::stod(f[2]);
+      c.floor = std::stoi(f[3]);
+      c.error = std::stod(f[4]);
+      c.cost = std::stod(f[5]);
+      c.evals = std::stod(f[6]);
+      c.healthy = f[7] == "1";
+      reused[f[0]].push_back(c);
+    }
+    std::ifstream txt(reuse.substr(0, reuse.rfind('.')) + ".txt");
+    while (std::getline(txt, line)) {
+      char name[128];
+      double u = 0;
+      if (std::sscanf(line.c_str(), "## %127[^:]: reference %*s dt %*s (uncertainty %lf)", name, &u) == 2)
+        reused_uncertainty[name] = u;
+    }
+  }
   const std::vector<IntegratorKind> kinds = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
                                              IntegratorKind::Rk4};
   std::vector<Row> rows;
@@ -162,25 +199,38 @@ int main(int argc, char** argv) {
     const double ref_dt = std::max(ref_top / 64, 2.4e-6);
     // contact between bodies at the family's floor: its substep shrinks too
     const int ref_floor = contactFloor(s, rk, ref_top);
-    const Trajectory ref = accuracy::runTrajectory(accuracy::withSettings(s, rk, ref_dt, ref_floor), s.duration);
-    const Trajectory ref2 = accuracy::runTrajectory(accuracy::withSettings(s, rk, 2 * ref_dt, ref_floor), s.duration);
-    const double uncertainty = accuracy::compareRuns(ref2, ref).value();
     std::vector<Cell> cells;
-    for (IntegratorKind k : kinds) {
+    // --reuse: the cells (and the reference's uncertainty) of an earlier
+    // sweep; the reference is run only if the choice is not among them
+    std::optional<Trajectory> ref_run;
+    auto ref = [&]() -> const Trajectory& {
+      if (!ref_run) ref_run = accuracy::runTrajectory(accuracy::withSettings(s, rk, ref_dt, ref_floor), s.duration);
+      return *ref_run;
+    };
+    double uncertainty = 0.0;
+    if (!reuse.empty()) {
+      const auto it = reused.find(sc.name);
+      if (it != reused.end()) cells = it->second;
+      uncertainty = reused_uncertainty[sc.name];
+    } else {
+      const Trajectory ref2 = accuracy::runTrajectory(accuracy::withSettings(s, rk, 2 * ref_dt, ref_floor), s.duration);
+      uncertainty = accuracy::compareRuns(ref2, ref()).value();
+    }
+    for (IntegratorKind k : reuse.empty() ? kinds : std::vector<IntegratorKind>{}) {
       if (!accepts(s, k)) continue;
       // the automatic contact substeps, then (in a scene with contact
       // between bodies) the family whose floor is contact's need at the
       // coarsest healthy step, as the pilot sets it
       int floor = 0;
       for (double h = top; h >= 1e-5 * (1 - 1e-9); h /= 2) {
-        cells.push_back(runCell(s, k, h, 1, ref));
+        cells.push_back(runCell(s, k, h, 1, ref()));
         if (cells.back().healthy && floor == 0) floor = contactFloor(s, k, h);
         if (cells.back().healthy && cells.back().error < 2e-5) break;
       }
       if (floor > 1)
         for (double h = top; h >= 1e-5 * (1 - 1e-9); h /= 2) {
           if (contactFloor(s, k, h) > floor) continue;  // unhealthy at the automatic count already
-          cells.push_back(runCell(s, k, h, floor, ref));
+          cells.push_back(runCell(s, k, h, floor, ref()));
           if (cells.back().healthy && cells.back().error < 2e-5) break;
         }
     }
@@ -189,7 +239,7 @@ int main(int argc, char** argv) {
         std::printf("  cell %-19s dt %-9.3g floor %-2d error %s cost %.3g%s\n", integratorName(c.kind), c.dt, c.floor,
                     fmt(c.error).c_str(), c.cost, c.healthy ? "" : " DIVERGED");
     for (const Cell& c : cells)
-      if (csv) csv << sc.name << ',' << integratorName(c.kind) << ',' << c.dt << ',' << c.floor << ',' << c.error << ',' << c.cost << ','
+      if (csv && reuse.empty()) csv << sc.name << ',' << integratorName(c.kind) << ',' << c.dt << ',' << c.floor << ',' << c.error << ',' << c.cost << ','
                    << c.evals << ',' << c.healthy << '\n';
     std::printf("\n## %s: reference %s dt %.3g (uncertainty %s), %zu oracle cells, %.1f s\n", sc.name.c_str(),
                 integratorName(rk), ref_dt, fmt(uncertainty).c_str(), cells.size(),
@@ -205,20 +255,26 @@ int main(int argc, char** argv) {
                c.floor == row.choice.contact_substeps;
       });
       row.chosen = same != cells.end() ? *same
-                                       : runCell(s, row.choice.integrator, row.choice.dt, row.choice.contact_substeps, ref);
+                                       : runCell(s, row.choice.integrator, row.choice.dt, row.choice.contact_substeps, ref());
+      // the oracle: the fewest force evaluations per simulated second (the
+      // chooser's own cost, exact), ties to the smaller wall time
       for (const Cell& c : cells)
-        if (c.healthy && c.error <= tol && (!row.oracle_found || c.cost < row.oracle.cost)) {
+        if (c.healthy && c.error <= tol &&
+            (!row.oracle_found || c.evals < row.oracle.evals ||
+             (c.evals == row.oracle.evals && c.cost < row.oracle.cost))) {
           row.oracle = c;
           row.oracle_found = true;
         }
       liveEstimate(row.choice, row);
-      std::printf("tol %-6g chose %-19s dt %-9.3g pred %s real %s | oracle %-19s dt %-9.3g cost x%.2f | "
-                  "estimate %s (x%.2f, shadow %.0f%%, wall x%.2f) | pilot %.2f s\n",
+      std::printf("tol %-6g chose %-19s dt %-9.3g pred %s real %s | oracle %-19s dt %-9.3g cost x%.2f evals x%.2f | "
+                  "estimate %s (x%.2f, shadow %.0f%%, wall x%.2f, windows %s) | pilot %.2f s\n",
                   tol, integratorName(row.choice.integrator), row.choice.dt, fmt(row.choice.predicted_error).c_str(),
                   fmt(row.chosen.error).c_str(), row.oracle_found ? integratorName(row.oracle.kind) : "-",
                   row.oracle.dt, row.oracle_found ? row.chosen.cost / row.oracle.cost : 0.0,
+                  row.oracle_found ? row.chosen.evals / row.oracle.evals : 0.0,
                   fmt(row.estimate).c_str(), row.estimate / std::max(row.chosen.error, 1e-300),
-                  100 * row.estimate_cost, row.live_wall_ratio, row.choice.pilot_wall_seconds);
+                  100 * row.estimate_cost, row.live_wall_ratio, fmt(row.windows).c_str(),
+                  row.choice.pilot_wall_seconds);
       if (verbose) std::printf("%s", row.choice.report().c_str());
       std::fflush(stdout);
       rows.push_back(row);
@@ -232,11 +288,11 @@ int main(int argc, char** argv) {
       ++n;
       within += r.chosen.error <= tol;
       over3 += r.chosen.error > 3 * tol;
-      cheap += r.oracle_found && r.chosen.cost <= 2 * r.oracle.cost;
+      cheap += r.oracle_found && r.chosen.evals <= 2 * r.oracle.evals;
       const double q = r.estimate / std::max(r.chosen.error, 1e-300);
       est3 += (q >= 1.0 / 3 && q <= 3) || (r.chosen.error < 1e-12 && r.estimate < 1e-9);
     }
-    std::printf("\ntolerance %g: %d scenes, within %d, over 3x %d, cost <= 2x oracle %d, estimate within 3x %d\n", tol,
+    std::printf("\ntolerance %g: %d scenes, within %d, over 3x %d, evaluations <= 2x oracle %d, estimate within 3x %d\n", tol,
                 n, within, over3, cheap, est3);
   }
   return 0;
