@@ -8,6 +8,7 @@
 
 #include "physics/checks/telemetry.hpp"
 #include "answers.hpp"
+#include "race_glue.hpp"
 #include "token.hpp"
 
 namespace groundsim::session {
@@ -50,6 +51,7 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
   for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
   anchor_.reset(now, sim_.state().t, setup_.rate);
+  race_ = makeRaceGlue(setup_.scenario_json, m);
   updateInfo(now);
 }
 
@@ -184,11 +186,13 @@ void Session::failSafely(const char* what) noexcept {
 
 void Session::apply(const Request& r, TimePoint now) {
   const ReplyTo to = replyTo(r);
+  if (r.op == Op::Reset && r.steps < 0) return raceRespawn(r);
   switch (r.op) {
     case Op::Reset:
       failSteps(ErrorCode::BadRequest, "interrupted by a reset");
       logApplied(entry(AppliedKind::Reset));  // at the tick it left
       resetTo(sim_, cars_, initial_);
+      raceReset();
       if (setup_.live_estimate) setup_.live_estimate->reset();
       live_warned_ = false;
       status_ = Status::Running;
@@ -330,10 +334,13 @@ bool Session::stepOnce() {
   if (!setup_.control_tables.empty()) followControlTables(sim_, cars_, setup_.control_tables);
   accuracy::LiveEstimate* live = setup_.live_estimate.get();
   if (live) live->beforeStep(sim_);
+  raceBeforeStep();
+  const double t0 = sim_.state().t;
   if (!sim_.step()) {
     diverged(sim_.state().health_reason, ErrorCode::Diverged);
     return false;
   }
+  raceAfterStep(t0);
   if (live) {
     live->afterStep(sim_);
     if (!live_warned_ && live->estimate() > setup_.tolerance) {

@@ -24,6 +24,8 @@
 
 namespace groundsim::session {
 
+struct RaceGlue;  // race_glue.hpp
+
 struct SessionSetup {
   std::string id;
   std::string token;
@@ -111,6 +113,11 @@ class Session : public Task {
   void reanchor(TimePoint now);
   void updateInfo(TimePoint now);
   bool finished() const;
+  // race_glue.cpp: the scenario's race, when it has one (else they return at once)
+  void raceBeforeStep();
+  void raceAfterStep(double t0);
+  void raceReset();
+  void raceRespawn(const Request& r);  // OP_RESET with steps = -1 - vehicle
 
   SessionSetup setup_;
   const ServiceConfig& cfg_;
@@ -122,6 +129,7 @@ class Session : public Task {
   std::vector<VehicleWheels> vehicles_;
   std::shared_ptr<const std::vector<std::string>> names_;
   std::int64_t steps_per_frame_ = 1;
+  std::shared_ptr<RaceGlue> race_;    // null: no race
 
   // worker-owned
   Status status_ = Status::Running;

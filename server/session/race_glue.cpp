@@ -1,0 +1,221 @@
+// Session <-> race (race_glue.hpp): holds cars during the countdown, feeds
+// the race each step's positions, publishes its happenings as events
+// ("race: {json}", docs/protocol.md, Race events) and respawns cars.
+#include "race_glue.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "physics/ground/ground.hpp"
+#include "answers.hpp"
+#include "session.hpp"
+
+namespace groundsim::session {
+namespace {
+
+// brake torque (N m) holding a report car's wheels before go
+constexpr double kHoldBrakeTorque = 1e4;
+// a respawn spot is free when no other car's centre is this close (m)
+constexpr double kRespawnClearance = 4.0;
+constexpr double kRespawnLateralStep = 3.0;  // m along the gate between tries
+// dropped from this much above its resting height (on a slope the lower
+// wheel would otherwise start in the ground)
+constexpr double kRespawnDrop = 0.05;        // m
+
+race::Vec2 centre(const Simulator& sim, int v) {
+  const Vec3 p = bodyPos(sim.state().y, sim.model().vehicle_body.at(static_cast<std::size_t>(v)));
+  return {p.x(), p.y()};
+}
+
+double groundZ(const Ground& g, double x, double y, double fallback) {
+  Vec3 surface, normal;
+  return groundPointBelow(g, x, y, &surface, &normal) ? surface.z() : fallback;
+}
+
+double yawOf(const Quat& q) {
+  const Vec3 f = q * Vec3::UnitX();
+  return std::atan2(f.y(), f.x());
+}
+
+}  // namespace
+
+std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, const Model& m) {
+  if (scenario_json.find("\"race\"") == std::string::npos) return nullptr;  // no JSON parse for most sessions
+  std::optional<scenario::RaceSpec> spec;
+  try {
+    spec = scenario::readRaceSection(nlohmann::json::parse(scenario_json));
+  } catch (const std::exception&) {
+    return nullptr;  // validated at create: not reached
+  }
+  if (!spec) return nullptr;
+  return std::make_unique<RaceGlue>(std::move(*spec), static_cast<int>(m.vehicle_names.size()));
+}
+
+void placeVehicle(Simulator& sim, const State& initial, int v, double x, double y, double yaw) {
+  const Model& m = sim.model();
+  const int chassis = m.vehicle_body.at(static_cast<std::size_t>(v));
+  std::set<int> bodies{chassis};
+  std::set<int> wheels;
+  for (std::size_t w = 0; w < m.wheels.size(); ++w)
+    if (m.vehicle_of_wheel[w] == v) {
+      wheels.insert(static_cast<int>(w));
+      if (m.wheels[w].body >= 0) bodies.insert(m.wheels[w].body);
+      if (m.wheels[w].carrier >= 0) bodies.insert(m.wheels[w].carrier);
+    }
+  const Vec3 p0 = bodyPos(initial.y, chassis);
+  const double yaw0 = yawOf(Quat(bodyRot(initial.y, chassis)).normalized());
+  const Quat turn(Eigen::AngleAxisd(yaw - yaw0, Vec3::UnitZ()));
+  const Ground& g = *m.ground;
+  const double z = p0.z() + groundZ(g, x, y, 0.0) - groundZ(g, p0.x(), p0.y(), 0.0) + kRespawnDrop;
+  const Vec3 target(x, y, z);
+
+  const double e_before = sim.energy().total();
+  State s = sim.state();
+  for (int b : bodies) {
+    bodyPos(s.y, b) = target + turn * (Vec3(bodyPos(initial.y, b)) - p0);
+    bodyRot(s.y, b) = (turn * Quat(bodyRot(initial.y, b))).normalized();
+    bodyVel(s.y, b).setZero();
+    bodyMom(s.y, b).setZero();
+  }
+  const int nb = static_cast<int>(m.bodies.size());
+  for (std::size_t j = 0; j < m.particles.size(); ++j) {
+    const Point& pt = m.points[static_cast<std::size_t>(m.particle_points[j])];
+    if (pt.wheel < 0 || !wheels.count(pt.wheel)) continue;
+    const int o = particleOffset(nb, static_cast<int>(j));
+    const Vec3 q0(initial.y[o], initial.y[o + 1], initial.y[o + 2]);
+    const Vec3 q = target + turn * (q0 - p0);
+    for (int i = 0; i < 3; ++i) {
+      s.y[o + i] = q[i];
+      s.y[o + 3 + i] = 0.0;
+    }
+  }
+  const int c = sim.roadCarIndex(v);
+  if (c >= 0) {  // the car's own states (suspension, spins, engine) as on the grid, at rest
+    const RoadCar& rc = m.road_cars[static_cast<std::size_t>(c)];
+    for (int i = 0; i < kRoadCarStates; ++i) s.y[m.auxBase() + rc.aux + i] = initial.y[m.auxBase() + rc.aux + i];
+    for (int w = 0; w < 4; ++w) {  // at rest: no strut speed, no wheel spin
+      s.y[m.auxBase() + rc.aux + roadAux(w, 1)] = 0.0;
+      s.y[m.auxBase() + rc.aux + roadAux(w, 2)] = 0.0;
+    }
+    s.cars[static_cast<std::size_t>(c)] = initial.cars.at(static_cast<std::size_t>(c));
+  }
+  sim.restore(s);
+  // the energy check compares with the initial energy plus drive work: a
+  // car put back higher up gained no energy from the simulation
+  s.initial_energy += sim.energy().total() - e_before;
+  sim.restore(s);
+}
+
+// ---- Session's race hooks ----------------------------------------------------
+
+void Session::raceBeforeStep() {
+  if (!race_) return;
+  RaceGlue& g = *race_;
+  if (!g.announced) {
+    g.announced = true;
+    event(Severity::Info, ErrorCode::None, g.race.layoutReason(setup_.vehicle_names));
+    event(Severity::Info, ErrorCode::None, g.race.standingsReason(sim_.state().t, setup_.vehicle_names));
+  }
+  const int n = g.race.cars();
+  g.before.resize(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) g.before[static_cast<std::size_t>(v)] = centre(sim_, v);
+  if (!g.race.held(sim_.state().t)) return;
+  // the countdown: no throttle, brakes on, whatever a driver sends
+  for (int v = 0; v < n; ++v) {
+    const int c = sim_.roadCarIndex(v);
+    if (c >= 0) {
+      CarControls cc = sim_.carControls(c);
+      cc.throttle = 0.0;
+      cc.brake = 1.0;
+      sim_.setCarControls(c, cc);
+    }
+  }
+  const Model& m = sim_.model();
+  for (std::size_t w = 0; w < m.wheels.size(); ++w) {
+    if (m.vehicle_of_wheel[w] < 0) continue;
+    sim_.controls()[w].drive_torque = 0.0;
+    sim_.controls()[w].brake_torque = kHoldBrakeTorque;
+  }
+}
+
+void Session::raceAfterStep(double t0) {
+  if (!race_) return;
+  RaceGlue& g = *race_;
+  const bool was_held = g.race.held(t0);
+  const int n = g.race.cars();
+  g.after.resize(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) g.after[static_cast<std::size_t>(v)] = centre(sim_, v);
+  const std::vector<race::RaceEvent> happened = g.race.step(t0, sim_.state().t, g.before, g.after);
+  bool standings = false;
+  for (const race::RaceEvent& e : happened) {
+    event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
+    standings = standings || e.kind == race::EventKind::Start || e.kind == race::EventKind::Gate ||
+                e.kind == race::EventKind::Lap || e.kind == race::EventKind::Finish;
+  }
+  if (standings) event(Severity::Info, ErrorCode::None, g.race.standingsReason(sim_.state().t, setup_.vehicle_names));
+  if (was_held && !g.race.held(sim_.state().t)) {
+    // go: the brakes the countdown held come off (a driver's next controls set them)
+    releasePedals(sim_);
+    releaseDrive(sim_);
+  }
+}
+
+void Session::raceReset() {
+  if (!race_) return;
+  race_->race.reset();
+  race_->announced = false;
+}
+
+void Session::raceRespawn(const Request& r) {
+  const ReplyTo to = replyTo(r);
+  const std::int64_t v = -r.steps - 1;
+  if (!race_) return reply(to, false, ErrorCode::BadRequest, "respawn: the session's scenario has no race");
+  if (v < 0 || v >= race_->race.cars())
+    return reply(to, false, ErrorCode::BadRequest,
+                 "respawn: no vehicle " + std::to_string(v) + " (the session has " +
+                     std::to_string(race_->race.cars()) + ")");
+  if (status_ == Status::Diverged)
+    return reply(to, false, ErrorCode::Diverged, "respawn: session diverged: " + reason_ + " (reset it)");
+  const int car = static_cast<int>(v);
+  race::Pose pose;
+  if (auto p = race_->race.respawnPose(car)) {
+    pose = *p;
+  } else {  // no gate passed and no grid: where it started
+    const Vec3 p0 = bodyPos(initial_.y, sim_.model().vehicle_body.at(static_cast<std::size_t>(car)));
+    pose.position = {p0.x(), p0.y()};
+    pose.yaw = yawOf(Quat(bodyRot(initial_.y, sim_.model().vehicle_body.at(static_cast<std::size_t>(car)))).normalized());
+  }
+  // a spot clear of the other cars: the gate's centre, else along the gate line
+  const double lx = -std::sin(pose.yaw), ly = std::cos(pose.yaw);
+  race::Vec2 spot = pose.position;
+  for (int i = 0; i < 9; ++i) {
+    const double off = kRespawnLateralStep * ((i + 1) / 2) * (i % 2 ? 1.0 : -1.0);
+    const race::Vec2 cand{pose.position[0] + off * lx, pose.position[1] + off * ly};
+    bool clear = true;
+    for (int o = 0; o < race_->race.cars() && clear; ++o)
+      if (o != car) {
+        const race::Vec2 c = centre(sim_, o);
+        clear = std::hypot(c[0] - cand[0], c[1] - cand[1]) >= kRespawnClearance;
+      }
+    if (clear) {
+      spot = cand;
+      break;
+    }
+  }
+  placeVehicle(sim_, initial_, car, spot[0], spot[1], pose.yaw);
+  const int c = sim_.roadCarIndex(car);
+  if (c >= 0) {
+    CarControls cc = sim_.carControls(c);
+    cc.throttle = 0.0;
+    cc.brake = 0.0;
+    sim_.setCarControls(c, cc);
+  }
+  pose.position = spot;
+  for (const race::RaceEvent& e : race_->race.respawned(car, pose, sim_.state().t))
+    event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
+  frame_pending_ = true;
+  reply(to, true, ErrorCode::None, "");
+}
+
+}  // namespace groundsim::session

@@ -1,0 +1,31 @@
+// A session's race (server/race): what Session keeps of it. The glue's
+// functions are Session members defined in race_glue.cpp, so session.cpp
+// only calls them at its hooks (start of a step, end of a step, reset,
+// respawn request).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "physics/simulator.hpp"
+#include "race/race.hpp"
+
+namespace groundsim::session {
+
+struct RaceGlue {
+  race::Race race;
+  std::vector<race::Vec2> before, after;  // body centres at the start and end of the step
+  bool announced = false;                 // the layout and countdown were published
+  explicit RaceGlue(scenario::RaceSpec spec, int cars) : race(std::move(spec), cars) {}
+};
+
+// The race of a session's scenario document, or null when it has none.
+std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, const Model& m);
+
+// Moves vehicle v of `initial`'s pose (its chassis, wheels and rim points)
+// to (x, y) on the ground with heading yaw, at rest, into sim's state: the
+// car as it stood on its grid slot, turned and carried there. The energy
+// check's reference moves with it (a car put higher is no divergence).
+void placeVehicle(Simulator& sim, const State& initial, int v, double x, double y, double yaw);
+
+}  // namespace groundsim::session
