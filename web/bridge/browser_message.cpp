@@ -127,10 +127,10 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
     m.cy = f.number("cy", -1e6, 1e6, std::nullopt);
     return m;
   }
-  if (op == "reset" || op == "pause" || op == "resume") return SessionOpMsg{op};
+  if (op == "reset" || op == "pause" || op == "resume" || op == "respawn") return SessionOpMsg{op};
   if (op == "leave") return LeaveMsg{};
   if (op == "ping") return PingMsg{f.number("t", -1e300, 1e300, 0.0)};
-  refuse("/op", "unknown op \"" + op + "\" (create, join, controls, ground, reset, pause, resume, leave, ping)");
+  refuse("/op", "unknown op \"" + op + "\" (create, join, controls, ground, reset, respawn, pause, resume, leave, ping)");
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ struct GroundMsg {
   double cx = 0, cy = 0;       // m, centre of the grid wanted
 };
 struct SessionOpMsg {
-  std::string op;              // "reset" | "pause" | "resume"
+  std::string op;              // "reset" | "pause" | "resume" | "respawn" (a race's: the driver's car)
 };
 struct LeaveMsg {};
 struct PingMsg {

@@ -435,6 +435,7 @@ void Hub::finishJoin(Peer* p, const JoinMsg& m) {
                     ",\"vehicle\":" + std::to_string(ps.vehicle) + ",\"note\":" + quoted(s.view ? "" : s.view_error) +
                     ",\"layout\":" + (s.joined_layout ? *s.joined_layout : std::string("null")) + "}";
   sendJson(p, msg);
+  for (const auto& race : s.race.catchUp()) p->send(race);  // a race under way: its layout and standings
   publishLobby();
 }
 
@@ -544,7 +545,11 @@ void Hub::sendControls(const SessionEntry& s, const std::string& session, int ve
 void Hub::sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m) {
   if (ps.role != Role::Drive) return refuse(p, m.op, "", "only a driver may " + m.op + " its session");
   groundsim::request_t r{};
-  r.op = m.op == "reset" ? groundsim::request_t::OP_RESET
+  if (m.op == "respawn") {  // a race's respawn: OP_RESET of one vehicle (docs/protocol.md, Race events)
+    if (ps.vehicle < 0) return refuse(p, m.op, "", "no car to respawn");
+    r.steps = -1 - ps.vehicle;
+  }
+  r.op = m.op == "reset" || m.op == "respawn" ? groundsim::request_t::OP_RESET
          : m.op == "pause" ? groundsim::request_t::OP_PAUSE
                            : groundsim::request_t::OP_RESUME;
   r.session_id = ps.session;
@@ -621,6 +626,7 @@ void Hub::onEvent(const groundsim::event_t& e, std::shared_ptr<const std::string
   if (e.session_id.empty()) return;
   auto it = sessions_.find(e.session_id);
   if (it == sessions_.end()) return;
+  it->second.race.note(e.reason, json);
   for (Peer* p : it->second.watchers) p->send(json);
 }
 

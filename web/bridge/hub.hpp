@@ -25,6 +25,7 @@
 #include "bridge/controls.hpp"
 #include "bridge/lcm_link.hpp"
 #include "bridge/peer.hpp"
+#include "bridge/race_relay.hpp"
 #include "bridge/scene_view.hpp"
 #include "bridge/shipped_scenarios.hpp"
 #include "bridge/worker.hpp"
@@ -112,6 +113,7 @@ class Hub {
     std::set<Peer*> watchers;
     std::vector<std::pair<Peer*, JoinMsg>> pending;
     std::chrono::steady_clock::time_point unwatched_since{};
+    RaceRelay race;                        // its race's last layout and standings
   };
   struct BusSeen {
     double t = 0;

@@ -1,5 +1,7 @@
 #include "bridge/scene_view.hpp"
 
+#include "bridge/race_relay.hpp"
+
 #include "bridge/object_layout.hpp"
 
 #include <algorithm>
@@ -184,6 +186,7 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json, const
                   {"objects", objectsLayout(m, scene.built.initial)},
                   {"friction", sc.options.contact.friction},
                   {"horizon", horizonGrids(*view->ground, centre.x(), centre.y(), sc.options.contact.friction)}};
+  if (sc.race) view->layout["race"] = raceLayout(*sc.race);
   return view;
 }
 

@@ -19,9 +19,10 @@ import { showLobby, renderScenarios, renderLobby, wireLobby } from './lobby.js';
 import { Replay } from './replay.js';
 import { Connection } from './net.js';
 import { Playback } from './interp.js';
-import { Input } from './input.js';
+import { Input, RemapScreen } from './input.js';
 import { Driver } from './drive.js';
 import { probeHorizon } from './probe.js';
+import { RaceView } from './race.js';
 
 // ?render=0 runs everything but the drawing (the latency benchmark isolates
 // the network path from a software renderer's frame time with it)
@@ -37,8 +38,11 @@ const skids = new SkidMarks(scene);
 const rig = new CameraRig(camera, world.renderer.domElement);
 const playback = new Playback();
 const input = new Input(window);
+const remap = new RemapScreen(input);  // gamepad / wheel controls (key G)
+const touch = matchMedia('(pointer: coarse)').matches || navigator.maxTouchPoints > 0 ? input.touchControls() : null;
+const race = new RaceView(scene);  // races: HUD, gates, ghost (race.js, ghost.js)
 const net = new Connection(`${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`);
-Object.assign(app, { hits, terrain, skids, three: { scene, camera, renderer: world.renderer, sky: world.sky, world } });
+Object.assign(app, { race, hits, terrain, skids, three: { scene, camera, renderer: world.renderer, sky: world.sky, world } });
 app.send = (m) => net.send(m);
 app.debug = { probeHorizon: (opts) => probeHorizon(world, opts) };
 
@@ -50,6 +54,7 @@ function clearScene() {
   app.objectMeshes = 0;
   hits.reset();
   skids.reset();
+  race.dispose();
   playback.reset();
   terrain.clear();
   world.sky.visible = false;
@@ -86,10 +91,12 @@ net.on('joined', (m) => {
   $('hud-role').textContent = m.role === 'drive' ? `driving vehicle ${m.vehicle}` : 'spectating';
   if (m.note) addEvent(m.note, 'w');
   terrain.setLayout(m.layout);
+  race.setLayout(m.layout && m.layout.race);
   world.sky.visible = true;
   app.objects = new SceneObjects(scene, m.layout && m.layout.objects);
   app.objectMeshes = app.objects.meshes.length;
   rig.set('chase');
+  if (touch) touch.show(m.role === 'drive');
 });
 net.on('left', () => { app.session = null; clearScene(); showLobby(true); });
 net.on('ground', (m) => {
@@ -113,6 +120,7 @@ net.on('contact', (m) => {
   hits.onContact(m);
 });
 net.on('event', (m) => {
+  if (race.onEvent(m)) return;  // "race: {json}" (race.js)
   const cls = m.severity >= 2 ? 'e' : m.severity === 1 ? 'w' : 'i';
   if (typeof m.reason === 'string' && m.reason.startsWith('hit: ')) {
     // an ended hit: the HUD named it while it lasted; one short line here
@@ -170,7 +178,9 @@ function toggleFigure() {
 const driver = new Driver(input, net, (a) => {
   if (a === 'camera') toggleCamera();
   else if (a === 'figure') toggleFigure();
+  else if (a === 'remap') remap.toggle();
   else if (app.role === 'drive' && !app.replay && a === 'reset') net.send({ op: 'reset' });
+  else if (app.role === 'drive' && !app.replay && a === 'respawn' && race.active) net.send({ op: 'respawn' });
   else if (app.role === 'drive' && !app.replay && a === 'pause') togglePause();
 });
 
@@ -272,6 +282,7 @@ function drawState(s, wallDt) {
     skids.update(i, vehicle, v, rc);
   });
   if (app.objects) app.objects.update(s.objects);
+  if (!app.replay) race.frame(s);
   const mine = s.vehicles[app.followed];
   if (mine) {
     if (app.layout && !app.replay && terrain.needsRefresh(mine.p[0], mine.p[1]) && !app.groundPending) {
