@@ -1,0 +1,167 @@
+// A race in a Session stepped by hand (fast mode, injected clock, a
+// recording output): the car is held until go whatever its controls, the
+// race's events come out as "race: {json}" reasons, the lap event's time
+// agrees with the crossings the published states show, and a respawn puts
+// the car upright and at rest 2 m past its last gate at once.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "session/fakes.hpp"
+#include "session/session.hpp"
+
+namespace groundsim::session::test {
+namespace {
+
+// the sprint of tests/web/data/race, its sedan on a throttle table from t = 0
+const char* kSprint = R"({"name": "sprint", "duration": 20, "output_rate": 50, "physics": {"dt": 0.004},
+  "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+  "vehicle": {"name": "sedan", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.7}]},
+  "race": {"laps": 1, "circuit": false, "countdown": 3,
+           "gates": [{"center": [10, 0], "width": 10, "heading_deg": 0}, {"center": [40, 0], "width": 10, "heading_deg": 0},
+                     {"center": [70, 0], "width": 10, "heading_deg": 0}],
+           "grid": [{"position": [0, 0], "heading_deg": 0}]}})";
+
+struct RaceRig {
+  RaceRig() {
+    const scenario::Scenario sc = scenario::parseScenario(std::string(kSprint));
+    scenario::Scene scene = scenario::buildScene(sc);
+    SessionSetup setup;
+    setup.id = "0000RACE";
+    setup.token = "t";
+    setup.scenario_json = kSprint;
+    setup.vehicle_names = {"sedan"};
+    setup.duration = 20;
+    setup.mode = Mode::Fast;
+    setup.publish_rate = 50;
+    setup.control_tables = scene.control_tables;
+    session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  }
+  std::vector<nlohmann::json> race(const std::string& type = "") const {
+    std::vector<nlohmann::json> v;
+    for (const Event& e : out.events)
+      if (e.reason.rfind("race: ", 0) == 0) {
+        nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
+        if (type.empty() || j["type"] == type) v.push_back(j);
+      }
+    return v;
+  }
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  std::shared_ptr<Session> session;
+};
+
+// when the published states put the car's centre across x (interpolated)
+double crossing(const std::vector<Frame>& frames, double x) {
+  for (size_t i = 1; i < frames.size(); ++i) {
+    const double xa = frames[i - 1].vehicles[0].position.x(), xb = frames[i].vehicles[0].position.x();
+    if (xa < x && xb >= x) return frames[i - 1].t + (frames[i].t - frames[i - 1].t) * (x - xa) / (xb - xa);
+  }
+  return NAN;
+}
+
+TEST(RaceSession, HeldUntilGoThenTimedAndRespawned) {
+  RaceRig rig;
+  // fast: to the duration, the clock moved on between runs (the publish budget)
+  for (int i = 0; i < 10000 && (rig.out.frames.empty() || rig.out.frames.back().status != Status::Finished); ++i) {
+    rig.session->run(rig.clock.now());
+    rig.clock.advance(0.5);
+  }
+  const auto& frames = rig.out.frames;
+  ASSERT_EQ(frames.back().status, Status::Finished);
+  ASSERT_GT(frames.size(), 900u);
+  // held: the throttle table says 0.7 from t = 0, the car stays on its slot until go
+  double creep = 0.0;
+  for (const Frame& f : frames)
+    if (f.t < 3.0) creep = std::max(creep, std::abs(f.vehicles[0].position.x()));
+  EXPECT_LT(creep, 0.05);
+  EXPECT_GT(frames.back().vehicles[0].position.x(), 70.0);
+
+  const auto layout = rig.race("race");
+  ASSERT_EQ(layout.size(), 1u);
+  EXPECT_EQ(layout[0]["gates"].size(), 3u);
+  const auto go = rig.race("go");
+  ASSERT_EQ(go.size(), 1u);
+  EXPECT_EQ(go[0]["t"], 3.0);
+  const auto start = rig.race("start"), gates = rig.race("gate"), laps = rig.race("lap"), fin = rig.race("finish");
+  ASSERT_EQ(start.size(), 1u);
+  ASSERT_EQ(gates.size(), 2u);
+  ASSERT_EQ(laps.size(), 1u);
+  ASSERT_EQ(fin.size(), 1u);
+  EXPECT_EQ(fin[0]["position"], 1);
+  const double dt = 0.004;
+  // the server's crossing instants against the states' (published every 5 steps)
+  const double t10 = crossing(frames, 10.0), t40 = crossing(frames, 40.0), t70 = crossing(frames, 70.0);
+  EXPECT_NEAR(start[0]["t"].get<double>(), t10, dt);
+  EXPECT_NEAR(gates[0]["split"].get<double>(), t40 - t10, dt);
+  EXPECT_NEAR(laps[0]["lap_time"].get<double>(), t70 - t10, dt);
+  EXPECT_NEAR(fin[0]["race_time"].get<double>(), t70 - 3.0, dt);
+  std::printf("lap %.6f s; from the states %.6f s (difference %.2g s)\n", laps[0]["lap_time"].get<double>(), t70 - t10,
+              laps[0]["lap_time"].get<double>() - (t70 - t10));
+  EXPECT_FALSE(rig.race("standings").empty());
+
+  // respawn (OP_RESET with steps = -1 - vehicle): the next frame has it 2 m past gate 2
+  Request r;
+  r.op = Op::Reset;
+  r.steps = -1;
+  r.request_id = 7;
+  r.session_id = "0000RACE";
+  r.token = "t";
+  rig.session->post(r);
+  const size_t before = frames.size();
+  rig.clock.advance(0.5);
+  rig.session->run(rig.clock.now());
+  ASSERT_GT(rig.out.frames.size(), before);
+  const VehicleSample& v = rig.out.frames.back().vehicles[0];
+  EXPECT_NEAR(v.position.x(), 72.0, 1e-9);
+  EXPECT_NEAR(v.position.y(), 0.0, 1e-9);
+  EXPECT_LT(v.speed, 1e-9);
+  const Vec3 up = v.orientation * Vec3::UnitZ();
+  EXPECT_GT(up.z(), std::cos(0.02));  // upright
+  ASSERT_EQ(rig.race("respawn").size(), 1u);
+  EXPECT_EQ(rig.race("respawn")[0]["gate"], 2);
+  bool replied = false;
+  for (const Reply& rep : rig.out.replies) replied = replied || (rep.request_id == 7 && rep.ok);
+  EXPECT_TRUE(replied);
+
+  // a respawn of a vehicle the session does not have is refused
+  r.steps = -5;
+  r.request_id = 8;
+  rig.session->post(r);
+  rig.session->run(rig.clock.now());
+  bool refused = false;
+  for (const Reply& rep : rig.out.replies) refused = refused || (rep.request_id == 8 && !rep.ok);
+  EXPECT_TRUE(refused);
+}
+
+TEST(RaceSession, ASessionWithoutARaceRefusesRespawn) {
+  const char* plain = R"({"name": "plain", "duration": 1, "physics": {"dt": 0.004}, "contact": {"friction": 1.0},
+    "ground": {"type": "plane"}, "vehicle": {"name": "sedan", "kind": "road_car"}})";
+  scenario::Scene scene = scenario::buildScene(scenario::parseScenario(std::string(plain)));
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  SessionSetup setup;
+  setup.id = "0000PLAN";
+  setup.token = "t";
+  setup.scenario_json = plain;
+  setup.vehicle_names = {"sedan"};
+  setup.mode = Mode::Fast;
+  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  Request r;
+  r.op = Op::Reset;
+  r.steps = -1;
+  r.request_id = 3;
+  s->post(r);
+  s->run(clock.now());
+  bool refused = false;
+  for (const Reply& rep : out.replies) refused = refused || (rep.request_id == 3 && !rep.ok);
+  EXPECT_TRUE(refused);
+  for (const Event& e : out.events) EXPECT_EQ(e.reason.rfind("race: ", 0), std::string::npos) << e.reason;
+}
+
+}  // namespace
+}  // namespace groundsim::session::test
