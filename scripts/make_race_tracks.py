@@ -4,7 +4,8 @@
     scripts/make_race_tracks.py [--out configs/race]
 
 circuit: an oval of two 120 m straights joined by half circles of 30 m
-(centre line radius), 12 m wide, run counter-clockwise, on a 16-bit PNG
+(centre line radius), 12 m wide, run counter-clockwise, asphalt (friction
+patches) up to the walls and grass around and inside, on a 16-bit PNG
 heightfield of 257 x 257 samples of 2 m (512 m square, centred on the
 origin): flat (z = 0) within 14 m of the centre line and over the infield,
 rising as rolling hills to 18 m beyond. Concrete walls (1 m high) line the
@@ -99,7 +100,7 @@ def box(name, x, y, yaw, length, thick, height, friction=0.6):
 
 def circuit():
     objects = []
-    out_off = HALF_WIDTH + WALL_GAP
+    out_off = HALF_WIDTH + WALL_GAP  # walls this far from the centre line
     # straights: outer and inner walls
     for side, sy in (("s", -1), ("n", 1)):
         objects.append(box("wall_out_" + side, 0.0, sy * (RADIUS + out_off), 0.0, 2 * STRAIGHT, 0.5, 1.0))
@@ -135,15 +136,25 @@ def circuit():
         centerline.append([round(x, 3), round(y, 3)])
     return {
         "name": "circuit",
-        "description": "Race: 3 laps of an oval circuit (two 120 m straights, 30 m corners, 12 m wide) walled in "
-                       "concrete with kerbs on the corners, in rolling hills (a 512 m heightfield); 10 gates, "
+        "description": "Race: 3 laps of an oval circuit (two 120 m straights, 30 m corners, 12 m wide) of asphalt "
+                       "walled in concrete with kerbs on the corners, grass around, in rolling hills (a 512 m "
+                       "heightfield); 10 gates, "
                        "a countdown, a grid for 8. Made by scripts/make_race_tracks.py",
         "duration": 600,
         "output_rate": 50,
         "physics": {"integrator": "semi_implicit_euler", "dt": 0.004},
-        "contact": {"friction": 1.0},
+        # grass off the track, asphalt on it (up to the walls), the infield grass again: the last patch wins
+        "contact": {"friction": 0.45},
         "ground": {"type": "heightfield", "file": "circuit.png", "cell_size": CELL,
-                   "origin": [-(CELLS - 1) / 2 * CELL, -(CELLS - 1) / 2 * CELL], "height_scale": HILLS},
+                   "origin": [-(CELLS - 1) / 2 * CELL, -(CELLS - 1) / 2 * CELL], "height_scale": HILLS,
+                   "friction_patches": [
+                       {"name": "track_s", "region": [-STRAIGHT, -RADIUS - out_off, STRAIGHT, -RADIUS + out_off], "surface": "asphalt"},
+                       {"name": "track_n", "region": [-STRAIGHT, RADIUS - out_off, STRAIGHT, RADIUS + out_off], "surface": "asphalt"},
+                       {"name": "track_e", "circle": [STRAIGHT, 0, RADIUS + out_off], "surface": "asphalt"},
+                       {"name": "track_w", "circle": [-STRAIGHT, 0, RADIUS + out_off], "surface": "asphalt"},
+                       {"name": "infield", "region": [-STRAIGHT, -RADIUS + out_off, STRAIGHT, RADIUS - out_off], "surface": "grass"},
+                       {"name": "infield_e", "circle": [STRAIGHT, 0, RADIUS - out_off], "surface": "grass"},
+                       {"name": "infield_w", "circle": [-STRAIGHT, 0, RADIUS - out_off], "surface": "grass"}]},
         "vehicles": [sedan("sedan", grid[0]["position"][0], grid[0]["position"][1], 0)],
         "objects": objects,
         "race": {"laps": 3, "countdown": 3, "gates": gates, "grid": grid,
