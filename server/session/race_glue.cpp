@@ -40,7 +40,7 @@ double yawOf(const Quat& q) {
 
 }  // namespace
 
-std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, const Model& m) {
+std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, std::shared_ptr<const Model> m) {
   if (scenario_json.find("\"race\"") == std::string::npos) return nullptr;  // no JSON parse for most sessions
   std::optional<scenario::RaceSpec> spec;
   try {
@@ -49,7 +49,18 @@ std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, const M
     return nullptr;  // validated at create: not reached
   }
   if (!spec) return nullptr;
-  return std::make_unique<RaceGlue>(std::move(*spec), static_cast<int>(m.vehicle_names.size()));
+  const int cars = static_cast<int>(m->vehicle_names.size());
+  return std::make_unique<RaceGlue>(std::move(*spec), cars, std::move(m));
+}
+
+std::shared_ptr<const Model> ghostModel(const Model& m, const std::vector<bool>& ghost) {
+  auto g = std::make_shared<Model>(m);
+  for (CollisionGroup& grp : g->groups)
+    if (grp.vehicle >= 0 && static_cast<std::size_t>(grp.vehicle) < ghost.size() && ghost[static_cast<std::size_t>(grp.vehicle)]) {
+      grp.probe_end = grp.probe_begin;
+      grp.collider_end = grp.collider_begin;
+    }
+  return g;
 }
 
 void placeVehicle(Simulator& sim, const State& initial, int v, double x, double y, double yaw) {
@@ -139,9 +150,28 @@ void Session::raceBeforeStep() {
   }
 }
 
+// Steps the scenario's model, or a ghost copy while respawned cars are
+// protected; a new Simulator on the same state (hits under way are dropped).
+void Session::raceGhosts() {
+  RaceGlue& g = *race_;
+  const double t = sim_.state().t;
+  std::vector<bool> ghost(g.ghost_until.size(), false);
+  bool any = false;
+  for (std::size_t v = 0; v < ghost.size(); ++v) any |= ghost[v] = t < g.ghost_until[v];
+  if (!any && !g.ghosted) return;
+  State s = sim_.state();
+  sim_ = Simulator(any ? ghostModel(*g.model, ghost) : g.model, std::move(s));
+  g.ghosted = any;
+}
+
 void Session::raceAfterStep(double t0) {
   if (!race_) return;
   RaceGlue& g = *race_;
+  if (g.ghosted) {  // a protection over
+    bool over = false;
+    for (double until : g.ghost_until) over |= until > 0.0 && until <= sim_.state().t && until > t0;
+    if (over) raceGhosts();
+  }
   const bool was_held = g.race.held(t0);
   const int n = g.race.cars();
   g.after.resize(static_cast<std::size_t>(n));
@@ -165,6 +195,8 @@ void Session::raceReset() {
   if (!race_) return;
   race_->race.reset();
   race_->announced = false;
+  std::fill(race_->ghost_until.begin(), race_->ghost_until.end(), 0.0);
+  raceGhosts();
 }
 
 void Session::raceRespawn(const Request& r) {
@@ -214,6 +246,11 @@ void Session::raceRespawn(const Request& r) {
   pose.position = spot;
   for (const race::RaceEvent& e : race_->race.respawned(car, pose, sim_.state().t))
     event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
+  // protected: it passes through the others until then (contact between bodies only)
+  if (sim_.model().collisions && race_->race.spec().respawn_protection > 0.0) {
+    race_->ghost_until[static_cast<std::size_t>(car)] = sim_.state().t + race_->race.spec().respawn_protection;
+    raceGhosts();
+  }
   frame_pending_ = true;
   reply(to, true, ErrorCode::None, "");
 }

@@ -16,11 +16,24 @@ struct RaceGlue {
   race::Race race;
   std::vector<race::Vec2> before, after;  // body centres at the start and end of the step
   bool announced = false;                 // the layout and countdown were published
-  explicit RaceGlue(scenario::RaceSpec spec, int cars) : race(std::move(spec), cars) {}
+  // Respawn protection: a respawned car passes through the other cars and
+  // objects until ghost_until[car] (simulated s). The session then steps a
+  // copy of its model in which those cars' collision groups are empty
+  // (ghostModel); `model` is the scenario's, stepped again once none is.
+  std::shared_ptr<const Model> model;
+  std::vector<double> ghost_until;
+  bool ghosted = false;                   // the session steps a ghost model now
+  RaceGlue(scenario::RaceSpec spec, int cars, std::shared_ptr<const Model> m)
+      : race(std::move(spec), cars), model(std::move(m)), ghost_until(static_cast<std::size_t>(cars), 0.0) {}
 };
 
 // The race of a session's scenario document, or null when it has none.
-std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, const Model& m);
+std::unique_ptr<RaceGlue> makeRaceGlue(const std::string& scenario_json, std::shared_ptr<const Model> m);
+
+// A copy of `m` in which the collision groups of the vehicles with
+// ghost[v] set hold no probes and no shapes: those vehicles touch the
+// ground only.
+std::shared_ptr<const Model> ghostModel(const Model& m, const std::vector<bool>& ghost);
 
 // Moves vehicle v of `initial`'s pose (its chassis, wheels and rim points)
 // to (x, y) on the ground with heading yaw, at rest, into sim's state: the

@@ -51,7 +51,7 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
   for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
   anchor_.reset(now, sim_.state().t, setup_.rate);
-  race_ = makeRaceGlue(setup_.scenario_json, m);
+  race_ = makeRaceGlue(setup_.scenario_json, model);
   updateInfo(now);
 }
 

@@ -137,6 +137,126 @@ TEST(RaceSession, HeldUntilGoThenTimedAndRespawned) {
   EXPECT_TRUE(refused);
 }
 
+// Two cars respawned at the same gate: the second is put along the gate's
+// line, clear of the first (4 m between centres), 6 m to its left.
+TEST(RaceSession, ASecondRespawnAtTheSameGateIsPutClearOfTheFirst) {
+  const char* two = R"({"name": "two", "duration": 20, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "a", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.7}]},
+                 {"name": "b", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.7}]}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1,
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [40, 0], "width": 14, "heading_deg": 0}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  const scenario::Scenario sc = scenario::parseScenario(std::string(two));
+  scenario::Scene scene = scenario::buildScene(sc);
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  SessionSetup setup;
+  setup.id = "0000TWO0";
+  setup.token = "t";
+  setup.scenario_json = two;
+  setup.vehicle_names = {"a", "b"};
+  setup.duration = 20;
+  setup.mode = Mode::Fast;
+  setup.publish_rate = 50;
+  setup.control_tables = scene.control_tables;
+  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  for (int i = 0; i < 10000 && (out.frames.empty() || out.frames.back().status != Status::Finished); ++i) {
+    s->run(clock.now());
+    clock.advance(0.5);
+  }
+  ASSERT_EQ(out.frames.back().status, Status::Finished);
+  int finished = 0;
+  for (const Event& e : out.events) finished += e.reason.find("\"type\":\"finish\"") != std::string::npos;
+  ASSERT_EQ(finished, 2);
+  for (int v : {0, 1}) {
+    Request r;
+    r.op = Op::Reset;
+    r.steps = -1 - v;
+    r.request_id = 10 + v;
+    s->post(r);
+    clock.advance(0.5);
+    s->run(clock.now());
+  }
+  const Frame& f = out.frames.back();
+  EXPECT_NEAR(f.vehicles[0].position.x(), 42.0, 1e-9);
+  EXPECT_NEAR(f.vehicles[0].position.y(), 0.0, 1e-9);
+  EXPECT_NEAR(f.vehicles[1].position.x(), 42.0, 1e-9);
+  EXPECT_NEAR(f.vehicles[1].position.y(), 6.0, 1e-9);  // 0 and +-3 are within 4 m of car a
+}
+
+// Respawn protection: a car stopped by a wall just past gate 1 is respawned
+// 2 m past the gate, facing the wall 3 m ahead; for respawn_protection (3 s)
+// it passes through, and no hit is reported; a session stepped on (lockstep)
+Request stepRequest(std::int64_t steps, std::int64_t id) {
+  Request r;
+  r.op = Op::Step;
+  r.steps = steps;
+  r.request_id = id;
+  return r;
+}
+
+TEST(RaceSession, ARespawnedCarPassesThroughForItsProtection) {
+  const char* walled = R"({"name": "walled", "duration": 60, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicle": {"name": "sedan", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.7}]},
+    "objects": [{"name": "wall", "shape": "box", "size": [1, 20, 1], "position": [46, 0, 0]}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1,
+             "gates": [{"center": [10, 0], "width": 10, "heading_deg": 0}, {"center": [40, 0], "width": 10, "heading_deg": 0},
+                       {"center": [80, 0], "width": 10, "heading_deg": 0}],
+             "grid": [{"position": [0, 0]}]}})";
+  const scenario::Scenario sc = scenario::parseScenario(std::string(walled));
+  scenario::Scene scene = scenario::buildScene(sc);
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  SessionSetup setup;
+  setup.id = "0000WALL";
+  setup.token = "t";
+  setup.scenario_json = walled;
+  setup.vehicle_names = {"sedan"};
+  setup.mode = Mode::Lockstep;
+  setup.control_tables = scene.control_tables;
+  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  s->post(stepRequest(2500, 1));  // 10 s: through gate 1, into the wall
+  s->run(clock.now());
+  ASSERT_FALSE(out.frames.empty());
+  const double stopped = out.frames.back().vehicles[0].position.x();
+  int hits = 0;
+  for (const Event& e : out.events) hits += e.reason.rfind("hit: ", 0) == 0;
+  for (const Hit& h : out.frames.back().hits) hits += h.a >= 0;
+  EXPECT_LT(stopped, 46.0);  // held by the wall
+  EXPECT_GT(hits, 0);
+  Request r;
+  r.op = Op::Reset;
+  r.steps = -1;
+  r.request_id = 2;
+  s->post(r);
+  s->post(stepRequest(700, 3));  // 2.8 s of the 3 s protection
+  s->run(clock.now());
+  const Frame f = out.frames.back();  // a copy: more frames follow
+  EXPECT_GT(f.vehicles[0].position.x(), 48.0) << "the protected car did not pass through the wall";
+  EXPECT_TRUE(f.hits.empty());
+  bool hit_after = false;
+  bool respawned = false;
+  for (const Event& e : out.events) {
+    respawned = respawned || e.reason.find("\"type\":\"respawn\"") != std::string::npos;
+    hit_after = hit_after || (respawned && e.reason.rfind("hit: ", 0) == 0);
+  }
+  EXPECT_TRUE(respawned);
+  EXPECT_FALSE(hit_after);
+  // after it: the scenario's model again (the car's group has its probes)
+  s->post(stepRequest(100, 4));
+  s->run(clock.now());
+  const Model& m = *out.frames.back().model;
+  bool probes = false;
+  for (const CollisionGroup& g : m.groups) probes = probes || (g.vehicle == 0 && g.probe_end > g.probe_begin);
+  EXPECT_TRUE(probes);
+  std::printf("stopped by the wall at x = %.2f m; respawned, %.2f m after 2.8 s of protection\n", stopped,
+              f.vehicles[0].position.x());
+}
+
 TEST(RaceSession, ASessionWithoutARaceRefusesRespawn) {
   const char* plain = R"({"name": "plain", "duration": 1, "physics": {"dt": 0.004}, "contact": {"friction": 1.0},
     "ground": {"type": "plane"}, "vehicle": {"name": "sedan", "kind": "road_car"}})";
