@@ -308,3 +308,12 @@ TEST(StateJson, ReEncodesEveryField) {
   EXPECT_EQ(j["vehicles"][0]["contact"][1], true);
   EXPECT_EQ(j["vehicles"][0]["N"][2], 0);
 }
+
+TEST(StateJson, CarriesTheLiveErrorEstimate) {
+  groundsim::state_t s{};
+  s.session_id = "ABCDEF12";
+  s.error_estimate = 0.0031;  // a session run to a tolerance
+  EXPECT_DOUBLE_EQ(json::parse(stateJson(s, 1.0))["error_estimate"].get<double>(), 0.0031);
+  s.error_estimate = -1;  // none: the page hides the line
+  EXPECT_EQ(json::parse(stateJson(s, 1.0))["error_estimate"], -1);
+}

@@ -54,6 +54,9 @@ std::string stateJson(const groundsim::state_t& s, double wall_s) {
   num(out, s.energy);
   char wall[40];
   out.append(wall, std::snprintf(wall, sizeof wall, ",\"wall\":%.6f", wall_s));
+  // the live error estimate (docs/accuracy.md): -1 when the session has no tolerance
+  out += ",\"error_estimate\":";
+  num(out, s.error_estimate);
   out += ",\"vehicles\":[";
   for (std::size_t k = 0; k < s.vehicles.size(); ++k) {
     const groundsim::vehicle_state_t& v = s.vehicles[k];

@@ -14,7 +14,8 @@
 namespace groundsim::web {
 
 // {"op":"state","session":..,"seq":..,"t":..,"status":..,"health":..,
-//  "reason":..,"energy":..,"wall":..,"vehicles":[{"name","p","q"(w x y z),
+//  "reason":..,"energy":..,"wall":..,"error_estimate" (the live error
+//  estimate, -1 without a tolerance),"vehicles":[{"name","p","q"(w x y z),
 //  "v","w","speed","spin","N","F","slip","contact"}]}
 // wall: s on the bridge's steady clock when the state arrived, so the page
 // measures the real-time factor even when its own thread is busy drawing.

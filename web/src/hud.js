@@ -1,6 +1,7 @@
 // The heads-up display while a session or a replay is shown: speed, gear
-// and rpm, times, the session's status and health, wheel loads and travel,
-// frame rate; and the event lines at the bottom left.
+// and rpm, times, the session's status and health, the live error estimate
+// (a session with a tolerance), wheel loads and travel, frame rate; and the
+// event lines at the bottom left.
 import { app, $, STATUS, HEALTH } from './app.js';
 
 export function addEvent(text, cls) {
@@ -36,6 +37,10 @@ export function updateHud(s, v, { gear = null, rate = null } = {}) {
   st.textContent = STATUS[s.status] || s.status;
   st.className = s.status === 4 ? 'bad' : s.status !== 1 ? 'warn' : '';
   $('hud-health').textContent = HEALTH[s.health] || s.health;
+  // the live error estimate of a session run to a tolerance (docs/accuracy.md); -1 or absent: none
+  const est = typeof s.error_estimate === 'number' && s.error_estimate >= 0 ? s.error_estimate : null;
+  $('hud-error-row').classList.toggle('hidden', est === null);
+  if (est !== null) $('hud-error').textContent = `~${(100 * est).toPrecision(2)}% (live estimate)`;
   const car = app.vehicles[app.followed];
   $('hud-wheels').textContent = `${v.N.map((n) => n.toFixed(1)).join(' ')} N`;
   $('hud-travel').textContent = car ? `${car.wheels.map((w) => (1000 * w.lift).toFixed(3)).join(' ')} mm` : '-';
