@@ -20,9 +20,11 @@ await h.launch();
 const page = await h.newPage(url);
 await h.createAndDrive(page, 'sprint.json');
 await h.until('the race layout', () => page.evaluate(() => window.groundsim.race.active));
-// from the start: the page may have joined after the countdown (shaders compile slowly in software)
+// from the start: the page may have joined after the countdown (shaders
+// compile slowly in software; on a loaded machine the page's first frames
+// take seconds each, so the reset is given time)
 await page.keyboard.press('r');
-await h.until('the reset', () => page.evaluate(() => window.groundsim.lastState.t < 1.0), 20000, 20);
+await h.until('the reset', () => page.evaluate(() => window.groundsim.lastState.t < 1.0), 90000, 20);
 
 // the own car's states as the page receives them: [t, x, y]
 const record = () => page.evaluate(() => {
