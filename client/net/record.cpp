@@ -22,6 +22,7 @@
 #include "protocol/codec.hpp"
 #include "protocol/text.hpp"
 #include "record/message_json.hpp"
+#include "record/precision_options.hpp"
 #include "record/recorder.hpp"
 #include "tokens.hpp"
 
@@ -40,8 +41,8 @@ struct RecordOptions {
   double duration = 0.0;
   double repair_wait = 3.0;
   bool raw = false;
-  int zstd_level = 3;
-  int digits = 17;
+  int zstd_level = 9;  // docs/logging.md, Size: 3 is about 4 points of the LCM log bigger
+  record::PrecisionOptions precision;
   double split_mb = 0.0;  // a new part once the current one holds this much (0: one file)
   double split_s = 0.0;   // a new part after this many wall seconds (0: never)
   double budget_mb = 0.0; // the parts together at most this much: the oldest are deleted (0: no budget)
@@ -173,6 +174,9 @@ void run(const RecordOptions& o) {
     // reply were added as not created; add() keeps the first)
     rec.add(r.session_id, true);
     for (const scenario::Asset& a : create->assets) rec.addAsset(r.session_id, a.ref.name, a.bytes);
+    // the scenario the server published with its reply came before the
+    // session was added (and was not kept): ask for it
+    askScenario(r.session_id);
     std::printf("%s\n", net::printable(r.session_id).c_str());
     std::fflush(stdout);
   }
@@ -298,15 +302,13 @@ void registerRecordCommand(CLI::App& app) {
   cmd->add_option("--split-s", o->split_s, "start a new part after this many wall seconds")->check(CLI::NonNegativeNumber);
   cmd->add_option("--budget-mb", o->budget_mb, "delete the oldest parts while all of them hold more than this")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--digits", o->digits,
-                  "significant digits of the JSON numbers (17: exact; 9: half the size, docs/logging.md)")
-      ->capture_default_str()->check(CLI::Range(1, 17));
+  record::addPrecisionOptions(cmd, o->precision);
   addCreateOptions(cmd, o->create, /*positional=*/false);
   addNetOptions(cmd, o->net, true);
   cmd->callback([o] {
     const int ways = !o->sessions.empty() + o->all + !o->match.empty() + !o->create.file.empty();
     if (ways != 1) throw CLI::ValidationError("record", "give SESSION ids, --all, --match REGEX or --create SCENARIO (one of them)");
-    record::setJsonDigits(o->digits);
+    record::applyPrecision(o->precision);
     guarded([&] { run(*o); });
   });
 }

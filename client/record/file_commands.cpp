@@ -2,7 +2,8 @@
 // as files (docs/logging.md).
 // - inspect: whether the file is complete (a recorder killed mid-way leaves
 //   no summary: the reader scans it and says how far it reaches), messages
-//   per channel with their time span, the ledgers, the attachments.
+//   per channel with their time span, the precision of the states' numbers,
+//   the ledgers, the attachments.
 // - convert: an LCM log (lcm-logger's format) to MCAP, through the same
 //   recorder as `record` (JSON messages, ledgers: a seq gap in the log is a
 //   loss, named; the raw LCM bytes kept, so it converts back), or an MCAP
@@ -17,6 +18,7 @@
 #include "net/common.hpp"
 #include "protocol/text.hpp"
 #include "record/message_json.hpp"
+#include "record/precision_options.hpp"
 #include "record/recorder.hpp"
 #include "recording/mcap_reader.hpp"
 
@@ -46,7 +48,15 @@ void inspect(const std::string& path) {
                 static_cast<unsigned long long>(counted[id]), 1e-9 * static_cast<double>(s.first),
                 1e-9 * static_cast<double>(s.second), c.message_encoding.c_str());
   }
-  for (const auto& [name, kv] : r.metadata()) {
+  const auto meta = r.metadata();
+  if (auto g = meta.find("groundsim"); g != meta.end()) {
+    auto p = g->second.find("json_precision");
+    if (p != g->second.end())
+      std::printf("precision  %s (the state streams' numbers; docs/logging.md, Size)\n", net::printable(p->second).c_str());
+    else if ((p = g->second.find("json_digits")) != g->second.end())
+      std::printf("precision  %s significant digits (17: exact)\n", net::printable(p->second).c_str());
+  }
+  for (const auto& [name, kv] : meta) {
     if (name.rfind("ledger/", 0) != 0) continue;
     std::string line;
     for (const char* k : {"state_received_count", "state_repaired_count", "state_lost_count", "state_lost",
@@ -133,8 +143,8 @@ void registerRecordingFileCommands(CLI::App& app) {
   });
   struct ConvertOptions {
     std::string in, out;
-    int level = 3;
-    int digits = 17;
+    int level = 9;
+    record::PrecisionOptions precision;
     bool raw = true;
   };
   auto o = std::make_shared<ConvertOptions>();
@@ -143,11 +153,10 @@ void registerRecordingFileCommands(CLI::App& app) {
   conv->add_option("OUT", o->out, "output file")->required();
   conv->add_option("--zstd-level", o->level, "MCAP chunk compression (0: none)")->capture_default_str()
       ->check(CLI::Range(0, 19));
-  conv->add_option("--digits", o->digits, "significant digits of the JSON numbers (17: exact)")
-      ->capture_default_str()->check(CLI::Range(1, 17));
+  record::addPrecisionOptions(conv, o->precision);
   conv->add_flag("!--no-raw", o->raw, "LCM to MCAP: leave the raw LCM bytes out (the file cannot convert back)");
   conv->callback([o] {
-    record::setJsonDigits(o->digits);
+    record::applyPrecision(o->precision);
     int rc = 0;
     try {
       rc = endsWith(o->in, ".mcap") ? mcapToLcm(o->in, o->out) : lcmToMcap(o->in, o->out, o->level, o->raw);

@@ -4,11 +4,34 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace groundsim::record {
 namespace {
 
+Precision g_precision = Precision::Fields;
 int g_digits = 17;
+
+// The decimals of each quantity under Precision::Fields (docs/logging.md,
+// Size, has this table and why): what a plot or a viewer can show, and
+// finer than the model's own error; exactness is kept by the applied-command
+// log and `replay --resimulate`, or by --exact. A change of any of them is a
+// new table: bump kFieldsVersion, so replay compares a file at the table it
+// was written with.
+constexpr int kFieldsVersion = 1;
+constexpr int kExactField = -1;  // these stay exact: time, inputs, the error estimate
+constexpr int kLength = 3;       // m: position (a millimetre)
+constexpr int kTravel = 4;       // m: suspension travel, overlap depth (0.1 mm)
+constexpr int kQuaternion = 4;   // unit quaternion components (0.2 mrad; 0.4 mm at 2 m)
+constexpr int kSpeed = 3;        // m/s: velocity, speed, slip, closing speed (a millimetre per second)
+constexpr int kAngular = 3;      // rad/s: angular velocity, yaw rate
+constexpr int kAngle = 4;        // rad: slip angle, steer angle; slip ratio (-)
+constexpr int kSpin = 2;         // rad/s: wheel spin (3 mm/s at a 0.3 m rim)
+constexpr int kForce = 0;        // N: normal, friction, hit force (a newton)
+constexpr int kEnergy = 0;       // J (a joule); also W (drive power) and rpm
+constexpr int kImpulse = 3;      // N s
+
+constexpr double kPow10[] = {1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
 
 class Out {
  public:
@@ -32,19 +55,57 @@ class Out {
     exact_ = true;
     return *this;
   }
-  Out& num(double x) {
+  // A number of a quantity written to `decimals` under Precision::Fields
+  // (kExactField: exact whatever the precision).
+  Out& num(double x, int decimals = kExactField) {
     // the server never publishes NaN or infinity; JSON has no word for them
     if (!std::isfinite(x)) {
       s_ += "null";
       return *this;
     }
+    if (!exact_ && decimals != kExactField && g_precision == Precision::Fields && fixed(x, decimals)) return *this;
     // exact: the shortest text that reads back as the same double (Ryu in
     // libstdc++: several times faster than printf's %.17g, and shorter)
     char b[32];
-    const auto r = g_digits >= 17 || exact_ ? std::to_chars(b, b + sizeof b, x)
-                                  : std::to_chars(b, b + sizeof b, x, std::chars_format::general, g_digits);
+    const bool shortest = exact_ || decimals == kExactField || g_precision != Precision::Digits;
+    const auto r = shortest ? std::to_chars(b, b + sizeof b, x)
+                            : std::to_chars(b, b + sizeof b, x, std::chars_format::general, g_digits);
     s_.append(b, r.ptr);
     return *this;
+  }
+  // x rounded to a multiple of 10^-decimals, as the integer's digits with a
+  // decimal point put in, trailing zeros dropped ("12.3456", "0", "-0.5").
+  // False (nothing written) past 9e15 units, where a double no longer holds
+  // every integer: the caller writes it exactly.
+  bool fixed(double x, int decimals) {
+    const double scaled = x * kPow10[decimals];
+    if (!(std::fabs(scaled) < 9e15)) return false;
+    long long q = std::llround(scaled);
+    if (q == 0) {
+      s_ += '0';
+      return true;
+    }
+    if (q < 0) {
+      s_ += '-';
+      q = -q;
+    }
+    char b[24];
+    const auto r = std::to_chars(b, b + sizeof b, q);
+    const int n = static_cast<int>(r.ptr - b);
+    int end = n;  // digits kept: trailing zeros of the fraction dropped
+    while (end > n - decimals && end > 0 && b[end - 1] == '0') --end;
+    if (n <= decimals) {
+      s_ += "0.";
+      s_.append(static_cast<std::size_t>(decimals - n), '0');
+      s_.append(b, b + end);
+    } else {
+      s_.append(b, b + n - decimals);
+      if (end > n - decimals) {
+        s_ += '.';
+        s_.append(b + n - decimals, b + end);
+      }
+    }
+    return true;
   }
   Out& integer(long long v) {
     s_ += std::to_string(v);
@@ -72,11 +133,11 @@ class Out {
     return *this;
   }
   template <class T>
-  Out& nums(const T* v, int n) {
+  Out& nums(const T* v, int n, int decimals = kExactField) {
     s_ += '[';
     for (int i = 0; i < n; ++i) {
       if (i) s_ += ',';
-      num(static_cast<double>(v[i]));
+      num(static_cast<double>(v[i]), decimals);
     }
     s_ += ']';
     return *this;
@@ -112,7 +173,46 @@ void header(Out& o, long long utime, long long seq, const std::string& session, 
 
 }  // namespace
 
-void setJsonDigits(int digits) { g_digits = digits < 1 ? 1 : digits > 17 ? 17 : digits; }
+void setPrecision(Precision p, int digits) {
+  g_precision = p;
+  g_digits = p == Precision::Exact ? 17 : digits < 1 ? 1 : digits > 16 ? 16 : digits;
+}
+Precision precision() { return g_precision; }
+
+std::string precisionName() {
+  switch (g_precision) {
+    case Precision::Fields: return "fields-" + std::to_string(kFieldsVersion);
+    case Precision::Exact: return "exact";
+    case Precision::Digits: break;
+  }
+  return "digits-" + std::to_string(g_digits);
+}
+
+bool parsePrecision(const std::string& name, Precision* p, int* digits) {
+  const auto number = [](const std::string& s, int* v) {
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), *v);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size();
+  };
+  int n = 0;
+  if (name == "fields-" + std::to_string(kFieldsVersion)) {
+    *p = Precision::Fields;
+    *digits = 17;
+  } else if (name == "exact" || name == "17") {
+    *p = Precision::Exact;
+    *digits = 17;
+  } else if (name.rfind("digits-", 0) == 0 && number(name.substr(7), &n) && n >= 1 && n <= 16) {
+    *p = Precision::Digits;
+    *digits = n;
+  } else if (number(name, &n) && n >= 1 && n <= 16) {  // json_digits of files from before
+    *p = Precision::Digits;
+    *digits = n;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+void setJsonDigits(int digits) { setPrecision(digits >= 17 ? Precision::Exact : Precision::Digits, digits); }
 int jsonDigits() { return g_digits; }
 
 std::string toJson(const groundsim::state_t& m) {
@@ -120,16 +220,18 @@ std::string toJson(const groundsim::state_t& m) {
   o.open('{');
   header(o, m.utime, m.seq, m.session_id, m.t);
   o.key("tick").integer(m.tick).key("mode").integer(m.mode).key("status").integer(m.status);
-  o.key("health").integer(m.health).key("status_reason").str(m.status_reason).key("energy").num(m.energy);
+  o.key("health").integer(m.health).key("status_reason").str(m.status_reason).key("energy").num(m.energy, kEnergy);
+  o.key("epoch").integer(m.epoch).key("error_estimate").num(m.error_estimate);
   o.key("vehicles").open('[');
   for (const groundsim::vehicle_state_t& v : m.vehicles) {
     const int nw = v.wheel_count < 0 ? 0 : v.wheel_count > 4 ? 4 : v.wheel_count;
     o.open('{');
-    o.key("name").str(v.name).key("position").nums(v.position, 3).key("orientation").nums(v.orientation, 4);
-    o.key("velocity").nums(v.velocity, 3).key("angular_velocity").nums(v.angular_velocity, 3);
-    o.key("speed").num(v.speed).key("wheel_count").integer(nw);
-    o.key("wheel_spin").nums(v.wheel_spin, nw).key("normal_force").nums(v.normal_force, nw);
-    o.key("friction_force").nums(v.friction_force, nw).key("slip").nums(v.slip, nw);
+    o.key("name").str(v.name).key("position").nums(v.position, 3, kLength);
+    o.key("orientation").nums(v.orientation, 4, kQuaternion).key("velocity").nums(v.velocity, 3, kSpeed);
+    o.key("angular_velocity").nums(v.angular_velocity, 3, kAngular);
+    o.key("speed").num(v.speed, kSpeed).key("wheel_count").integer(nw);
+    o.key("wheel_spin").nums(v.wheel_spin, nw, kSpin).key("normal_force").nums(v.normal_force, nw, kForce);
+    o.key("friction_force").nums(v.friction_force, nw, kForce).key("slip").nums(v.slip, nw, kSpeed);
     bool contact[4];
     for (int i = 0; i < 4; ++i) contact[i] = v.in_contact[i];
     o.key("in_contact").bools(contact, nw);
@@ -143,15 +245,16 @@ std::string toJson(const groundsim::car_state_t& m) {
   Out o(200 + 600 * m.cars.size());
   o.open('{');
   header(o, m.utime, m.seq, m.session_id, m.t);
-  o.key("cars").open('[');
+  o.key("epoch").integer(m.epoch).key("cars").open('[');
   for (const groundsim::road_car_state_t& c : m.cars) {
     o.open('{');
-    o.key("vehicle").integer(c.vehicle).key("name").str(c.name).key("speed").num(c.speed);
-    o.key("yaw_rate").num(c.yaw_rate).key("gear").integer(c.gear).key("engine_rpm").num(c.engine_rpm);
-    o.key("drive_power").num(c.drive_power).key("slip_ratio").nums(c.slip_ratio, 4);
-    o.key("slip_angle").nums(c.slip_angle, 4).key("suspension_travel").nums(c.suspension_travel, 4);
-    o.key("normal_force").nums(c.normal_force, 4).key("throttle").num(c.throttle).key("brake").num(c.brake);
-    o.key("steer").num(c.steer).key("steer_angle").num(c.steer_angle).key("handbrake").boolean(c.handbrake);
+    o.key("vehicle").integer(c.vehicle).key("name").str(c.name).key("speed").num(c.speed, kSpeed);
+    o.key("yaw_rate").num(c.yaw_rate, kAngular).key("gear").integer(c.gear);
+    o.key("engine_rpm").num(c.engine_rpm, kEnergy).key("drive_power").num(c.drive_power, kEnergy);
+    o.key("slip_ratio").nums(c.slip_ratio, 4, kAngle).key("slip_angle").nums(c.slip_angle, 4, kAngle);
+    o.key("suspension_travel").nums(c.suspension_travel, 4, kTravel).key("normal_force").nums(c.normal_force, 4, kForce);
+    o.key("throttle").num(c.throttle).key("brake").num(c.brake).key("steer").num(c.steer);
+    o.key("steer_angle").num(c.steer_angle, kAngle).key("handbrake").boolean(c.handbrake);
     o.key("gear_request").integer(c.gear_request);
     o.close('}');
   }
@@ -163,19 +266,21 @@ std::string toJson(const groundsim::contact_state_t& m) {
   Out o(200 + 300 * (m.objects.size() + m.hits.size()));
   o.open('{');
   header(o, m.utime, m.seq, m.session_id, m.t);
-  o.key("objects").open('[');
+  o.key("epoch").integer(m.epoch).key("objects").open('[');
   for (const groundsim::object_state_t& b : m.objects) {
     o.open('{');
-    o.key("name").str(b.name).key("position").nums(b.position, 3).key("orientation").nums(b.orientation, 4);
-    o.key("velocity").nums(b.velocity, 3).key("angular_velocity").nums(b.angular_velocity, 3);
+    o.key("name").str(b.name).key("position").nums(b.position, 3, kLength);
+    o.key("orientation").nums(b.orientation, 4, kQuaternion).key("velocity").nums(b.velocity, 3, kSpeed);
+    o.key("angular_velocity").nums(b.angular_velocity, 3, kAngular);
     o.close('}');
   }
   o.close(']').key("hits").open('[');
   for (const groundsim::hit_t& h : m.hits) {
     o.open('{');
-    o.key("a").str(h.a).key("b").str(h.b).key("position").nums(h.position, 3).key("force").nums(h.force, 3);
-    o.key("impulse").num(h.impulse).key("peak_force").num(h.peak_force).key("closing_speed").num(h.closing_speed);
-    o.key("depth").num(h.depth).key("begin").num(h.begin).key("hard").boolean(h.hard);
+    o.key("a").str(h.a).key("b").str(h.b).key("position").nums(h.position, 3, kLength);
+    o.key("force").nums(h.force, 3, kForce).key("impulse").num(h.impulse, kEnergy);
+    o.key("peak_force").num(h.peak_force, kForce).key("closing_speed").num(h.closing_speed, kSpeed);
+    o.key("depth").num(h.depth, kTravel).key("begin").num(h.begin).key("hard").boolean(h.hard);
     o.close('}');
   }
   o.close(']').close('}');
@@ -188,7 +293,7 @@ std::string toJson(const groundsim::event_t& m) {
   o.key("utime").integer(m.utime).key("seq").integer(m.seq).key("session_id").str(m.session_id);
   o.key("client_id").str(m.client_id).key("request_id").integer(m.request_id);
   o.key("severity").integer(m.severity).key("code").integer(m.code).key("channel").str(m.channel);
-  o.key("reason").str(m.reason);
+  o.key("reason").str(m.reason).key("server_id").str(m.server_id).key("epoch").integer(m.epoch);
   o.close('}');
   return o.take();
 }
@@ -231,13 +336,16 @@ std::string toJson(const groundsim::applied_t& m) {
   o.key("throttle").num(m.throttle).key("brake").num(m.brake).key("car_steer").num(m.car_steer);
   o.key("handbrake").boolean(m.handbrake).key("gear").integer(m.gear).key("wheel_torque").nums(m.wheel_torque, 4);
   o.key("steps").integer(m.steps).key("mode").integer(m.mode).key("rate").num(m.rate);
-  o.key("publish_rate").num(m.publish_rate).key("reason").str(m.reason);
+  o.key("publish_rate").num(m.publish_rate).key("reason").str(m.reason).key("epoch").integer(m.epoch);
   o.close('}');
   return o.take();
 }
 
 // The schemas: what each field is, in the units of the LCM types.
 #define GS_VEC(n, what) "{\"type\":\"array\",\"items\":{\"type\":[\"number\",\"null\"]},\"maxItems\":" #n ",\"description\":\"" what "\"}"
+#define GS_EPOCH                                                                                             \
+  "\"epoch\":{\"type\":\"integer\",\"description\":\"the owner's claim on the session: 0 on a lone server, "       \
+  "higher after each fleet failover (docs/protocol.md)\"},"
 #define GS_HEAD                                                                                              \
   "\"utime\":{\"type\":\"integer\",\"description\":\"simulation time, microseconds\"},"                       \
   "\"seq\":{\"type\":\"integer\",\"description\":\"the session's state sequence number\"},"                   \
@@ -245,11 +353,13 @@ std::string toJson(const groundsim::applied_t& m) {
 
 const char* stateSchema() {
   return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.state\","
-         "\"description\":\"A session's state (lcmtypes/state_t.lcm)\",\"type\":\"object\",\"properties\":{" GS_HEAD
+         "\"description\":\"A session's state (lcmtypes/state_t.lcm; numbers to the precision named by the metadata groundsim/json_precision, docs/logging.md)\",\"type\":\"object\",\"properties\":{" GS_HEAD
          "\"tick\":{\"type\":\"integer\",\"description\":\"steps taken\"},\"mode\":{\"type\":\"integer\"},"
          "\"status\":{\"type\":\"integer\",\"description\":\"1 running, 2 paused, 3 finished, 4 diverged, 5 stopped\"},"
          "\"health\":{\"type\":\"integer\"},\"status_reason\":{\"type\":\"string\"},"
-         "\"energy\":{\"type\":\"number\",\"description\":\"J\"},"
+         "\"energy\":{\"type\":\"number\",\"description\":\"J\"}," GS_EPOCH
+         "\"error_estimate\":{\"type\":\"number\",\"description\":\"the live error estimate (docs/accuracy.md); "
+         "-1 without a tolerance\"},"
          "\"vehicles\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{"
          "\"name\":{\"type\":\"string\"},\"position\":" GS_VEC(3, "m, centre of mass") ","
          "\"orientation\":" GS_VEC(4, "unit quaternion body to world, w x y z") ","
@@ -262,8 +372,8 @@ const char* stateSchema() {
 
 const char* carStateSchema() {
   return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.car_state\","
-         "\"description\":\"Road cars' drivetrain and tyres (lcmtypes/car_state_t.lcm)\",\"type\":\"object\","
-         "\"properties\":{" GS_HEAD
+         "\"description\":\"Road cars' drivetrain and tyres (lcmtypes/car_state_t.lcm; numbers to the precision named by the metadata groundsim/json_precision, docs/logging.md)\",\"type\":\"object\","
+         "\"properties\":{" GS_HEAD GS_EPOCH
          "\"cars\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{"
          "\"vehicle\":{\"type\":\"integer\"},\"name\":{\"type\":\"string\"},\"speed\":{\"type\":\"number\"},"
          "\"yaw_rate\":{\"type\":\"number\"},\"gear\":{\"type\":\"integer\"},\"engine_rpm\":{\"type\":\"number\"},"
@@ -276,8 +386,8 @@ const char* carStateSchema() {
 
 const char* contactStateSchema() {
   return "{\"$schema\":\"https://json-schema.org/draft/2020-12/schema\",\"title\":\"groundsim.contact_state\","
-         "\"description\":\"Objects with mass and hits under way (lcmtypes/contact_state_t.lcm)\",\"type\":\"object\","
-         "\"properties\":{" GS_HEAD
+         "\"description\":\"Objects with mass and hits under way (lcmtypes/contact_state_t.lcm; numbers to the precision named by the metadata groundsim/json_precision, docs/logging.md)\",\"type\":\"object\","
+         "\"properties\":{" GS_HEAD GS_EPOCH
          "\"objects\":{\"type\":\"array\",\"items\":{\"type\":\"object\",\"properties\":{\"name\":{\"type\":\"string\"},"
          "\"position\":" GS_VEC(3, "m") ",\"orientation\":" GS_VEC(4, "w x y z") ",\"velocity\":" GS_VEC(3, "m/s") ","
          "\"angular_velocity\":" GS_VEC(3, "rad/s") "}}},"
@@ -293,7 +403,10 @@ const char* eventSchema() {
          "\"utime\":{\"type\":\"integer\"},\"seq\":{\"type\":\"integer\",\"description\":\"server-wide\"},"
          "\"session_id\":{\"type\":\"string\"},\"client_id\":{\"type\":\"string\"},\"request_id\":{\"type\":\"integer\"},"
          "\"severity\":{\"type\":\"integer\",\"description\":\"0 info, 1 warning, 2 error\"},"
-         "\"code\":{\"type\":\"integer\"},\"channel\":{\"type\":\"string\"},\"reason\":{\"type\":\"string\"}}}";
+         "\"code\":{\"type\":\"integer\"},\"channel\":{\"type\":\"string\"},\"reason\":{\"type\":\"string\"},"
+         "\"server_id\":{\"type\":\"string\",\"description\":\"the server that published it (seq counts per "
+         "server)\"},\"epoch\":{\"type\":\"integer\",\"description\":\"the session's epoch when session_id is set, "
+         "else 0\"}}}";
 }
 
 #define GS_CMD_HEAD                                                                                         \
@@ -333,11 +446,13 @@ const char* appliedSchema() {
          "\"steer\":" GS_VEC(127, "rad, as applied") ",\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},"
          "\"car_steer\":{\"type\":\"number\"},\"handbrake\":{\"type\":\"boolean\"},\"gear\":{\"type\":\"integer\"},"
          "\"wheel_torque\":" GS_VEC(4, "N m") ",\"steps\":{\"type\":\"integer\"},\"mode\":{\"type\":\"integer\"},"
-         "\"rate\":{\"type\":\"number\"},\"publish_rate\":{\"type\":\"number\"},\"reason\":{\"type\":\"string\"}}}";
+         "\"rate\":{\"type\":\"number\"},\"publish_rate\":{\"type\":\"number\"},\"reason\":{\"type\":\"string\"},"
+         "\"epoch\":{\"type\":\"integer\",\"description\":\"state_t.epoch of the owner that applied it\"}}}";
 }
 
 #undef GS_CMD_HEAD
 #undef GS_VEC
 #undef GS_HEAD
+#undef GS_EPOCH
 
 }  // namespace groundsim::record

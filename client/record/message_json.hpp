@@ -1,9 +1,14 @@
 // The server's messages as JSON for MCAP files (message encoding "json",
 // schema encoding "jsonschema"), so Foxglove, the mcap CLI and other MCAP
 // tools read a recording without a plugin. Field names follow the LCM types
-// (lcmtypes/*.lcm); numbers are written as the shortest text that reads
-// back as the same double (std::to_chars), unless fewer digits are asked. Written by hand into one buffer: a
-// recorder of 100 sessions at 2 kHz converts 200,000 messages a second.
+// (lcmtypes/*.lcm). The numbers of the state streams (state, car state,
+// contact) are written to a documented precision per field by default
+// (positions to a micrometre, forces to a millinewton: the table in
+// message_json.cpp and docs/logging.md, Size), or exactly (the shortest text
+// that reads back as the same double), or to N significant digits. Commands
+// and the applied-command log are always exact. Written by hand into one
+// buffer: a recorder of 100 sessions at 2 kHz converts 200,000 messages a
+// second.
 #pragma once
 
 #include <string>
@@ -18,9 +23,20 @@
 
 namespace groundsim::record {
 
-// Significant digits of the numbers written (default 17: a double read back
-// is the double sent). Fewer make smaller files: simulated states carry
-// noise in their low digits that no compressor removes (docs/logging.md).
+// How the state streams' numbers are written. Simulated states carry noise
+// in their low digits that no compressor removes (docs/logging.md, Size):
+//   Fields: each quantity rounded to its own fixed decimals (the default);
+//   Exact:  the shortest text that reads back as the same double;
+//   Digits: N significant digits (1 to 16).
+enum class Precision { Fields, Exact, Digits };
+void setPrecision(Precision p, int digits = 17);
+Precision precision();
+// As the file's metadata says it: "fields-1" (the table's version), "exact",
+// "digits-N". parsePrecision reads that back (and json_digits of files
+// from before: "17" exact, else digits); false when it is neither.
+std::string precisionName();
+bool parsePrecision(const std::string& name, Precision* p, int* digits);
+// The old switch: 17 is Exact, fewer Digits.
 void setJsonDigits(int digits);
 int jsonDigits();
 

@@ -53,7 +53,7 @@ void Recorder::prepare() {
   out_->metadata("groundsim", {{"log_time", "simulation time of the session (event: its session's, 0 without one)"},
                                {"sequence", "state_t.seq (events: event_t.seq), modulo 2^32"},
                                {"recorder", client_id_},
-                               {"json_digits", std::to_string(jsonDigits())},
+                               {"json_precision", precisionName()},
                                {"part", std::to_string(part_)}});
   for (auto& [id, s] : sessions_) {
     channels(s);

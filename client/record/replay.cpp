@@ -4,12 +4,16 @@
 // (/<session>/applied), and compares every recorded state, car state and
 // contact state with the re-simulated one.
 // - The re-simulated frame goes through the server's own conversion
-//   (net::toMessage) and the recorder's own JSON writer with the digits the
-//   recording was made with, so equal text is equal values: with the
-//   default 17 digits every double is compared to the bit (the shortest
-//   text that reads back as the same double; -0 and 0 differ). With fewer
-//   digits the comparison is at that precision, and the report says so.
-// - With --raw recordings, the raw LCM bytes of each state are compared too.
+//   (net::toMessage) and the recorder's own JSON writer with the precision
+//   the recording was made with, so equal text is equal values: a file
+//   recorded --exact is compared to the bit (the shortest text that reads
+//   back as the same double; -0 and 0 differ). Otherwise (each quantity's
+//   decimals, the default, or N digits) the comparison is at that
+//   precision, and the report says so.
+// - With --raw recordings, the raw LCM bytes of each state are compared too
+//   (bit for bit, whatever the JSON's precision).
+// - Not re-simulated but taken from the recording: mode, status, reason,
+//   epoch and the live error estimate.
 // - The first difference is reported: seq, time, tick, the field, the
 //   recorded and the re-simulated value. Exit 0 identical, 5 a difference,
 //   1 the file cannot be re-simulated (no scenario, no applied log, a
@@ -176,17 +180,24 @@ int resimulate(const ReplayOptions& o) {
   }
   if (scenario.empty()) fail(kExitRefused, "session " + id + ": the file holds no scenario (scenario/" + id + ".json)");
 
-  // the precision the states were written with
+  // the precision the states were written with (json_digits: files from
+  // before json_precision); a file that names none was written exactly
+  record::Precision precision = record::Precision::Exact;
   int digits = 17;
-  bool digits_known = false;
+  bool precision_known = false;
   const auto meta = r.metadata();
-  if (auto it = meta.find("groundsim"); it != meta.end())
-    if (auto d = it->second.find("json_digits"); d != it->second.end()) {
-      digits = std::atoi(d->second.c_str());
-      digits_known = digits >= 1 && digits <= 17;
-      if (!digits_known) digits = 17;
+  if (auto it = meta.find("groundsim"); it != meta.end()) {
+    auto d = it->second.find("json_precision");
+    if (d == it->second.end()) d = it->second.find("json_digits");
+    if (d != it->second.end()) {
+      precision_known = record::parsePrecision(d->second, &precision, &digits);
+      if (!precision_known)
+        fail(kExitRefused, "the file's metadata groundsim/" + d->first + " is " + net::quoted(d->second) +
+                               ": not a precision this program writes (fields-1, exact, digits-N)");
     }
-  record::setJsonDigits(digits);
+  }
+  record::setPrecision(precision, digits);
+  const bool bitwise = precision == record::Precision::Exact;
 
   // the session's messages
   std::map<std::int64_t, std::string> states, cars, contacts, raws;
@@ -262,7 +273,7 @@ int resimulate(const ReplayOptions& o) {
     std::printf("differs: session %s, %s seq %lld (t %s s, tick %lld): %s recorded %s, re-simulated %s\n", id.c_str(),
                 what, static_cast<long long>(seq), leafText(rec.value("t", nlohmann::json(0.0))).c_str(),
                 static_cast<long long>(sim->tick()), field.c_str(), rv.c_str(), sv.c_str());
-    if (digits < 17) std::printf("compared at the recording's precision: %d significant digits\n", digits);
+    if (!bitwise) std::printf("compared at the recording's precision: %s\n", record::precisionName().c_str());
     std::printf("applied commands replayed before it: %lld of %zu\n",
                 static_cast<long long>(std::distance(applied.begin(), next)), applied.size());
     return kExitDiffers;
@@ -294,6 +305,10 @@ int resimulate(const ReplayOptions& o) {
     f.mode = static_cast<session::Mode>(rec.value("mode", 1));
     f.status = static_cast<session::Status>(rec.value("status", 1));
     f.reason = rec.value("status_reason", "");
+    // who owned the session, and the live estimate (stepped beside the
+    // session, not by it): taken from the recording, like the status
+    f.epoch = rec.value("epoch", std::int64_t{0});
+    if (auto e = rec.find("error_estimate"); e != rec.end() && e->is_number()) f.error_estimate = e->get<double>();
     const groundsim::state_t m = net::toMessage(f);
     const std::string mine = record::toJson(m);
     if (mine != text) {
@@ -325,12 +340,12 @@ int resimulate(const ReplayOptions& o) {
               id.c_str(), static_cast<long long>(compared_states), static_cast<long long>(compared_cars),
               static_cast<long long>(compared_contacts), applied.size(), static_cast<long long>(states.rbegin()->first),
               static_cast<long long>(sim->tick()));
-  if (digits >= 17)
+  if (bitwise)
     std::printf("compared bit for bit: every double as the shortest text that reads back as the same double%s\n",
-                digits_known ? "" : " (the file does not say its digits: taken as 17)");
+                precision_known ? "" : " (the file does not say its precision: taken as exact)");
   else
-    std::printf("compared at the recording's precision only: %d significant digits (record with the default "
-                "--digits 17 for a bit-exact comparison)\n", digits);
+    std::printf("compared at the recording's precision only: %s (record with --exact for a bit-exact "
+                "comparison)\n", record::precisionName().c_str());
   if (compared_raw > 0) std::printf("raw LCM bytes identical too: %lld states\n", static_cast<long long>(compared_raw));
   if (!warnings.empty()) {
     std::printf("but the file is incomplete (above): a difference may hide in what is missing\n");

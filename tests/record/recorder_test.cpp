@@ -21,6 +21,7 @@
 #include <groundsim/state_t.hpp>
 
 #include "protocol/channels.hpp"
+#include "record/message_json.hpp"
 #include "record/recorder.hpp"
 #include "recording/mcap_reader.hpp"
 
@@ -55,6 +56,7 @@ groundsim::state_t state(const std::string& session, std::int64_t seq) {
 std::string tempPath(const char* name) { return ::testing::TempDir() + name; }
 
 TEST(Recorder, GapsAreAskedForRepairedOrLostAndAllListed) {
+  setPrecision(Precision::Exact);  // each double read back as sent
   const std::string path = tempPath("recorder_gaps.mcap");
   auto t = Clock::now();
   {

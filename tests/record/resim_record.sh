@@ -8,7 +8,7 @@
 #   sedan.json (a road car with a control table): controls_t take over from
 #     the table, the controls timeout releases the pedals, a reset hands the
 #     car back to the table.
-# Each session re-simulates to identical states (every double, and the raw
+# Recorded --exact, each session re-simulates to identical states (every double, and the raw
 # LCM bytes). Then copies of the file with one state's position nudged by one
 # unit in the last place, and with one applied command left out, each report
 # the first difference: the nudged state's seq and field, and the first state
@@ -20,7 +20,7 @@ dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
-"$gs" record --all --raw --duration 7 --out "$dir/run.mcap" 2> "$dir/rec.err" &
+"$gs" record --all --raw --exact --duration 7 --out "$dir/run.mcap" 2> "$dir/rec.err" &
 rec=$!
 for _ in $(seq 100); do grep -q "recording to" "$dir/rec.err" && break; sleep 0.1; done
 a=$("$gs" create "$src/configs/plain.json" --publish-rate 200 --duration 30 | tail -1)
