@@ -1,0 +1,75 @@
+#!/bin/sh
+# The recorder beside an independent subscriber (issue 23: "the ledger's
+# counts equal the subscriber's, every loss is listed, none silent"), scaled
+# to CI: N sessions publishing at R Hz for D s (plain.json at the balanced
+# preset's 1 ms step; bench/service/record_bench.sh runs it larger),
+# recorded by `record --all` while lcm-logger (LCM's own logger) logs the
+# same state channels. Checked, per session, from the file as npm's
+# @mcap/core reads it:
+#   - every seq from 0 to the newest is in the ledger as received, repaired
+#     or lost (the sessions began after the recorder);
+#   - the states in the file are the ledger's received + repaired;
+#   - every (session, seq) lcm-logger logged is received or repaired in the
+#     ledger: a state the subscriber heard is never missing silently.
+#   subscriber_record.sh BUILD_DIR SOURCE_DIR [N=8] [R=1000] [D=6]   (inside tests/integration/netns_run.sh)
+set -eu
+build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); N=${3:-8}; R=${4:-1000}; D=${5:-6}; gs=$build/client/groundsim
+modules=""
+for m in "$src/web/node_modules" "$build/web/node_modules"; do [ -d "$m/@mcap/core" ] && modules=$m && break; done
+if [ -z "$modules" ] || ! command -v node > /dev/null; then
+  echo "SKIP: needs node and @mcap/core (npm install in web/)" >&2; exit 77
+fi
+dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) > "$dir/server.out" 2>&1 &
+for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
+logger=$!
+"$gs" record --all --out "$dir/all.mcap" --duration $((D + 5)) 2> "$dir/rec.err" &
+rec=$!
+for _ in $(seq 100); do grep -qs "record: recording" "$dir/rec.err" && break; sleep 0.1; done
+for i in $(seq $N); do
+  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D > /dev/null ||
+    fail "create $i"
+done
+rc=0; wait $rec || rc=$?
+kill $logger; wait $logger 2>/dev/null || true
+grep "^record: .* messages received" "$dir/rec.err"
+[ $rc = 0 ] || [ $rc = 3 ] || { tail -5 "$dir/rec.err"; fail "the recorder exited $rc"; }
+GROUNDSIM_MCAP_NODE_MODULES=$modules node "$src/tests/recording/mcap_read.mjs" "$dir/all.mcap" > "$dir/read.json" ||
+  fail "@mcap/core could not read the file"
+python3 - "$dir/bus.lcm" "$dir/read.json" "$N" <<'PY'
+import json, struct, sys
+logged, b, i = {}, open(sys.argv[1], "rb").read(), 0
+while i + 28 <= len(b):
+    _, _, _, clen, dlen = struct.unpack(">IqqII", b[i:i + 28])
+    ch = b[i + 28:i + 28 + clen].decode(); d = b[i + 28 + clen:i + 28 + clen + dlen]
+    logged.setdefault(ch[len("GROUNDSIM_STATE_"):], set()).add(struct.unpack(">q", d[16:24])[0])
+    i += 28 + clen + dlen
+r = json.load(open(sys.argv[2]))
+def ranges(text):
+    out = set()
+    for part in filter(None, text.split(",")):
+        a, _, z = part.partition("-")
+        out.update(range(int(a), int(z or a) + 1))
+    return out
+bad, totals = [], [0, 0, 0, 0]
+sessions = [n[len("ledger/"):] for n in r["metadataRecords"] if n.startswith("ledger/") and n != "ledger/events"]
+if len(sessions) != int(sys.argv[3]): bad.append(f"{len(sessions)} sessions recorded, not {sys.argv[3]}")
+for sid in sessions:
+    l = r["metadataRecords"]["ledger/" + sid]
+    got, rep, lost = ranges(l["state_received"]), ranges(l["state_repaired"]), ranges(l["state_lost"])
+    newest = int(l["state_newest"])
+    if l["state_first"] != "0" or got | rep | lost != set(range(newest + 1)) or len(got) + len(rep) + len(lost) != newest + 1:
+        bad.append(f"{sid}: the ledger does not account for every seq 0..{newest} once")
+    if r["topics"].get(f"/{sid}/state", 0) != len(got) + len(rep):
+        bad.append(f"{sid}: {r['topics'].get(f'/{sid}/state', 0)} states in the file, the ledger says {len(got) + len(rep)}")
+    silent = logged.get(sid, set()) - got - rep
+    if silent: bad.append(f"{sid}: {len(silent)} states lcm-logger heard are not in the file, e.g. {sorted(silent)[:5]}")
+    totals = [totals[0] + len(got), totals[1] + len(rep), totals[2] + len(lost), totals[3] + len(logged.get(sid, ()))]
+print(f"{len(sessions)} sessions: ledger received {totals[0]}, repaired {totals[1]}, lost {totals[2]} (listed); "
+      f"lcm-logger heard {totals[3]}")
+for x in bad: print("FAIL:", x)
+sys.exit(1 if bad else 0)
+PY
+echo PASS
