@@ -2,7 +2,9 @@
 # The recorder beside an independent subscriber (issue 23: "the ledger's
 # counts equal the subscriber's, every loss is listed, none silent"), scaled
 # to CI: N sessions publishing at R Hz for D s (plain.json at the balanced
-# preset's 1 ms step; bench/service/record_bench.sh runs it larger),
+# preset's 1 ms step; bench/service/record_bench.sh runs it larger), and two
+# more in fast mode 2 s in (bursts: stepped and published as fast as the
+# server can),
 # recorded by `record --all` while lcm-logger (LCM's own logger) logs the
 # same state channels. Checked, per session, from the file as npm's
 # @mcap/core reads it:
@@ -32,6 +34,13 @@ for i in $(seq $N); do
   "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D > /dev/null ||
     fail "create $i"
 done
+# bursts: two sessions in fast mode (stepped as fast as the server can:
+# their states come faster than real time) while the others run
+sleep 2
+for i in 1 2; do
+  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D --mode fast > /dev/null ||
+    fail "create fast $i"
+done
 rc=0; wait $rec || rc=$?
 kill $logger; wait $logger 2>/dev/null || true
 grep "^record: .* messages received" "$dir/rec.err"
@@ -55,7 +64,7 @@ def ranges(text):
     return out
 bad, totals = [], [0, 0, 0, 0]
 sessions = [n[len("ledger/"):] for n in r["metadataRecords"] if n.startswith("ledger/") and n != "ledger/events"]
-if len(sessions) != int(sys.argv[3]): bad.append(f"{len(sessions)} sessions recorded, not {sys.argv[3]}")
+if len(sessions) != int(sys.argv[3]) + 2: bad.append(f"{len(sessions)} sessions recorded, not {int(sys.argv[3]) + 2}")
 for sid in sessions:
     l = r["metadataRecords"]["ledger/" + sid]
     got, rep, lost = ranges(l["state_received"]), ranges(l["state_repaired"]), ranges(l["state_lost"])
