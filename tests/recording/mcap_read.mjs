@@ -3,9 +3,11 @@
 // checked), zstd chunks decompressed by fzstd, over a file handle; prints
 // JSON: messages per topic (every message read), the Statistics record's
 // counts, the attachments' and metadata records' names (and the metadata
-// records' key-values, metadataRecords), bytes read.
+// records' key-values, metadataRecords), bytes read. With --topics, only
+// the messages of those topics (comma-separated) are read, as a player of
+// one session would, and nothing else: bytesRead then says what that cost.
 //
-//   node tests/recording/mcap_read.mjs FILE
+//   node tests/recording/mcap_read.mjs FILE [--topics T1,T2]
 //
 // The packages come from GROUNDSIM_MCAP_NODE_MODULES, else web/node_modules
 // (npm install in web/). Exit 2 with a reason when the file cannot be read.
@@ -15,8 +17,9 @@ import path from "node:path";
 import { fileURLToPath } from "node:url";
 
 const file = process.argv[2];
-if (!file) {
-  console.error("usage: node mcap_read.mjs FILE.mcap");
+const only = process.argv[3] === "--topics" ? (process.argv[4] ?? "").split(",").filter(Boolean) : undefined;
+if (!file || (process.argv[3] !== undefined && !only?.length)) {
+  console.error("usage: node mcap_read.mjs FILE.mcap [--topics T1,T2]");
   process.exit(2);
 }
 const modules =
@@ -54,19 +57,21 @@ try {
   const topics = {};
   let lastLogTime = -1n;
   let ordered = true;
-  for await (const m of reader.readMessages()) {
+  for await (const m of reader.readMessages(only ? { topics: only } : {})) {
     const topic = reader.channelsById.get(m.channelId)?.topic ?? `#${m.channelId}`;
     topics[topic] = (topics[topic] ?? 0) + 1;
     if (m.logTime < lastLogTime) ordered = false;
     lastLogTime = m.logTime;
   }
   const attachments = [];
-  for await (const a of reader.readAttachments()) attachments.push(a.name);
   const metadata = [];
   const metadataRecords = {};
-  for await (const m of reader.readMetadata()) {
-    metadata.push(m.name);
-    metadataRecords[m.name] = Object.fromEntries(m.metadata);
+  if (!only) {
+    for await (const a of reader.readAttachments()) attachments.push(a.name);
+    for await (const m of reader.readMetadata()) {
+      metadata.push(m.name);
+      metadataRecords[m.name] = Object.fromEntries(m.metadata);
+    }
   }
   const s = reader.statistics;
   const statistics = s && {
