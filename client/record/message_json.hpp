@@ -3,7 +3,7 @@
 // tools read a recording without a plugin. Field names follow the LCM types
 // (lcmtypes/*.lcm). The numbers of the state streams (state, car state,
 // contact) are written to a documented precision per field by default
-// (positions to a micrometre, forces to a millinewton: the table in
+// (positions to a millimetre, forces to a newton: the table in
 // message_json.cpp and docs/logging.md, Size), or exactly (the shortest text
 // that reads back as the same double), or to N significant digits. Commands
 // and the applied-command log are always exact. Written by hand into one

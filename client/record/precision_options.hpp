@@ -21,7 +21,7 @@ struct PrecisionOptions {
 inline void addPrecisionOptions(CLI::App* cmd, PrecisionOptions& o) {
   auto* exact = cmd->add_flag("--exact", o.exact,
                               "every double of the states exactly (the shortest text that reads back as it; "
-                              "about 3 times the default's size)");
+                              "about 3.5 times the default's size)");
   cmd->add_option("--digits", o.digits,
                   "the states' numbers to N significant digits instead of each quantity's decimals (17: --exact)")
       ->check(CLI::Range(1, 17))

@@ -128,9 +128,22 @@ void Recorder::write(Stream& s, std::uint16_t channel, std::int64_t seq, std::in
                 std::string_view(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size)), s.group);
 }
 
+bool Recorder::fencedOff(Stream& s, std::int64_t epoch) {
+  if (epoch >= s.epoch) {
+    s.epoch = epoch;
+    return false;
+  }
+  if (s.fenced++ == 0)
+    std::fprintf(stderr, "record: %s: a message of epoch %lld after epoch %lld (a fenced owner's): not written, "
+                         "counted in the ledger's fenced_count\n",
+                 s.id.c_str(), static_cast<long long>(epoch), static_cast<long long>(s.epoch));
+  return true;
+}
+
 template <class Msg>
 void Recorder::companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, const std::string& channel,
                          const std::uint8_t* data, int size, bool repaired) {
+  if (fencedOff(s, m.epoch)) return;
   // the first heard starts its ledger where the state's did
   if (!l.started() && s.ledger.started()) l.owe(std::min(s.ledger.first(), m.seq));
   if (l.arrive(m.seq, repaired)) write(s, ch, m.seq, m.utime, toJson(m), channel, data, size);
@@ -143,6 +156,7 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     auto it = sessions_.find(m.session_id);
     if (it == sessions_.end()) return true;
     Stream& s = it->second;
+    if (fencedOff(s, m.epoch)) return true;
     if (!s.ledger.arrive(m.seq, repaired)) return true;
     // the frame's other messages follow the state: owed up to the one before
     if (s.car.started()) s.car.reach(m.seq - 1);
@@ -181,6 +195,7 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     auto it = sessions_.find(m.session_id);
     if (it == sessions_.end()) return true;
     Stream& s = it->second;
+    if (fencedOff(s, m.epoch)) return true;
     if (!s.applied.started()) s.applied.owe(s.ledger.started() && s.ledger.first() == 0 ? 0 : m.seq);
     if (m.kind == groundsim::applied_t::KIND_END) {
       s.end_frames.insert(m.frame_seq);
@@ -518,7 +533,8 @@ void Recorder::writeLedgers() {
     kv[prefix + "missing"] = l.missing().text(100000);
   };
   for (const auto& [id, s] : sessions_) {
-    std::map<std::string, std::string> kv{{"session_id", id}, {"ended", s.ended ? "true" : "false"}};
+    std::map<std::string, std::string> kv{{"session_id", id}, {"ended", s.ended ? "true" : "false"},
+                                          {"epoch", std::to_string(s.epoch)}, {"fenced_count", std::to_string(s.fenced)}};
     ledger(s.ledger, "state_", kv);
     if (s.car.started()) ledger(s.car, "car_state_", kv);
     if (s.contact.started()) ledger(s.contact, "contact_", kv);

@@ -108,6 +108,9 @@ class Recorder {
     std::set<std::int64_t> end_frames;                   // frame seqs whose END entry arrived
     std::map<std::int64_t, Gap> end_owed;                // ending frames heard without their END entry
     std::set<std::int64_t> end_missing;                  // ... never came after every ask
+    // protocol 2: the newest owner's epoch heard; a message of a lower one
+    // (a fenced old owner's, docs/protocol.md) is counted, not written
+    std::int64_t epoch = 0, fenced = 0;
     std::int64_t live_seq = -1, live_utime = 0;   // the newest state heard live
     std::string scenario;  // the scenario's JSON, once heard
     std::vector<std::pair<std::string, std::shared_ptr<const std::string>>> assets;  // by name
@@ -128,6 +131,7 @@ class Recorder {
   void ask(Stream& s, std::int8_t stream, Clock::time_point now, std::vector<groundsim::resend_t>& out);
   void askApplied(Stream& s, Clock::time_point now, std::vector<groundsim::resend_t>& out);
   void appliedOwed(Stream& s);  // the applied ledger starts where the state ledger does
+  bool fencedOff(Stream& s, std::int64_t epoch);  // true: of a lower epoch than heard, counted
   std::uint16_t rawChannel(const std::string& lcm_channel);
 
   std::unique_ptr<recording::McapWriter> out_;

@@ -324,5 +324,44 @@ TEST(Recorder, CommandsAreRecordedWithoutTheirToken) {
   EXPECT_EQ(bytes.find("s3cret"), std::string::npos);
 }
 
+// Protocol 2: after a message of epoch 2, one of epoch 1 (a fenced old
+// owner's) is counted and not written; the seq it held is written from the
+// owner of epoch 2.
+TEST(Recorder, AFencedOwnersMessagesAreCountedNotWritten) {
+  const std::string path = tempPath("recorder_epoch.mcap");
+  {
+    Recorder rec(std::make_unique<recording::McapWriter>(path), "epoch");
+    rec.add("a", true);
+    const auto send = [&](std::int64_t seq, std::int64_t epoch) {
+      groundsim::state_t m = state("a", seq);
+      m.epoch = epoch;
+      m.energy = static_cast<double>(epoch);
+      const auto b = encode(m);
+      EXPECT_TRUE(rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size())));
+    };
+    for (int s = 0; s < 5; ++s) send(s, 2);
+    send(5, 1);  // fenced
+    send(5, 2);
+    send(6, 2);
+    rec.finish();
+    EXPECT_EQ(rec.totals().lost, 0);
+  }
+  recording::McapReader r(path);
+  const auto channels = r.channels();
+  std::vector<nlohmann::json> got;
+  r.readMessages([&](const recording::McapMessage& m) {
+    if (channels.at(m.channel).topic == "/a/state") got.push_back(nlohmann::json::parse(m.data));
+  });
+  ASSERT_EQ(got.size(), 7u);
+  for (const auto& j : got) {
+    EXPECT_EQ(j["epoch"], 2);
+    EXPECT_EQ(j["energy"].get<double>(), 2.0);
+  }
+  const auto ledger = r.metadata().at("ledger/a");
+  EXPECT_EQ(ledger.at("epoch"), "2");
+  EXPECT_EQ(ledger.at("fenced_count"), "1");
+  EXPECT_EQ(ledger.at("state_received"), "0-6");
+}
+
 }  // namespace
 }  // namespace groundsim::record
