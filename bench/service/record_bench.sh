@@ -7,7 +7,7 @@
 # silent loss: must be 0), the recorder's repaired/lost, CPU time and file
 # size, and the size per state beside lcm-logger's log of the same states
 # (the "at most 25% of the same LCM log on the state stream").
-# Extra `record` options (e.g. --zstd-level 9) in RECORD_OPTS, another build
+# Extra `record` options (e.g. --exact, or --zstd-level 3) in RECORD_OPTS, another build
 # folder in BUILD; KEEP=DIR keeps the two files there. Run inside a private network namespace:
 #   tests/integration/netns_run.sh bench/service/record_bench.sh [N=20] [R=1000] [D=20]
 set -eu
