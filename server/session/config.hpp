@@ -32,6 +32,10 @@ struct ServiceConfig {
   int max_build_jobs = 0;              // scene builds at once; 0: workers - 1 (at least 1)
   double ended_linger = 10.0;          // s  a stopped or reclaimed session stays in the heartbeat, so that
                                        //    subscribers learn its last seq even when its final state is lost
+  // A fleet (docs/fleet.md): every real-time, fast or lockstep session sends
+  // its standbys a snapshot every this many seconds of simulated time; 0
+  // (a lone server): none.
+  double replica_interval = 0.0;
   // The model budget every create is validated against before anything is
   // built (scenario/budget.hpp); the service also holds its max_vehicles and
   // max_document_bytes to the two fields above, whichever is smaller.

@@ -54,6 +54,18 @@ std::string outside(const char* field, double x, double lo, double hi, const cha
   return std::string(field) + ": " + num(x) + " is outside [" + num(lo) + ", " + num(hi) + "]" + unit;
 }
 
+// A fresh id and this server's claim on it: the registry's id, claimed in
+// the fleet when there is one (another server may hold it: draw again).
+std::int64_t claimId(Registry& registry, Ownership* ownership, std::string& id) {
+  for (int attempt = 0;; ++attempt) {
+    id = registry.newId();
+    if (!ownership) return 0;
+    if (const std::int64_t epoch = ownership->claim(id); epoch > 0) return epoch;
+    registry.cancelId(id);
+    if (attempt == 7) throw std::runtime_error("the fleet refused 8 fresh session ids in a row");
+  }
+}
+
 }  // namespace
 
 SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
@@ -138,26 +150,26 @@ scenario::FileAccess SessionService::filesFor(const nlohmann::json& doc, std::in
 
 // ---- lookup -----------------------------------------------------------------
 
-std::shared_ptr<Session> SessionService::find(const std::string& id) {
-  std::lock_guard<std::mutex> lk(mutex_);
-  auto it = sessions_.find(id);
-  return it == sessions_.end() ? nullptr : it->second;
-}
-
-std::shared_ptr<Session> SessionService::owned(const Request& r) {
-  auto s = find(r.session_id);
-  if (!s) {
-    fail(r, ErrorCode::UnknownSession, "unknown session '" + r.session_id + "'");
-    return nullptr;
-  }
-  if (!s->tokenMatches(r.token)) {
-    fail(r, ErrorCode::Unauthorized,
-         r.token.empty() ? "session " + r.session_id + " needs its token (from the create reply)"
-                         : "wrong token for session " + r.session_id);
+std::shared_ptr<HostedSession> SessionService::owned(const Request& r) {
+  auto s = registry_.find(r.session_id);
+  if (const OwnerCheck c = checkOwner(s.get(), r.session_id, r.token); !c) {
+    fail(r, c.code, c.why);
     return nullptr;
   }
   s->touch(clock_.now());
   return s;
+}
+
+// One stop for every kind: unknown from now on (listed among the ended);
+// the session answers, publishes its last state and takes no more work.
+void SessionService::stop(const Request& r) {
+  auto s = owned(r);
+  if (!s) return;
+  if (!registry_.retire(r.session_id, clock_.now()))  // stopped or reclaimed since the lookup
+    return fail(r, ErrorCode::UnknownSession, "unknown session '" + r.session_id + "'");
+  if (ownership_) ownership_->release(r.session_id);
+  s->stop(ReplyTo{r.op, r.request_id, r.client_id}, "stopped by its owner");
+  pool_.wake(s);
 }
 
 bool SessionService::validSettings(const Request& r) {
@@ -190,29 +202,12 @@ void SessionService::handleRequest(const Request& r) {
         reply.sessions = status().sessions;
         return replyOk(r, std::move(reply));
       }
-      case Op::Stop: {
-        if (stopVec(r)) return;
-        auto s = owned(r);
-        if (!s) return;
-        {
-          std::lock_guard<std::mutex> lk(mutex_);
-          sessions_.erase(r.session_id);  // unknown from now on; the worker publishes its last frame
-          retire(s);
-        }
-        s->stop(ReplyTo{r.op, r.request_id, r.client_id}, "stopped by its owner");
-        pool_.wake(s);
-        return;
-      }
+      case Op::Stop:
+        return stop(r);
+      case Op::Drain:  // the transport's (it knows the server's id and the fleet)
+        return fail(r, ErrorCode::BadRequest, "op: drain is not handled by this server");
       case Op::Scenario: {  // anyone may read a session's scenario, as its states
-        auto s = find(r.session_id);
-        if (auto v = s ? nullptr : findVec(r.session_id)) {
-          Reply reply;
-          reply.session_id = r.session_id;
-          reply.scenario_json = v->scenarioJson();
-          reply.scenario_name = v->name();
-          reply.sessions.push_back(v->info(clock_.now()));
-          return replyOk(r, std::move(reply));
-        }
+        auto s = registry_.find(r.session_id);
         if (!s) return fail(r, ErrorCode::UnknownSession, "unknown session '" + r.session_id + "'");
         Reply reply;
         reply.session_id = r.session_id;
@@ -232,11 +227,12 @@ void SessionService::handleRequest(const Request& r) {
       case Op::Resume:
       case Op::SetMode: {
         if (r.op == Op::SetMode && !validSettings(r)) return;
-        if (findVec(r.session_id))
+        auto found = registry_.find(r.session_id);
+        if (found && found->kind() == HostedSession::Kind::Vectorised)
           return fail(r, ErrorCode::WrongMode, "session " + r.session_id +
                                                    " is vectorised: reset and step it with vec_request_t on "
                                                    "GROUNDSIM_VEC_REQUEST, stop it with OP_STOP");
-        auto s = owned(r);
+        auto s = std::dynamic_pointer_cast<Session>(owned(r));
         if (!s) return;
         s->post(r);
         pool_.wake(s);
@@ -259,22 +255,15 @@ void SessionService::create(const Request& r) {
   if (!std::isfinite(r.duration))
     return fail(r, ErrorCode::BadRequest, "duration: must be finite (< 0 runs until stopped), got " + num(r.duration));
   if (!validSettings(r)) return;
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    if (shut_down_) return fail(r, ErrorCode::Shutdown, "server is shutting down");
-    const int used = static_cast<int>(sessions_.size() + vecs_.size()) + reserved_;
-    if (used >= cfg_.max_sessions)
-      return fail(r, ErrorCode::TooManySessions,
-                  "too many sessions: " + std::to_string(used) + " of " + std::to_string(cfg_.max_sessions) +
-                      " in use (stop one, or start the server with a larger --max-sessions)");
-    ++reserved_;
-  }
+  if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return fail(r, a.code, a.why);
   // parsing and building may take a while for large grounds: not on the receive thread
   pool_.post([this, r] { build(r); });  // build() answers, whatever happens
 }
 
 void SessionService::build(const Request& r) {
   std::shared_ptr<Session> session;
+  std::string id;        // given by the registry, until the session takes it
+  bool claimed = false;  // in the fleet: released again if the session is not built
   try {
     // the budget is checked in validation, before anything is built
     nlohmann::json doc = scenario::parseScenarioDocument(r.scenario_json, cfg_.budget);
@@ -327,14 +316,14 @@ void SessionService::build(const Request& r) {
     setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
     setup.control_tables = scene.control_tables;
     setup.assets = std::move(assets);
-    {
-      std::lock_guard<std::mutex> lk(mutex_);
-      setup.id = uniqueId();
-      session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
-                                          clock_);
-      sessions_.emplace(setup.id, session);
-      --reserved_;
-    }
+    const std::int64_t epoch = claimId(registry_, ownership_, id);
+    claimed = epoch > 0;
+    setup.id = id;
+    session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
+                                        clock_);
+    session->setEpoch(epoch);
+    registry_.insert(session);
+    if (cfg_.replica_interval > 0) out_.publishReplica(session->scenarioReplica());
     Reply reply;
     reply.session_id = setup.id;
     reply.token = setup.token;
@@ -362,8 +351,9 @@ void SessionService::build(const Request& r) {
   } catch (...) {
     fail(r, ErrorCode::Internal, "internal error: unknown exception while building the scenario");
   }
-  std::lock_guard<std::mutex> lk(mutex_);
-  if (!session) --reserved_;
+  if (session) return;
+  registry_.cancel(id);
+  if (claimed) ownership_->release(id);
 }
 
 // ---- controls ---------------------------------------------------------------
@@ -379,11 +369,12 @@ void SessionService::handleDrive(Drive d) {
     out_.publishEvent(e);
   };
   try {
-    auto s = find(d.session_id);
-    if (!s) return refuse(ErrorCode::UnknownSession, "drive: unknown session '" + d.session_id + "'");
-    if (!s->tokenMatches(d.token))
-      return refuse(ErrorCode::Unauthorized, d.token.empty() ? "drive: session " + d.session_id + " needs its token"
-                                                             : "drive: wrong token for session " + d.session_id);
+    auto found = registry_.find(d.session_id);
+    if (const OwnerCheck c = checkOwner(found.get(), d.session_id, d.token); !c) return refuse(c.code, "drive: " + c.why);
+    auto s = std::dynamic_pointer_cast<Session>(found);
+    if (!s)
+      return refuse(ErrorCode::WrongMode, "drive: session " + d.session_id +
+                                              " is vectorised: its actions go in vec_request_t OP_STEP");
     const auto& vehicles = s->vehicles();
     if (d.vehicle < 0 || d.vehicle >= static_cast<int>(vehicles.size()))
       return refuse(ErrorCode::BadControl, "drive: no vehicle " + std::to_string(d.vehicle) + " (session has " +
@@ -427,11 +418,12 @@ void SessionService::handleControls(CarDrive d) {
     out_.publishEvent(e);
   };
   try {
-    auto s = find(d.session_id);
-    if (!s) return refuse(ErrorCode::UnknownSession, "unknown session '" + d.session_id + "'");
-    if (!s->tokenMatches(d.token))
-      return refuse(ErrorCode::Unauthorized, d.token.empty() ? "session " + d.session_id + " needs its token"
-                                                             : "wrong token for session " + d.session_id);
+    auto found = registry_.find(d.session_id);
+    if (const OwnerCheck c = checkOwner(found.get(), d.session_id, d.token); !c) return refuse(c.code, c.why);
+    auto s = std::dynamic_pointer_cast<Session>(found);
+    if (!s)
+      return refuse(ErrorCode::WrongMode,
+                    "session " + d.session_id + " is vectorised: its actions go in vec_request_t OP_STEP");
     const auto& vehicles = s->vehicles();
     if (d.vehicle < 0 || d.vehicle >= static_cast<int>(vehicles.size()))
       return refuse(ErrorCode::BadControl, "vehicle: no vehicle " + std::to_string(d.vehicle) + " (session has " +
@@ -470,35 +462,8 @@ void SessionService::handleControls(CarDrive d) {
 void SessionService::housekeeping() {
   const TimePoint now = clock_.now();
   assets_.expire(now);
-  std::vector<std::shared_ptr<Session>> idle;
-  std::vector<std::shared_ptr<VecSession>> idle_vecs;
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    std::erase_if(ended_, [&](const Ended& e) { return seconds(now - e.since) > cfg_.ended_linger; });
-    for (auto it = sessions_.begin(); cfg_.idle_timeout > 0 && it != sessions_.end();) {
-      if (it->second->idleSeconds(now) > cfg_.idle_timeout) {
-        idle.push_back(it->second);
-        retire(it->second);
-        it = sessions_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    for (auto it = vecs_.begin(); cfg_.idle_timeout > 0 && it != vecs_.end();) {
-      if (it->second->idleSeconds(now) > cfg_.idle_timeout) {
-        idle_vecs.push_back(it->second);
-        retire(it->second);
-        it = vecs_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-  }
-  for (auto& s : idle_vecs) {
-    s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
-    pool_.wake(s);
-  }
-  for (auto& s : idle) {
+  for (auto& s : registry_.reclaim(now, cfg_.idle_timeout, cfg_.ended_linger)) {
+    if (ownership_) ownership_->release(s->id());
     s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
     pool_.wake(s);
   }
@@ -509,59 +474,28 @@ ServiceStatus SessionService::status() {
   st.workers = cfg_.workers;
   st.max_sessions = cfg_.max_sessions;
   st.load = pool_.takeLoad();
-  const TimePoint now = clock_.now();
-  std::lock_guard<std::mutex> lk(mutex_);
-  st.sessions.reserve(sessions_.size());
-  for (const auto& [id, s] : sessions_) st.sessions.push_back(s->info(now));
-  for (const auto& [id, s] : vecs_) st.sessions.push_back(s->info(now));
-  for (const Ended& e : ended_) st.ended.push_back(e.session ? e.session->info(now) : e.vec->info(now));
+  Registry::Listing l = registry_.list(clock_.now());
+  st.sessions = std::move(l.live);
+  st.ended = std::move(l.ended);
   return st;
 }
 
-void SessionService::retire(std::shared_ptr<Session> s) { ended_.push_back(Ended{std::move(s), nullptr, clock_.now()}); }
-void SessionService::retire(std::shared_ptr<VecSession> s) { ended_.push_back(Ended{nullptr, std::move(s), clock_.now()}); }
-
 void SessionService::shutdown(const std::string& reason) {
-  std::map<std::string, std::shared_ptr<Session>> sessions;
-  std::map<std::string, std::shared_ptr<VecSession>> vecs;
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    if (shut_down_) return;
-    shut_down_ = true;
-  }
-  pool_.stop();  // no worker runs a session after this
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    sessions.swap(sessions_);
-    vecs.swap(vecs_);
-  }
-  for (auto& [id, s] : vecs) {
+  if (!registry_.close()) return;  // no admission from now on
+  pool_.stop();                    // no worker runs a session (or builds one) after this
+  for (auto& s : registry_.takeAll()) {
     s->stop(std::nullopt, reason);
-    while (s->run(clock_.now())) {  // answers what was queued, then stops
-    }
+    // on this thread: a simulation publishes its final frame in one run; a
+    // batch answers what was queued, one request per run, then stops
+    if (s->kind() == HostedSession::Kind::Vectorised)
+      while (s->run(clock_.now())) {
+      }
+    else
+      s->run(clock_.now());
   }
-  for (auto& [id, s] : sessions) {
-    s->stop(std::nullopt, reason);
-    s->run(clock_.now());  // publishes the final frame on this thread
-  }
-  std::lock_guard<std::mutex> lk(mutex_);
-  ended_.clear();
 }
 
 // ---- vectorised sessions ----------------------------------------------------
-
-std::string SessionService::uniqueId() {
-  std::string id;
-  do id = newSessionId();
-  while (sessions_.count(id) || vecs_.count(id));
-  return id;
-}
-
-std::shared_ptr<VecSession> SessionService::findVec(const std::string& id) {
-  std::lock_guard<std::mutex> lk(mutex_);
-  auto it = vecs_.find(id);
-  return it == vecs_.end() ? nullptr : it->second;
-}
 
 void SessionService::failVec(const VecRequest& r, ErrorCode code, const std::string& field,
                              const std::string& error) noexcept {
@@ -581,41 +515,18 @@ void SessionService::failVec(const VecRequest& r, ErrorCode code, const std::str
   }
 }
 
-bool SessionService::stopVec(const Request& r) {
-  auto v = findVec(r.session_id);
-  if (!v) return false;
-  if (!v->tokenMatches(r.token)) {
-    fail(r, ErrorCode::Unauthorized,
-         r.token.empty() ? "session " + r.session_id + " needs its token (from the create reply)"
-                         : "wrong token for session " + r.session_id);
-    return true;
-  }
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    vecs_.erase(r.session_id);
-    retire(v);
-  }
-  v->stop(ReplyTo{r.op, r.request_id, r.client_id}, "stopped by its owner");
-  pool_.wake(v);
-  return true;
-}
-
 void SessionService::handleVecRequest(VecRequest r) {
   try {
     if (r.op == VecOp::Create) return createVec(r);
     if (r.op < VecOp::Create || r.op > VecOp::Drawn)
       return failVec(r, ErrorCode::BadRequest, "op", "unknown op " + std::to_string(static_cast<int>(r.op)));
-    auto v = findVec(r.session_id);
-    if (!v) {
-      if (find(r.session_id))
-        return failVec(r, ErrorCode::WrongMode, "session_id",
-                       "session " + r.session_id + " is not vectorised (use request_t on GROUNDSIM_REQUEST)");
-      return failVec(r, ErrorCode::UnknownSession, "session_id", "unknown session '" + r.session_id + "'");
-    }
-    if (!v->tokenMatches(r.token))
-      return failVec(r, ErrorCode::Unauthorized, "token",
-                     r.token.empty() ? "session " + r.session_id + " needs its token (from the create reply)"
-                                     : "wrong token for session " + r.session_id);
+    auto found = registry_.find(r.session_id);
+    if (!found) return failVec(r, ErrorCode::UnknownSession, "session_id", "unknown session '" + r.session_id + "'");
+    auto v = std::dynamic_pointer_cast<VecSession>(found);
+    if (!v)
+      return failVec(r, ErrorCode::WrongMode, "session_id",
+                     "session " + r.session_id + " is not vectorised (use request_t on GROUNDSIM_REQUEST)");
+    if (const OwnerCheck c = checkOwner(v.get(), r.session_id, r.token); !c) return failVec(r, c.code, "token", c.why);
     if (r.snapshot.size() > cfg_.max_snapshot_bytes)
       return failVec(r, ErrorCode::BadRequest, "snapshot",
                      std::to_string(r.snapshot.size()) + " bytes, at most " + std::to_string(cfg_.max_snapshot_bytes));
@@ -645,21 +556,14 @@ void SessionService::createVec(const VecRequest& r) {
     return failVec(r, ErrorCode::BadRequest, "num_envs",
                    std::to_string(r.num_envs) + " is outside [1, " + std::to_string(cfg_.max_envs) +
                        "] (groundsim-server --max-envs)");
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    if (shut_down_) return failVec(r, ErrorCode::Shutdown, "", "server is shutting down");
-    const int used = static_cast<int>(sessions_.size() + vecs_.size()) + reserved_;
-    if (used >= cfg_.max_sessions)
-      return failVec(r, ErrorCode::TooManySessions, "",
-                     "too many sessions: " + std::to_string(used) + " of " + std::to_string(cfg_.max_sessions) +
-                         " in use (stop one, or start the server with a larger --max-sessions)");
-    ++reserved_;
-  }
+  if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return failVec(r, a.code, "", a.why);
   pool_.post([this, r] { buildVec(r); });
 }
 
 void SessionService::buildVec(const VecRequest& r) {
   std::shared_ptr<VecSession> session;
+  std::string id;        // given by the registry, until the session takes it
+  bool claimed = false;  // in the fleet: released again if the session is not built
   try {
     experiments::VecEnvOptions opt;
     opt.num_threads = 1;  // on this worker only: the pool shares the cores among sessions
@@ -677,13 +581,12 @@ void SessionService::buildVec(const VecRequest& r) {
     setup.scenario_json = r.scenario_json;
     for (const auto& v : sc.vehicles) setup.vehicle_names.push_back(v.name);
     setup.assets = std::move(assets);
-    {
-      std::lock_guard<std::mutex> lk(mutex_);
-      setup.id = uniqueId();
-      session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
-      vecs_.emplace(setup.id, session);
-      --reserved_;
-    }
+    const std::int64_t epoch = claimId(registry_, ownership_, id);
+    claimed = epoch > 0;
+    setup.id = id;
+    session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
+    session->setEpoch(epoch);
+    registry_.insert(session);
     VecReply reply;
     reply.op = VecOp::Create;
     reply.request_id = r.request_id;
@@ -709,8 +612,71 @@ void SessionService::buildVec(const VecRequest& r) {
   } catch (...) {
     failVec(r, ErrorCode::Internal, "", "internal error: unknown exception while building the environments");
   }
-  std::lock_guard<std::mutex> lk(mutex_);
-  if (!session) --reserved_;
+  if (session) return;
+  registry_.cancel(id);
+  if (claimed) ownership_->release(id);
+}
+
+// ---- a fleet ----------------------------------------------------------------
+
+std::vector<std::string> SessionService::hostedIds() const { return registry_.ids(); }
+
+void SessionService::disown(const std::string& id) {
+  if (auto s = registry_.retire(id, clock_.now())) {
+    s->stop(std::nullopt, "taken over by another server");
+    pool_.wake(s);
+  }
+}
+
+std::string SessionService::adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
+                                  std::int64_t epoch) {
+  const std::string& id = scenario.session_id;
+  try {
+    if (registry_.find(id)) return "session " + id + " is hosted here already";
+    if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return a.why;
+    std::shared_ptr<Session> session;
+    try {
+      const nlohmann::json meta = nlohmann::json::parse(scenario.meta);
+      nlohmann::json doc = scenario::parseScenarioDocument(scenario.data, cfg_.budget);
+      std::shared_ptr<const scenario::AssetBytes> assets;
+      const scenario::FileAccess files = filesFor(doc, 0, "", &assets);
+      const scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
+      scenario::Scene scene = scenario::buildScene(sc);
+      const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
+      SessionSetup setup;
+      setup.id = id;
+      setup.token = meta.at("token").get<std::string>();
+      setup.name = sc.name;
+      setup.scenario_json = scenario.data;
+      setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh) ? scene.vehicle_names
+                                                                                   : scene.built.model->vehicle_names;
+      setup.duration = meta.value("duration", scene.duration);
+      setup.mode = modeFromInt(meta.value("mode", 1)).value_or(Mode::Realtime);
+      setup.rate = meta.value("rate", 1.0);
+      setup.publish_rate = meta.value("publish_rate", scene.output_rate);
+      setup.control_tables = scene.control_tables;
+      setup.assets = std::move(assets);
+      session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
+                                          clock_);
+      session->setEpoch(epoch);
+      if (std::string why = session->resume(snapshot, log); !why.empty()) {
+        registry_.cancel();
+        return "cannot resume session " + id + ": " + why;
+      }
+    } catch (const scenario::ScenarioError& e) {
+      registry_.cancel();
+      return "cannot rebuild session " + id + ": " + joinIssues(e);
+    } catch (const std::exception& e) {
+      registry_.cancel();
+      return "cannot rebuild session " + id + ": " + e.what();
+    }
+    registry_.insert(session);
+    out_.publishReplica(session->scenarioReplica());  // the standbys learn the new owner and epoch
+    pool_.wake(session);
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("internal error: ") + e.what();
+  }
 }
 
 }  // namespace groundsim::session

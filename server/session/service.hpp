@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "config.hpp"
+#include "ownership.hpp"
+#include "registry.hpp"
 #include "scheduler.hpp"
 #include "session.hpp"
 #include "types.hpp"
@@ -60,6 +62,21 @@ class SessionService {
 
   const ServiceConfig& config() const { return cfg_; }
 
+  // ---- a fleet (docs/fleet.md) ----
+  // Before the first request: who claims session ids (null: a lone server).
+  void setOwnership(Ownership* o) { ownership_ = o; }
+  // Hosts a session whose owner was lost, from its replicas: built from the
+  // scenario replica (its files from this server's asset store), resumed at
+  // the snapshot with the owner's applied entries after it, under `epoch`.
+  // Returns "" or why not (the caller releases its claim then).
+  std::string adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
+                    std::int64_t epoch);
+  // Forgets a session another server owns now; nothing is published for it
+  // (the transport drops its messages) and its claim is not released.
+  void disown(const std::string& id);
+  // The ids of the sessions hosted here, of every kind.
+  std::vector<std::string> hostedIds() const;
+
  private:
   // The files a create's document names, from the store: every asset of its
   // manifest must be here (pinned into *held for the session's life). When
@@ -72,32 +89,18 @@ class SessionService {
   void createVec(const VecRequest& r);
   void buildVec(const VecRequest& r);  // on a worker
   void failVec(const VecRequest& r, ErrorCode code, const std::string& field, const std::string& error) noexcept;
-  std::shared_ptr<VecSession> findVec(const std::string& id);
-  bool stopVec(const Request& r);  // Op::Stop of a vectorised session; false: not one
-  std::string uniqueId();          // mutex_ held
-  std::shared_ptr<Session> find(const std::string& id);
   // Looks up the session and checks the token; answers the refusal itself.
-  std::shared_ptr<Session> owned(const Request& r);
+  std::shared_ptr<HostedSession> owned(const Request& r);
+  void stop(const Request& r);
   bool validSettings(const Request& r);
   void fail(const Request& r, ErrorCode code, const std::string& error) noexcept;
-  void retire(std::shared_ptr<Session> s);  // mutex_ held: into ended_
-  void retire(std::shared_ptr<VecSession> s);
   void replyOk(const Request& r, Reply reply);
 
   ServiceConfig cfg_;
   Output& out_;
   const SessionClock& clock_;
-  std::mutex mutex_;  // sessions_ and reserved_ (workers add sessions after building them)
-  std::map<std::string, std::shared_ptr<Session>> sessions_;
-  std::map<std::string, std::shared_ptr<VecSession>> vecs_;  // vectorised sessions
-  struct Ended {
-    std::shared_ptr<Session> session;
-    std::shared_ptr<VecSession> vec;  // one of the two
-    TimePoint since;
-  };
-  std::vector<Ended> ended_;
-  int reserved_ = 0;  // creates accepted but still building
-  bool shut_down_ = false;
+  Ownership* ownership_ = nullptr;
+  Registry registry_;  // every session, of both kinds (workers insert what they build)
   AssetStore assets_;
   Scheduler pool_;    // last member: its workers stop before the registry goes
 };

@@ -36,26 +36,26 @@ std::string shortNumber(double x) {
 
 Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
                  const ServiceConfig& cfg, Output& out, TimePoint now, const SessionClock& clock)
-    : setup_(std::move(setup)),
+    : HostedSession(Kind::Simulation, setup.id, setup.token, now),
+      setup_(std::move(setup)),
       cfg_(cfg),
       out_(out),
       clock_(clock),
       sim_(model, initial),
       initial_(std::move(initial)),
-      budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)),
-      last_activity_(now) {
+      budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)) {
   const Model& m = *model;
   vehicles_ = vehicleWheels(m);
   names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
   info_.dt = m.opt.dt;
   for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
+  if (cfg.replica_interval > 0)
+    replica_every_ = std::max<std::int64_t>(1, std::llround(cfg.replica_interval / m.opt.dt));
   anchor_.reset(now, sim_.state().t, setup_.rate);
   race_ = makeRaceGlue(setup_.scenario_json, model);
   updateInfo(now);
 }
-
-bool Session::tokenMatches(const std::string& token) const { return tokensEqual(token, setup_.token); }
 
 void Session::post(const Request& r) {
   std::lock_guard<std::mutex> lk(mailbox_mutex_);
@@ -77,21 +77,9 @@ void Session::stop(std::optional<ReplyTo> reply, std::string reason) {
   mailbox_.emplace_back(StopCommand{std::move(reply), std::move(reason)});
 }
 
-void Session::touch(TimePoint now) {
+SessionInfo Session::listing() const {
   std::lock_guard<std::mutex> lk(info_mutex_);
-  last_activity_ = now;
-}
-
-double Session::idleSeconds(TimePoint now) const {
-  std::lock_guard<std::mutex> lk(info_mutex_);
-  return seconds(now - last_activity_);
-}
-
-SessionInfo Session::info(TimePoint now) const {
-  std::lock_guard<std::mutex> lk(info_mutex_);
-  SessionInfo i = info_;
-  i.idle_s = seconds(now - last_activity_);
-  return i;
+  return info_;
 }
 
 void Session::updateInfo(TimePoint) {
@@ -353,6 +341,7 @@ bool Session::stepOnce() {
   }
   if (sim_.model().collisions) reportHits();
   if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;
+  if (replica_every_ > 0 && sim_.state().tick % replica_every_ == 0 && !replaying_) replicate();
   return true;
 }
 
@@ -479,6 +468,7 @@ void Session::logApplied(Applied a) {
   a.frame_seq = seq_;
   a.tick = sim_.state().tick;
   a.t = sim_.state().t;
+  a.epoch = epoch();
   out_.publishApplied(a);
 }
 
@@ -496,6 +486,7 @@ Frame Session::makeFrame(bool published) {
   f.drive_applied = drive_applied_;
   fillFrame(f, sim_, vehicles_);
   if (setup_.live_estimate) f.error_estimate = setup_.live_estimate->estimate();
+  f.epoch = epoch();
   return f;
 }
 
@@ -511,7 +502,10 @@ void Session::reply(const ReplyTo& to, bool ok, ErrorCode code, std::string erro
 }
 
 void Session::event(Severity sev, ErrorCode code, std::string reason) {
-  out_.publishEvent(sessionEvent(setup_.id, sev, code, std::move(reason), sim_.state().t));
+  if (replaying_) return;  // published by the owner that first lived it
+  Event e = sessionEvent(setup_.id, sev, code, std::move(reason), sim_.state().t);
+  e.epoch = epoch();
+  out_.publishEvent(e);
 }
 
 }  // namespace groundsim::session

@@ -14,6 +14,7 @@
 #include "applied.hpp"
 #include "clock.hpp"
 #include "frame_build.hpp"
+#include "hosted.hpp"
 #include "config.hpp"
 #include "pacing.hpp"
 #include "accuracy/live_estimate.hpp"
@@ -51,17 +52,15 @@ struct SessionSetup {
 };
 
 
-class Session : public Task {
+class Session : public HostedSession {
  public:
   // `clock` gives every instant the session reads after `now` (tests pass a
   // manual one); it must outlive the session.
   Session(SessionSetup setup, std::shared_ptr<const Model> model, State initial,
           const ServiceConfig& cfg, Output& out, TimePoint now, const SessionClock& clock = steadyClock());
 
-  const std::string& id() const { return setup_.id; }
-  const std::string& scenarioJson() const { return setup_.scenario_json; }
-  const std::string& name() const { return setup_.name; }
-  bool tokenMatches(const std::string& token) const;
+  const std::string& scenarioJson() const override { return setup_.scenario_json; }
+  const std::string& name() const override { return setup_.name; }
   const std::vector<VehicleWheels>& vehicles() const { return vehicles_; }
 
   // Receive thread (then wake the session). Control requests: Reset,
@@ -69,9 +68,7 @@ class Session : public Task {
   void post(const Request& r);
   void post(Drive d);
   void post(CarDrive d);
-  void stop(std::optional<ReplyTo> reply, std::string reason);
-  // Marks owner activity (for idle reclamation).
-  void touch(TimePoint now);
+  void stop(std::optional<ReplyTo> reply, std::string reason) override;
 
   // Worker: applies the mailbox, then steps for at most cfg.slice of wall
   // time. Returns when to run next, or nothing to sleep until woken.
@@ -81,8 +78,20 @@ class Session : public Task {
   std::optional<TimePoint> run(TimePoint now) override;
   void abandon(const char* why) noexcept override;
 
-  SessionInfo info(TimePoint now) const;
-  double idleSeconds(TimePoint now) const;
+  // ---- a fleet (session_replica.cpp, docs/fleet.md) ----
+  // The settings a standby needs to build this session again (the scenario
+  // document and its settings), sent once at creation and now and then.
+  Replica scenarioReplica() const;
+  // Continues a session whose owner was lost, before its first run: the
+  // snapshot's state, then the owner's applied entries after it (`log`,
+  // seq order) replayed at their ticks, as the owner applied them; nothing
+  // is published while replaying, frames and entries then continue with the
+  // seqs the owner would have used. Returns "" or why it cannot.
+  std::string resume(const Replica& snapshot, const std::vector<Applied>& log);
+
+
+ protected:
+  SessionInfo listing() const override;
 
  private:
   struct StepJob { ReplyTo reply; std::int64_t remaining; };
@@ -113,6 +122,8 @@ class Session : public Task {
   void reanchor(TimePoint now);
   void updateInfo(TimePoint now);
   bool finished() const;
+  void replicate();  // a Snapshot replica now (worker)
+  std::string replay(const Applied& a);
   // race_glue.cpp: the scenario's race, when it has one (else they return at once)
   void raceBeforeStep();
   void raceAfterStep(double t0);
@@ -130,6 +141,8 @@ class Session : public Task {
   std::vector<VehicleWheels> vehicles_;
   std::shared_ptr<const std::vector<std::string>> names_;
   std::int64_t steps_per_frame_ = 1;
+  std::int64_t replica_every_ = 0;   // ticks between snapshots for the standbys; 0: none
+  bool replaying_ = false;           // resume(): nothing is published
   std::shared_ptr<RaceGlue> race_;    // null: no race
 
   // worker-owned
@@ -153,7 +166,6 @@ class Session : public Task {
   // shared with the receive thread
   mutable std::mutex mailbox_mutex_;
   std::vector<Command> mailbox_;
-  TimePoint last_activity_;
   mutable std::mutex info_mutex_;
   SessionInfo info_;
 };

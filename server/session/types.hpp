@@ -22,7 +22,7 @@ using TimePoint = Clock::time_point;
 enum class Mode : int { Realtime = 1, Fast = 2, Lockstep = 3, Vectorised = 4 };
 enum class Status : int { Running = 1, Paused = 2, Finished = 3, Diverged = 4, Stopped = 5 };
 enum class Op : int { Create = 1, List = 2, Stop = 3, Reset = 4, Pause = 5, Resume = 6, Step = 7, SetMode = 8,
-                      Scenario = 9 };
+                      Scenario = 9, Drain = 10 };
 enum class Severity : int { Info = 0, Warning = 1, Error = 2 };
 
 // Numbered as event_t.ERR_* so the adapter copies them unchanged.
@@ -226,6 +226,20 @@ struct ReplyTo {
 struct AssetWant;  // asset_store.hpp
 struct Applied;    // applied.hpp
 
+// What an owner sends its standbys so that a session survives its host
+// (replica_t, docs/fleet.md). The transport adds the server id and seq.
+struct Replica {
+  enum class Kind : int { Scenario = 1, Snapshot = 2, Released = 3 };
+  Kind kind = Kind::Snapshot;
+  std::string session_id;
+  std::int64_t epoch = 0;
+  std::int64_t tick = 0;         // Snapshot: the session's tick
+  std::int64_t applied_seq = 0;  // Snapshot: applied entries published before it
+  std::int64_t frame_seq = 0;    // Snapshot: the seq of the next frame
+  std::string meta;              // JSON: settings (Scenario), counters (Snapshot)
+  std::string data;              // Scenario: the scenario document; Snapshot: the state's bytes
+};
+
 class Output {
  public:
   virtual ~Output() = default;
@@ -240,6 +254,8 @@ class Output {
   // worker, before the frame it is kept with. Transports without a log
   // ignore it.
   virtual void publishApplied(const Applied&) {}
+  // A session's replica for its standbys (fleets only; others ignore it).
+  virtual void publishReplica(const Replica&) {}
 };
 
 }  // namespace groundsim::session

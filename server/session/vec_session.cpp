@@ -84,12 +84,12 @@ std::string checkVecRequest(const VecRequest& r, const experiments::Layout& layo
 
 VecSession::VecSession(VecSetup setup, std::unique_ptr<experiments::BatchEnv> env, Output& out, TimePoint now,
                        const SessionClock& clock)
-    : setup_(std::move(setup)),
+    : HostedSession(Kind::Vectorised, setup.id, setup.token, now),
+      setup_(std::move(setup)),
       out_(out),
       clock_(clock),
       env_(std::move(env)),
-      layout_(std::make_shared<const experiments::Layout>(env_->layout())),
-      last_activity_(now) {
+      layout_(std::make_shared<const experiments::Layout>(env_->layout())) {
   const int n = layout_->num_envs, rows = layout_->rows();
   obs_.assign(static_cast<std::size_t>(rows) * layout_->obsSize(), 0.0f);
   rewards_.assign(rows, 0.0);
@@ -109,8 +109,6 @@ VecSession::VecSession(VecSetup setup, std::unique_ptr<experiments::BatchEnv> en
   updateInfo();
 }
 
-bool VecSession::tokenMatches(const std::string& token) const { return tokensEqual(token, setup_.token); }
-
 void VecSession::post(VecRequest r) {
   std::lock_guard<std::mutex> lk(mailbox_mutex_);
   mailbox_.emplace_back(std::move(r));
@@ -121,21 +119,9 @@ void VecSession::stop(std::optional<ReplyTo> reply, std::string reason) {
   mailbox_.emplace_back(StopCommand{std::move(reply), std::move(reason)});
 }
 
-void VecSession::touch(TimePoint now) {
+SessionInfo VecSession::listing() const {
   std::lock_guard<std::mutex> lk(info_mutex_);
-  last_activity_ = now;
-}
-
-double VecSession::idleSeconds(TimePoint now) const {
-  std::lock_guard<std::mutex> lk(info_mutex_);
-  return seconds(now - last_activity_);
-}
-
-SessionInfo VecSession::info(TimePoint now) const {
-  std::lock_guard<std::mutex> lk(info_mutex_);
-  SessionInfo i = info_;
-  i.idle_s = seconds(now - last_activity_);
-  return i;
+  return info_;
 }
 
 void VecSession::updateInfo() {

@@ -19,6 +19,7 @@
 #include "config.hpp"
 #include "pacing.hpp"
 #include "experiments/batch_env.hpp"
+#include "hosted.hpp"
 #include "scheduler.hpp"
 #include "types.hpp"
 
@@ -33,27 +34,25 @@ struct VecSetup {
   std::shared_ptr<const scenario::AssetBytes> assets;  // as SessionSetup::assets
 };
 
-class VecSession : public Task {
+class VecSession : public HostedSession {
  public:
   VecSession(VecSetup setup, std::unique_ptr<experiments::BatchEnv> env, Output& out, TimePoint now,
              const SessionClock& clock = steadyClock());
 
-  const std::string& id() const { return setup_.id; }
-  const std::string& name() const { return setup_.name; }
-  const std::string& scenarioJson() const { return setup_.scenario_json; }
+  const std::string& name() const override { return setup_.name; }
+  const std::string& scenarioJson() const override { return setup_.scenario_json; }
   const experiments::Layout& layout() const { return *layout_; }
-  bool tokenMatches(const std::string& token) const;
 
   // Receive thread (then wake the session); requests checked by the service.
   void post(VecRequest r);
-  void stop(std::optional<ReplyTo> reply, std::string reason);
-  void touch(TimePoint now);
+  void stop(std::optional<ReplyTo> reply, std::string reason) override;
 
   std::optional<TimePoint> run(TimePoint now) override;
   void abandon(const char* why) noexcept override;
 
-  SessionInfo info(TimePoint now) const;
-  double idleSeconds(TimePoint now) const;
+
+ protected:
+  SessionInfo listing() const override;
 
  private:
   struct StopCommand { std::optional<ReplyTo> reply; std::string reason; };
@@ -82,7 +81,6 @@ class VecSession : public Task {
 
   mutable std::mutex mailbox_mutex_;
   std::deque<Command> mailbox_;
-  TimePoint last_activity_;
   mutable std::mutex info_mutex_;
   SessionInfo info_;
 };

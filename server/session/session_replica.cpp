@@ -1,0 +1,163 @@
+// A session's part in a fleet (docs/fleet.md): the replicas its standbys
+// keep, and the resumption of a session whose owner was lost. The owner's
+// applied-command log is what makes a resumption exact: the standby
+// restores the newest snapshot and replays the entries after it at the ticks
+// they took effect, through the functions the owner used (applied.hpp).
+#include <nlohmann/json.hpp>
+
+#include "experiments/snapshot.hpp"
+#include "session.hpp"
+
+namespace groundsim::session {
+namespace {
+
+// The snapshot binds to its scenario: one of another document is refused.
+std::string scenarioHash(const std::string& json) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx",
+                static_cast<unsigned long long>(experiments::fnv1a64(json.data(), json.size())));
+  return buf;
+}
+
+}  // namespace
+
+Replica Session::scenarioReplica() const {
+  Replica r;
+  r.kind = Replica::Kind::Scenario;
+  r.session_id = setup_.id;
+  r.epoch = epoch();
+  nlohmann::json m;
+  m["token"] = setup_.token;
+  m["name"] = setup_.name;
+  m["duration"] = setup_.duration;
+  m["mode"] = static_cast<int>(setup_.mode);
+  m["rate"] = setup_.rate;
+  m["publish_rate"] = setup_.publish_rate;
+  r.meta = m.dump();
+  r.data = setup_.scenario_json;
+  return r;
+}
+
+void Session::replicate() {
+  Replica r;
+  r.kind = Replica::Kind::Snapshot;
+  r.session_id = setup_.id;
+  r.epoch = epoch();
+  r.tick = sim_.state().tick;
+  r.applied_seq = applied_seq_;
+  r.frame_seq = seq_;
+  experiments::EnvSnapshot s;
+  s.state = sim_.state();
+  r.data = experiments::encodeSnapshot(scenarioHash(setup_.scenario_json), s);
+  nlohmann::json m;
+  m["status"] = static_cast<int>(status_);
+  m["reason"] = reason_;
+  m["mode"] = static_cast<int>(setup_.mode);
+  m["rate"] = setup_.rate;
+  m["publish_rate"] = setup_.publish_rate;
+  m["driven"] = cars_.driven;
+  m["frame_pending"] = frame_pending_;
+  r.meta = m.dump();
+  out_.publishReplica(r);
+}
+
+// One entry of the lost owner's log, at its tick: its effect on the
+// simulation (as Resimulator::apply) and on the session's settings.
+std::string Session::replay(const Applied& a) {
+  while (sim_.state().tick < a.tick) {
+    if (status_ != Status::Running) return "entry " + std::to_string(a.seq) + " steps a session that is not running";
+    if (frame_pending_) {  // the owner published this frame before stepping on
+      ++seq_;
+      frame_pending_ = false;
+    }
+    if (!stepOnce()) return "diverged while replaying at tick " + std::to_string(sim_.state().tick);
+  }
+  if (a.tick != sim_.state().tick)
+    return "entry " + std::to_string(a.seq) + " at tick " + std::to_string(a.tick) + " is behind the snapshot's " +
+           std::to_string(sim_.state().tick);
+  // the frame of this tick: published before the entry took effect when
+  // the entry names the seq after it (the owner's count is authoritative,
+  // also where its publish budget deferred a frame)
+  if (frame_pending_ && a.frame_seq > seq_) frame_pending_ = false;
+  seq_ = a.frame_seq;
+  const auto vehicle = [&]() -> const VehicleWheels* {
+    return a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles_.size()) ? &vehicles_[a.vehicle] : nullptr;
+  };
+  switch (a.kind) {
+    case AppliedKind::Drive:
+      if (!vehicle()) return "drive of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
+      applyDrive(sim_, vehicle()->wheels, a.wheels);
+      drive_held_ = false;  // its timeout restarts from the resumption
+      break;
+    case AppliedKind::Controls:
+      if (!vehicle() || vehicle()->road_car < 0) return "controls of a vehicle that is not a road car";
+      applyCarControls(sim_, cars_, vehicle()->road_car, a.controls);
+      break;
+    case AppliedKind::DriveTimeout: releaseDrive(sim_); break;
+    case AppliedKind::ControlsTimeout: releasePedals(sim_); break;
+    case AppliedKind::Reset:
+      resetTo(sim_, cars_, initial_);
+      status_ = Status::Running;
+      reason_.clear();
+      break;
+    case AppliedKind::Pause: status_ = Status::Paused; break;
+    case AppliedKind::Resume: status_ = Status::Running; break;
+    case AppliedKind::SetMode:
+      if (a.mode != 0)
+        if (auto m = modeFromInt(a.mode)) setup_.mode = *m;
+      if (a.rate > 0) setup_.rate = a.rate;
+      if (a.publish_rate > 0) {
+        setup_.publish_rate = a.publish_rate;
+        steps_per_frame_ = stepsPerFrame(a.publish_rate, sim_.model().opt.dt);
+      }
+      break;
+    case AppliedKind::Stop:
+      status_ = Status::Stopped;
+      reason_ = a.reason;
+      break;
+    case AppliedKind::Step:
+    case AppliedKind::End:
+      break;
+  }
+  applied_seq_ = a.seq + 1;
+  return "";
+}
+
+std::string Session::resume(const Replica& snapshot, const std::vector<Applied>& log) {
+  experiments::EnvSnapshot s;
+  try {
+    s = experiments::decodeSnapshot(snapshot.data, scenarioHash(setup_.scenario_json));
+  } catch (const std::exception& e) {
+    return std::string("the snapshot: ") + e.what();
+  }
+  if (s.state.y.size() != sim_.state().y.size()) return "the snapshot is of another model";
+  const nlohmann::json m = nlohmann::json::parse(snapshot.meta, nullptr, false);
+  if (!m.is_object()) return "the snapshot's meta is not JSON";
+  sim_.restore(s.state);
+  seq_ = snapshot.frame_seq;
+  applied_seq_ = snapshot.applied_seq;
+  status_ = static_cast<Status>(m.value("status", static_cast<int>(Status::Running)));
+  reason_ = m.value("reason", std::string());
+  if (auto md = modeFromInt(m.value("mode", 0))) setup_.mode = *md;
+  setup_.rate = m.value("rate", setup_.rate);
+  setup_.publish_rate = m.value("publish_rate", setup_.publish_rate);
+  steps_per_frame_ = stepsPerFrame(setup_.publish_rate, sim_.model().opt.dt);
+  if (m.contains("driven") && m["driven"].is_array()) cars_.driven = m["driven"].get<std::vector<bool>>();
+  frame_pending_ = m.value("frame_pending", true);
+  replaying_ = true;
+  std::string why;
+  for (const Applied& a : log) {
+    if (a.seq < applied_seq_) continue;  // before the snapshot
+    // an entry the standby never heard: the replay ends before it (what
+    // followed is lost; the caller reports the resumption point)
+    if (a.seq != applied_seq_) break;
+    if (a.kind == AppliedKind::End) break;  // the owner's last word: nothing follows
+    if (why = replay(a); !why.empty()) break;
+  }
+  replaying_ = false;
+  reanchor(clock_.now());
+  updateInfo(clock_.now());
+  return why;
+}
+
+}  // namespace groundsim::session
