@@ -363,4 +363,81 @@ groundsim::event_t toMessage(const session::Event& e, std::int64_t seq) {
   return m;
 }
 
+session::Applied fromMessage(const groundsim::applied_t& m) {
+  session::Applied a;
+  a.session_id = m.session_id;
+  a.seq = m.seq;
+  a.frame_seq = m.frame_seq;
+  a.tick = m.tick;
+  a.t = m.t;
+  a.kind = static_cast<session::AppliedKind>(m.kind);
+  a.vehicle = m.vehicle;
+  const size_t n = std::min({static_cast<size_t>(std::max<int>(m.nwheels, 0)), m.drive_torque.size(),
+                             m.brake_torque.size(), m.steer.size()});
+  for (size_t k = 0; k < n; ++k) a.wheels.push_back(WheelControl{m.drive_torque[k], m.brake_torque[k], m.steer[k]});
+  a.controls.throttle = m.throttle;
+  a.controls.brake = m.brake;
+  a.controls.steer = m.car_steer;
+  a.controls.handbrake = m.handbrake;
+  a.controls.gear = m.gear;
+  for (int k = 0; k < 4; ++k) a.controls.wheel_torque[k] = m.wheel_torque[k];
+  a.steps = m.steps;
+  a.mode = m.mode;
+  a.rate = m.rate;
+  a.publish_rate = m.publish_rate;
+  a.reason = m.reason;
+  a.epoch = m.epoch;
+  return a;
+}
+
+session::Replica fromMessage(const groundsim::replica_t& m) {
+  session::Replica r;
+  r.kind = static_cast<session::Replica::Kind>(m.kind);
+  r.session_id = m.session_id;
+  r.epoch = m.epoch;
+  r.tick = m.tick;
+  r.applied_seq = m.applied_seq;
+  r.frame_seq = m.frame_seq;
+  r.meta = m.meta;
+  r.data.assign(m.data.begin(), m.data.end());
+  return r;
+}
+
+groundsim::replica_t toMessage(const session::Replica& r) {
+  groundsim::replica_t m{};
+  m.session_id = r.session_id;
+  m.epoch = r.epoch;
+  m.kind = static_cast<int8_t>(r.kind);
+  m.tick = r.tick;
+  m.applied_seq = r.applied_seq;
+  m.frame_seq = r.frame_seq;
+  m.meta = r.meta;
+  m.data.assign(r.data.begin(), r.data.end());
+  m.nbytes = static_cast<int32_t>(m.data.size());
+  return m;
+}
+
+session::SessionInfo fromMessage(const groundsim::session_info_t& m) {
+  session::SessionInfo s;
+  s.session_id = m.session_id;
+  s.name = m.name;
+  s.mode = static_cast<session::Mode>(m.mode);
+  s.status = static_cast<session::Status>(m.status);
+  s.reason = m.status_reason;
+  s.rate = m.rate;
+  s.publish_rate = m.publish_rate;
+  s.t = m.utime * 1e-6;
+  s.tick = m.tick;
+  s.seq = m.seq;
+  s.vehicle_names = m.vehicle_names;
+  s.idle_s = m.idle_s;
+  s.dt = m.dt;
+  for (auto w : m.wheel_counts) s.wheel_counts.push_back(w);
+  s.control_period = m.control_period;
+  s.num_envs = m.num_envs;
+  s.server_id = m.server_id;
+  s.epoch = m.epoch;
+  return s;
+}
+
 }  // namespace groundsim::net

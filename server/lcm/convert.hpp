@@ -9,6 +9,7 @@
 #include <groundsim/drive_t.hpp>
 #include <groundsim/event_t.hpp>
 #include <groundsim/reply_t.hpp>
+#include <groundsim/replica_t.hpp>
 #include <groundsim/request_t.hpp>
 #include <groundsim/server_status_t.hpp>
 #include <groundsim/session_info_t.hpp>
@@ -37,6 +38,12 @@ session::Request fromMessage(const groundsim::request_t& m);
 session::Drive fromMessage(const groundsim::drive_t& m);
 session::CarDrive fromMessage(const groundsim::controls_t& m);
 session::VecRequest fromMessage(const groundsim::vec_request_t& m);
+// A fleet's traffic between servers (fleet_node.hpp).
+session::Applied fromMessage(const groundsim::applied_t& m);
+session::Replica fromMessage(const groundsim::replica_t& m);
+groundsim::replica_t toMessage(const session::Replica& r);
+// Another server's heartbeat listing (no layout).
+session::SessionInfo fromMessage(const groundsim::session_info_t& m);
 
 groundsim::state_t toMessage(const session::Frame& f);
 // The frame's road cars (f.cars), published beside its state_t.

@@ -1,5 +1,9 @@
 #include "lcm_server.hpp"
 
+#include <groundsim/replica_t.hpp>
+
+#include "fleet_node.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
@@ -89,7 +93,12 @@ ResendRing::Stats LcmServer::resendStats() {
   return ring_.stats();
 }
 
+bool LcmServer::mayPublish(const std::string& session_id) const {
+  return !fleet_ || session_id.empty() || fleet_->mayPublish(session_id);
+}
+
 void LcmServer::publishState(const session::Frame& f) {
+  if (!mayPublish(f.session_id)) return;
   try {
     publish(stateChannel(f.session_id), toMessage(f), &f.session_id, f.seq);
     ++frames_;
@@ -107,6 +116,7 @@ void LcmServer::publishState(const session::Frame& f) {
 }
 
 void LcmServer::publishApplied(const session::Applied& a) {
+  if (!mayPublish(a.session_id)) return;
   try {
     publish(appliedChannel(a.session_id), toMessage(a), &a.session_id, a.frame_seq);
   } catch (const std::exception& e) {
@@ -176,6 +186,7 @@ void LcmServer::publishAssetWant(const session::AssetWant& w) {
 }
 
 void LcmServer::publishEvent(const session::Event& e) try {
+  if (!mayPublish(e.session_id)) return;
   const std::int64_t seq = event_seq_++;
   groundsim::event_t m = toMessage(e, seq);
   m.server_id = server_id_;
@@ -264,6 +275,32 @@ void LcmServer::handleRequest(const std::string& channel, const void* data, int 
     publishReply(reply);
     return;
   }
+  if (r.op == session::Op::Drain) {
+    if (msg.server_id == server_id_) {
+      session::Reply ok = session::makeReply(session::replyTo(r), "", true);
+      publishReply(ok);
+      drain_requested_ = true;
+      return;
+    }
+    if (fleet_) return;  // the server named answers
+    const std::string why = "server_id: " + net::quoted(msg.server_id) + " is not this server (" + server_id_ + ")";
+    publishReply(session::makeReply(session::replyTo(r), "", false, session::ErrorCode::BadRequest, why));
+    return;
+  }
+  if (fleet_) {
+    if (r.op == session::Op::Create) {
+      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleRequest(r); });
+      return;
+    }
+    if (r.op == session::Op::List) {
+      if (!fleet_->isAnswerer()) return;
+      session::Reply reply = session::makeReply(session::replyTo(r), "", true);
+      reply.sessions = fleet_->fleetSessions(service_->status().sessions);
+      publishReply(reply);
+      return;
+    }
+    if (!fleet_->answers(r.session_id)) return;
+  }
   service_->handleRequest(r);
 }
 
@@ -279,6 +316,7 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
   if (LatencyTrace::on())
     LatencyTrace::line("drx %s %lld %lld", msg.session_id.c_str(), static_cast<long long>(msg.seq),
                        static_cast<long long>(LatencyTrace::us(drive.received)));
+  if (fleet_ && !fleet_->answers(drive.session_id)) return;
   service_->handleDrive(std::move(drive));
 }
 
@@ -290,6 +328,7 @@ void LcmServer::handleControls(const std::string& channel, const void* data, int
   if (why.empty()) why = badId("session_id", msg.session_id);
   if (why.empty()) why = badId("token", msg.token);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
+  if (fleet_ && !fleet_->answers(msg.session_id)) return;
   service_->handleControls(fromMessage(msg));
 }
 
@@ -319,6 +358,13 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
     publishEvent(e);
     publishVecReply(reply);
     return;
+  }
+  if (fleet_) {
+    if (r.op == session::VecOp::Create) {
+      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleVecRequest(r); });
+      return;
+    }
+    if (!fleet_->answers(r.session_id)) return;
   }
   service_->handleVecRequest(std::move(r));
 }
@@ -360,6 +406,8 @@ void LcmServer::handleResend(const std::string& channel, const void* data, int s
   if (why.empty() && msg.from_seq < 0) why = "from_seq: must be >= 0, got " + std::to_string(msg.from_seq);
   if (why.empty() && msg.to_seq < -1) why = "to_seq: must be >= -1 (-1: up to the newest), got " + std::to_string(msg.to_seq);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "resend: " + why);
+  // in a fleet each server keeps its own: the owner answers for a session, every server for its events
+  if (fleet_ && msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id)) return;
   const std::string session = msg.stream == groundsim::resend_t::STREAM_EVENTS ? "" : msg.session_id;
   std::vector<ResendRing::Message> answer;
   {
@@ -392,6 +440,10 @@ void LcmServer::heartbeat() {
     ring_.expire(std::chrono::steady_clock::now());
   }
   const session::ServiceStatus st = service_->status();
+  if (fleet_) {
+    if (fleet_->fenced()) return;  // cut off from the fleet: silent
+    fleet_->updateCapacity(st);
+  }
   groundsim::server_status_t m;
   m.utime = wallMicros();
   m.seq = status_seq_++;
@@ -436,10 +488,66 @@ LcmServer::Counters LcmServer::counters() const {
   return c;
 }
 
+void LcmServer::setFleet(FleetNode* fleet) {
+  fleet_ = fleet;
+  if (!fleet_) return;
+  // what a standby keeps of the others' sessions, and the fleet's listings
+  lcm_.subscribe(std::string(kReplicaPrefix) + ".*", &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(std::string(kAppliedPrefix) + ".*", &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(kStatusChannel, &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+}
+
+void LcmServer::onFleet(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  try {
+    handleFleet(channel, rbuf->data, static_cast<int>(rbuf->data_size));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundsim-server: fleet input on %s: %s\n", channel.c_str(), e.what());
+  } catch (...) {
+  }
+}
+
+// Other servers' output, heard as any subscriber hears it: undecodable
+// datagrams are not answered (they are no request), only counted.
+void LcmServer::handleFleet(const std::string& channel, const void* data, int size) {
+  if (channel == kStatusChannel) {
+    groundsim::server_status_t m;
+    if (!decodeMessage(data, size, m, "groundsim.server_status_t").ok()) return void(++errors_);
+    if (m.server_id == server_id_) return;
+    std::vector<session::SessionInfo> list;
+    for (const auto& s : m.sessions)
+      if (s.status == static_cast<int8_t>(session::Status::Running) || s.status == static_cast<int8_t>(session::Status::Paused))
+        list.push_back(fromMessage(s));
+    for (auto& s : list) if (s.server_id.empty()) s.server_id = m.server_id;
+    fleet_->onListing(m.server_id, std::move(list));
+  } else if (channel.rfind(kReplicaPrefix, 0) == 0) {
+    groundsim::replica_t m;
+    if (!decodeMessage(data, size, m, "groundsim.replica_t").ok()) return void(++errors_);
+    fleet_->onReplica(fromMessage(m), m.server_id);
+  } else if (channel.rfind(kAppliedPrefix, 0) == 0) {
+    groundsim::applied_t m;
+    if (!decodeMessage(data, size, m, "groundsim.applied_t").ok()) return void(++errors_);
+    fleet_->onApplied(fromMessage(m));
+  }
+}
+
+void LcmServer::publishReplica(const session::Replica& r) {
+  if (r.kind != session::Replica::Kind::Released && !mayPublish(r.session_id)) return;
+  try {
+    groundsim::replica_t m = toMessage(r);
+    m.utime = wallMicros();
+    m.seq = replica_seq_++;
+    m.server_id = server_id_;
+    publish(replicaChannel(r.session_id), m);
+  } catch (const std::exception& e) {
+    ++errors_;
+    std::fprintf(stderr, "groundsim-server: cannot publish a replica of %s: %s\n", r.session_id.c_str(), e.what());
+  }
+}
+
 void LcmServer::run(const std::atomic<bool>& stop) {
   using namespace std::chrono;
   auto next_beat = steady_clock::now();
-  while (!stop.load()) {
+  while (!stop.load() && !drain_requested_.load()) {
     // short timeout so that a signal is noticed promptly
     if (lcm_.handleTimeout(100) < 0 && !stop.load()) {  // a signal interrupts the wait: not an error
       std::fprintf(stderr, "groundsim-server: LCM receive error on %s\n", url_.c_str());
@@ -461,6 +569,8 @@ void LcmServer::run(const std::atomic<bool>& stop) {
   bye.code = session::ErrorCode::Shutdown;
   bye.reason = "server " + server_id_ + " stopping";
   publishEvent(bye);
+  // in a fleet, a server that stops hands its sessions over first
+  if (fleet_) fleet_->drain(std::chrono::seconds(5));
   service_->shutdown("server stopped");
   heartbeat();  // lists no sessions
 }

@@ -12,9 +12,12 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "resend_ring.hpp"
+#include "session/types.hpp"
 #include "session/service.hpp"
 
 namespace groundsim::net {
+
+class FleetNode;
 
 class LcmServer final : public session::Output {
  public:
@@ -35,6 +38,19 @@ class LcmServer final : public session::Output {
   void publishAssetWant(const session::AssetWant& w) override;
   // On GROUNDSIM_APPLIED_<session>, kept in the resend ring with the frame published next.
   void publishApplied(const session::Applied& a) override;
+  // On GROUNDSIM_REPLICA_<session> (fleets only).
+  void publishReplica(const session::Replica& r) override;
+
+  // ---- a fleet (fleet_node.hpp) ----
+  // Before run(): this server's id (else a random one).
+  void setServerId(const std::string& id) { server_id_ = id; }
+  const std::string& serverId() const { return server_id_; }
+  // Before run(): routes requests through the fleet (placement, owners)
+  // and hears the other servers' replicas, applied logs and heartbeats.
+  void setFleet(FleetNode* fleet);
+  session::SessionService& service() { return *service_; }
+  // OP_DRAIN named this server (or SIGTERM in a fleet): run() returns and the caller drains.
+  bool drainRequested() const { return drain_requested_.load(); }
 
   // One received datagram, as LCM's handler gets it (also the entry of the
   // datagram fuzz target). Never throws: LCM's C code must not unwind.
@@ -71,6 +87,9 @@ class LcmServer final : public session::Output {
   void onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onFleet(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void handleFleet(const std::string& channel, const void* data, int size);
+  bool mayPublish(const std::string& session_id) const;
   void handleResend(const std::string& channel, const void* data, int size);
   void handleAsset(const std::string& channel, const void* data, int size);
   void handleVecRequest(const std::string& channel, const void* data, int size);
@@ -89,6 +108,9 @@ class LcmServer final : public session::Output {
   std::mutex publish_mutex_;
   ResendRing ring_;  // under publish_mutex_
   std::string server_id_;
+  FleetNode* fleet_ = nullptr;
+  std::atomic<bool> drain_requested_{false};
+  std::atomic<std::int64_t> replica_seq_{0};
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
       want_seq_{0};
   std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0}, overruns_{0};

@@ -1,5 +1,7 @@
 // groundsim-server: hosts simulation sessions for LCM clients
-// (docs/protocol.md). Stops cleanly on SIGINT or SIGTERM.
+// (docs/protocol.md). Stops cleanly on SIGINT or SIGTERM; in a fleet
+// (--etcd, docs/fleet.md) it hands its sessions over first.
+#include <cctype>
 #include <csignal>
 #include <cstdio>
 
@@ -8,6 +10,7 @@
 #include "protocol/channels.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/text.hpp"
+#include "fleet_node.hpp"
 #include "lcm_server.hpp"
 #include "metrics.hpp"
 
@@ -28,6 +31,9 @@ int main(int argc, char** argv) {
   groundsim::net::ResendLimits resend;
   int metrics_port = 0;
   std::string metrics_bind = "127.0.0.1";
+  groundsim::net::FleetOptions fleet;
+  std::string etcd;
+  double snapshot_interval = 1.0;
 
   CLI::App app{"groundsim-server: simulation sessions over LCM"};
   app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
@@ -92,6 +98,22 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--metrics-bind", metrics_bind, "address the metrics port listens on (127.0.0.1: this machine only)")
       ->capture_default_str();
+  app.add_option("--etcd", etcd, "join a fleet: etcd endpoints, comma separated (docs/fleet.md); without it a lone server");
+  app.add_option("--server-id", fleet.server_id, "this server's id in the fleet (default: a random one)")
+      ->check([](const std::string& s) {
+        if (s.empty() || s.size() > 64) return std::string("1 to 64 characters");
+        for (char c : s)
+          if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-')
+            return std::string("only letters, digits, '.', '_' and '-'");
+        return std::string();
+      });
+  app.add_option("--address", fleet.address, "how the fleet reaches this server (informational, in its registration)");
+  app.add_option("--placement", fleet.placement, "where a fleet places new sessions: spread (balance) or packed (fill one first)")
+      ->capture_default_str()->check(CLI::IsMember({"spread", "packed"}));
+  app.add_option("--snapshot-interval", snapshot_interval, "s of simulated time between a session's snapshots for its standbys (fleet)")
+      ->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  app.add_option("--lease-ttl", fleet.ttl_s, "s, the fleet membership's lease (etcd's minimum is 2)")
+      ->capture_default_str()->check(CLI::Range(2, 60));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -102,6 +124,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   cfg.slice = slice_ms * 1e-3;
+  if (!etcd.empty()) cfg.replica_interval = snapshot_interval;
 
   struct sigaction sa {};
   sa.sa_handler = onSignal;
@@ -113,6 +136,19 @@ int main(int argc, char** argv) {
   try {
     groundsim::net::LcmServer server(url, cfg, !quiet);
     server.setResendLimits(resend);
+    std::unique_ptr<groundsim::net::FleetNode> node;
+    if (!etcd.empty()) {
+      if (!fleet.server_id.empty()) server.setServerId(fleet.server_id);
+      fleet.server_id = server.serverId();
+      fleet.endpoints = groundsim::fleet::EtcdClient::parseEndpoints(etcd);
+      fleet.build = "groundsim-server";
+      node = std::make_unique<groundsim::net::FleetNode>(fleet, server.service(), server);
+      server.service().setOwnership(node.get());
+      server.setFleet(node.get());
+      std::printf("fleet: server %s joined through %s (placement %s, lease %lld s, snapshots every %g s)\n",
+                  fleet.server_id.c_str(), etcd.c_str(), fleet.placement.c_str(),
+                  static_cast<long long>(node->membership().ttl()), snapshot_interval);
+    }
     // before the ready line, so that whoever waits for it can scrape; stopped after run(),
     // so that /health answers 503 while the sessions stop
     std::unique_ptr<groundsim::net::MetricsListener> metrics;
@@ -136,6 +172,8 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
     server.run(g_stop);
     metrics.reset();
+    server.service().setOwnership(nullptr);
+    node.reset();  // leaves the fleet
     std::printf("groundsim-server stopped\n");
     return 0;
   } catch (const std::exception& e) {

@@ -39,6 +39,9 @@ inline std::string contactChannel(const std::string& session_id) { return kConta
 // + session id: applied_t, the session's applied-command log (docs/logging.md, Re-simulation)
 inline constexpr const char* kAppliedPrefix = "GROUNDSIM_APPLIED_";
 inline std::string appliedChannel(const std::string& session_id) { return kAppliedPrefix + session_id; }
+// replica_t of a fleet's session for its standbys (docs/fleet.md)
+inline constexpr const char* kReplicaPrefix = "GROUNDSIM_REPLICA_";
+inline std::string replicaChannel(const std::string& session_id) { return kReplicaPrefix + session_id; }
 
 // LCM's own default, unless LCM_DEFAULT_URL says otherwise. ttl=0 keeps
 // multicast on this host.

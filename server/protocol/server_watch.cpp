@@ -1,5 +1,6 @@
 #include "server_watch.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "protocol/channels.hpp"
@@ -18,9 +19,22 @@ ServerWatch::~ServerWatch() {
 void ServerWatch::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   groundsim::server_status_t m;
   if (!decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), m, "groundsim.server_status_t").ok()) return;
-  last_ = std::move(m);
   since_ = Clock::now();
+  // forget servers silent for longer than the retention (a fleet's dead hosts)
+  std::erase_if(last_, [&](const auto& kv) {
+    return std::chrono::duration<double>(since_ - kv.second.at).count() > kFleetRetention;
+  });
+  const std::string id = m.server_id;
+  auto it = last_.find(id);
+  const long long beats = it == last_.end() ? 1 : it->second.beats + 1;
+  last_[id] = Beat{std::move(m), since_, beats};
   ++count_;
+}
+
+long long ServerWatch::rounds() const {
+  long long n = -1;
+  for (const auto& [id, b] : last_) n = n < 0 ? b.beats : std::min(n, b.beats);
+  return std::max(0LL, n);
 }
 
 double ServerWatch::silence(Clock::time_point now) const {
@@ -30,14 +44,30 @@ double ServerWatch::silence(Clock::time_point now) const {
 bool ServerWatch::lost(Clock::time_point now) const { return silence(now) > timeout_s_; }
 
 std::optional<groundsim::session_info_t> ServerWatch::session(const std::string& id) const {
-  if (!last_) return std::nullopt;
-  for (const auto& s : last_->sessions)
-    if (s.session_id == id) return s;
-  return std::nullopt;
+  std::optional<groundsim::session_info_t> best;
+  Clock::time_point best_at{};
+  for (const auto& [server, b] : last_)
+    for (const auto& s : b.status.sessions) {
+      if (s.session_id != id) continue;
+      // a higher epoch is the session's new owner; within one, the freshest beat
+      if (!best || s.epoch > best->epoch || (s.epoch == best->epoch && b.at > best_at)) {
+        best = s;
+        best_at = b.at;
+      }
+    }
+  return best;
 }
 
 std::vector<groundsim::session_info_t> ServerWatch::sessions() const {
-  return last_ ? last_->sessions : std::vector<groundsim::session_info_t>{};
+  std::map<std::string, groundsim::session_info_t> by_id;
+  for (const auto& [server, b] : last_)
+    for (const auto& s : b.status.sessions) {
+      auto it = by_id.find(s.session_id);
+      if (it == by_id.end() || s.epoch > it->second.epoch) by_id[s.session_id] = s;
+    }
+  std::vector<groundsim::session_info_t> out;
+  for (auto& [id, s] : by_id) out.push_back(std::move(s));
+  return out;
 }
 
 std::string ServerWatch::lostMessage(const std::string& url, Clock::time_point now) const {

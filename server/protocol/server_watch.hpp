@@ -3,9 +3,16 @@
 // there, and what it last said about a session. A client that hears no
 // heartbeat for kHeartbeatTimeout (counted from its start when it has heard
 // none yet) treats the server as gone instead of waiting forever.
+//
+// A fleet (docs/fleet.md) is many servers on one bus, each heartbeating its
+// own sessions: the watch keeps every server's last heartbeat, and a
+// session is as the freshest listing of its highest epoch says. A server's
+// listing is kept for kFleetRetention after its last heartbeat, so that a
+// session whose host died stays known while a standby takes it over.
 #pragma once
 
 #include <chrono>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,9 +41,15 @@ class ServerWatch {
   // Seconds since the last heartbeat (or since the start, before the first).
   double silence(Clock::time_point now = Clock::now()) const;
   long long heartbeats() const { return count_; }
-  // The session as the last heartbeat listed it; nothing if it was not listed.
+  // Heartbeats of the least heard server among those heard lately: "two
+  // rounds later" means every server (a session's owner too) has beaten
+  // twice, which a count of all heartbeats does not say in a fleet.
+  long long rounds() const;
+  // How long a silent server's listing is kept (a failover's length, docs/fleet.md).
+  static constexpr double kFleetRetention = 6.0;
+  // The session as the last heartbeats listed it; nothing if none did.
   std::optional<groundsim::session_info_t> session(const std::string& id) const;
-  // Every session the last heartbeat listed (running and recently ended).
+  // Every session the last heartbeats listed (running and recently ended), once each.
   std::vector<groundsim::session_info_t> sessions() const;
   // "no heartbeat from groundsim-server for 3.0 s on URL (killed or unreachable)"
   std::string lostMessage(const std::string& url, Clock::time_point now = Clock::now()) const;
@@ -49,7 +62,12 @@ class ServerWatch {
   double timeout_s_;
   Clock::time_point since_;
   long long count_ = 0;
-  std::optional<groundsim::server_status_t> last_;
+  struct Beat {
+    groundsim::server_status_t status;
+    Clock::time_point at;
+    long long beats = 0;
+  };
+  std::map<std::string, Beat> last_;  // by server_id
 };
 
 }  // namespace groundsim::net

@@ -1,0 +1,433 @@
+#include "fleet_node.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+namespace groundsim::net {
+namespace {
+
+using fleet::Compare;
+using fleet::Op;
+using Result = fleet::Compare::Result;
+
+std::string ownerValue(const std::string& server, std::int64_t epoch) {
+  return nlohmann::json{{"server", server}, {"epoch", epoch}}.dump();
+}
+
+std::string ownerOf(const std::string& value) {
+  const nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+  return j.is_object() ? j.value("server", std::string()) : std::string();
+}
+
+void log(const std::string& line) { std::fprintf(stderr, "groundsim-server: fleet: %s\n", line.c_str()); }
+
+}  // namespace
+
+FleetNode::FleetNode(FleetOptions options, session::SessionService& service, session::Output& out)
+    : options_(std::move(options)), service_(service), out_(out), client_(options_.endpoints) {
+  fleet::Membership::Options mo;
+  mo.id = options_.server_id;
+  mo.address = options_.address;
+  mo.build = options_.build;
+  mo.ttl_s = options_.ttl_s;
+  mo.prefix = options_.prefix;
+  mo.resume_lease = true;
+  const auto& cfg = service_.config();
+  mo.capacity = {{"sessions_free", cfg.max_sessions}, {"max_sessions", cfg.max_sessions},
+                 {"workers", cfg.workers}, {"load", 0.0}};
+  fleet::Membership::Callbacks cb;
+  cb.on_lost = [this](const std::string& why) {
+    fenced_ = true;
+    log("fenced (" + why + "): publishing nothing until the lease is back");
+  };
+  cb.on_registered = [this](std::int64_t lease) { onRegistered(lease); };
+  membership_ = std::make_unique<fleet::Membership>(client_, mo, cb);
+  thread_ = std::thread([this] { run(); });
+}
+
+FleetNode::~FleetNode() {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  membership_.reset();  // leaves: the key goes at once
+}
+
+std::string FleetNode::key(const std::string& kind, const std::string& rest) const {
+  return options_.prefix + "/" + kind + "/" + rest;
+}
+
+// ---- ownership --------------------------------------------------------------
+
+std::int64_t FleetNode::claim(const std::string& id) {
+  if (draining_) throw std::runtime_error("server " + options_.server_id + " is draining");
+  const std::int64_t lease = membership_->leaseId();
+  if (lease == 0 || fenced_) throw std::runtime_error("server " + options_.server_id + " cannot reach the fleet's etcd");
+  const fleet::TxnResult t =
+      client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
+                  {Op::put(key("owners", id), ownerValue(options_.server_id, 1), lease), Op::put(key("epochs", id), "1")});
+  if (!t.succeeded) return 0;
+  std::lock_guard<std::mutex> lk(mutex_);
+  my_epochs_[id] = 1;
+  owners_[id] = options_.server_id;
+  return 1;
+}
+
+void FleetNode::release(const std::string& id) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    releases_.push_back(id);
+  }
+  wake_.notify_all();
+}
+
+bool FleetNode::mayPublish(const std::string& session_id) const {
+  if (fenced_) return false;
+  std::lock_guard<std::mutex> lk(mutex_);
+  return !disowned_.count(session_id);
+}
+
+bool FleetNode::isAnswerer() const {
+  std::string first;
+  for (const fleet::Member& m : membership_->members())
+    if (first.empty() || m.id < first) first = m.id;
+  return first.empty() || first == options_.server_id;
+}
+
+bool FleetNode::answers(const std::string& session_id) const {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (disowned_.count(session_id)) return false;
+    if (my_epochs_.count(session_id)) return true;
+    if (owners_.count(session_id) || standby_.count(session_id)) return false;  // its owner, or its next one, answers
+  }
+  return isAnswerer();
+}
+
+// ---- placement ----------------------------------------------------------------
+
+void FleetNode::onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take) {
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    creates_.push_back(Pending{client_id, request_id, std::move(take)});
+  }
+  wake_.notify_all();
+}
+
+std::int64_t FleetNode::claimsLease() {
+  const auto now = Clock::now();
+  if (claims_lease_ == 0 || now - claims_lease_at_ > std::chrono::seconds(5)) {
+    claims_lease_ = client_.leaseGrant(10).id;
+    claims_lease_at_ = now;
+  }
+  return claims_lease_;
+}
+
+std::map<std::string, int> FleetNode::loads() {
+  std::map<std::string, int> n;
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/")) ++n[ownerOf(kv.value)];
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/creates/")) ++n[kv.value];
+  return n;
+}
+
+std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loads) const {
+  struct Row { std::string id; double used; };
+  std::vector<Row> rows;
+  for (const fleet::Member& m : membership_->members()) {
+    const nlohmann::json& info = m.info;
+    if (!info.is_object() || info.value("draining", false)) continue;
+    const nlohmann::json cap = info.value("capacity", nlohmann::json::object());
+    const double max = cap.value("max_sessions", 0.0);
+    const auto it = loads.find(m.id);
+    const double count = it == loads.end() ? 0.0 : it->second;
+    if (max <= 0 || count >= 2 * max) continue;  // full (counts include sessions being built twice)
+    rows.push_back(Row{m.id, count / max});
+  }
+  const bool packed = options_.placement == "packed";
+  std::sort(rows.begin(), rows.end(), [&](const Row& a, const Row& b) {
+    if (a.used != b.used) return packed ? a.used > b.used : a.used < b.used;
+    return a.id < b.id;
+  });
+  std::vector<std::string> out;
+  for (const Row& r : rows) out.push_back(r.id);
+  return out;
+}
+
+void FleetNode::place(const Pending& p) {
+  const std::string k = key("creates", p.client_id + "/" + std::to_string(p.request_id));
+  std::optional<fleet::Kv> placed = client_.get(k);
+  if (!placed) {
+    const std::vector<std::string> order = ranked(loads());
+    if (order.empty()) {
+      if (isAnswerer()) p.take();  // nobody takes sessions: this one refuses it (full, draining)
+      return;
+    }
+    client_.createIfAbsent(k, order.front(), claimsLease());
+    placed = client_.get(k);
+  }
+  if (placed && placed->value == options_.server_id) p.take();
+}
+
+// ---- standbys -----------------------------------------------------------------
+
+void FleetNode::onReplica(const session::Replica& r, const std::string& server_id) {
+  if (server_id == options_.server_id) return;
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (r.kind == session::Replica::Kind::Released) {
+    standby_.erase(r.session_id);
+    return;
+  }
+  auto it = standby_.find(r.session_id);
+  if (it == standby_.end()) {
+    if (my_epochs_.count(r.session_id) || standby_.size() >= options_.max_standby_sessions) return;
+    it = standby_.emplace(r.session_id, Standby{}).first;
+  }
+  Standby& s = it->second;
+  if (r.epoch < s.epoch) return;  // a fenced old owner's
+  if (r.epoch > s.epoch) {  // a new owner: what the old one sent is behind
+    s.snapshot.reset();
+    s.epoch = r.epoch;
+  }
+  s.owner = server_id;
+  if (r.kind == session::Replica::Kind::Scenario) {
+    s.scenario = r;
+  } else {
+    s.snapshot = r;
+    s.log.erase(s.log.begin(), s.log.lower_bound(r.applied_seq));
+  }
+}
+
+void FleetNode::onApplied(const session::Applied& a) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (my_epochs_.count(a.session_id)) return;  // this server's own
+  auto it = standby_.find(a.session_id);
+  if (it == standby_.end()) {
+    if (standby_.size() >= options_.max_standby_sessions) return;
+    it = standby_.emplace(a.session_id, Standby{}).first;
+  }
+  Standby& s = it->second;
+  if (a.epoch < s.epoch) return;
+  if (s.snapshot && a.seq < s.snapshot->applied_seq) return;
+  if (s.log.size() >= options_.max_log_entries) s.log.erase(s.log.begin());
+  s.log[a.seq] = a;
+}
+
+void FleetNode::onListing(const std::string& server_id, std::vector<session::SessionInfo> sessions) {
+  if (server_id == options_.server_id) return;
+  std::lock_guard<std::mutex> lk(mutex_);
+  listings_[server_id] = Listing{std::move(sessions), Clock::now()};
+}
+
+std::vector<session::SessionInfo> FleetNode::fleetSessions(std::vector<session::SessionInfo> own) const {
+  const auto now = Clock::now();
+  std::set<std::string> seen;
+  for (const auto& s : own) seen.insert(s.session_id);
+  std::lock_guard<std::mutex> lk(mutex_);
+  for (const auto& [server, l] : listings_) {
+    if (now - l.at > std::chrono::seconds(3)) continue;  // a server gone quiet
+    for (const auto& s : l.sessions)
+      if (seen.insert(s.session_id).second) own.push_back(s);
+  }
+  return own;
+}
+
+void FleetNode::updateCapacity(const session::ServiceStatus& st) {
+  membership_->update({{"sessions_free", std::max(0, st.max_sessions - static_cast<int>(st.sessions.size()))},
+                       {"max_sessions", st.max_sessions},
+                       {"workers", st.workers},
+                       {"load", st.load}});
+}
+
+// ---- the node's thread ----------------------------------------------------------
+
+void FleetNode::run() {
+  auto next_scan = Clock::now();
+  for (;;) {
+    std::vector<Pending> creates;
+    std::vector<std::string> releases;
+    {
+      std::unique_lock<std::mutex> lk(mutex_);
+      wake_.wait_until(lk, next_scan, [&] { return stopping_.load() || !creates_.empty() || !releases_.empty(); });
+      if (stopping_) return;
+      creates.swap(creates_);
+      releases.swap(releases_);
+    }
+    try {
+      for (const Pending& p : creates) place(p);
+      for (const std::string& id : releases) {
+        std::int64_t epoch = 0;
+        {
+          std::lock_guard<std::mutex> lk(mutex_);
+          auto it = my_epochs_.find(id);
+          if (it != my_epochs_.end()) epoch = it->second;
+          my_epochs_.erase(id);
+        }
+        session::Replica gone;
+        gone.kind = session::Replica::Kind::Released;
+        gone.session_id = id;
+        gone.epoch = epoch;
+        out_.publishReplica(gone);
+        if (epoch > 0)
+          client_.txn({Compare::valueIs(key("owners", id), Result::Equal, ownerValue(options_.server_id, epoch))},
+                      {Op::del(key("owners", id)), Op::del(key("epochs", id))});
+      }
+      if (Clock::now() >= next_scan) {
+        scan();
+        next_scan = Clock::now() + options_.scan_period;
+      }
+    } catch (const std::exception& e) {
+      log(std::string("etcd: ") + e.what());
+      next_scan = Clock::now() + options_.scan_period;
+    }
+  }
+}
+
+void FleetNode::scan() {
+  std::map<std::string, std::string> owners;
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/"))
+    owners[kv.key.substr(options_.prefix.size() + 8)] = ownerOf(kv.value);
+  std::vector<std::string> lost;  // sessions hosted here that another server owns now
+  std::vector<std::pair<std::string, Standby>> orphans;
+  const auto now = Clock::now();
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    owners_ = owners;
+    owners_fresh_ = true;
+    for (const auto& [sid, epoch] : my_epochs_) {
+      auto it = owners.find(sid);
+      if (it != owners.end() && it->second != options_.server_id) lost.push_back(sid);
+    }
+    for (auto& [sid, s] : standby_) {
+      if (owners.count(sid)) {
+        s.absent_since = {};
+        continue;
+      }
+      if (s.absent_since == Clock::time_point{}) s.absent_since = now;
+      if (s.scenario && s.snapshot) orphans.emplace_back(sid, s);
+    }
+  }
+  for (const std::string& sid : lost) {
+    log("session " + sid + " is owned by " + owners[sid] + " now: dropped here");
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      disowned_.insert(sid);
+      my_epochs_.erase(sid);
+    }
+    service_.disown(sid);
+  }
+  if (orphans.empty() || fenced_ || draining_) return;
+  const std::vector<std::string> order = ranked(loads());
+  const auto me = std::find(order.begin(), order.end(), options_.server_id);
+  if (me == order.end()) return;
+  const auto rank = static_cast<int>(me - order.begin());
+  for (auto& [sid, s] : orphans)
+    if (now - s.absent_since >= rank * options_.rank_delay) tryTakeOver(sid, std::move(s));
+}
+
+void FleetNode::tryTakeOver(const std::string& sid, Standby s) {
+  const std::int64_t lease = membership_->leaseId();
+  if (lease == 0) return;
+  const std::optional<fleet::Kv> e = client_.get(key("epochs", sid));
+  std::int64_t epoch = 0;
+  if (e) epoch = std::atoll(e->value.c_str());
+  epoch = std::max(epoch, s.epoch) + 1;
+  const fleet::TxnResult t = client_.txn(
+      {Compare::version(key("owners", sid), Result::Equal, 0),
+       Compare::modRevision(key("epochs", sid), Result::Equal, e ? e->mod_revision : 0)},
+      {Op::put(key("owners", sid), ownerValue(options_.server_id, epoch), lease),
+       Op::put(key("epochs", sid), std::to_string(epoch))});
+  if (!t.succeeded) return;  // another standby was first
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    my_epochs_[sid] = epoch;
+    standby_.erase(sid);
+    disowned_.erase(sid);
+  }
+  std::vector<session::Applied> log_entries;
+  for (auto& [seq, a] : s.log) log_entries.push_back(a);
+  const std::string why = service_.adopt(*s.scenario, *s.snapshot, log_entries, epoch);
+  if (!why.empty()) {
+    log("cannot take over session " + sid + ": " + why);
+    release(sid);
+    return;
+  }
+  log("took over session " + sid + " from " + s.owner + " at epoch " + std::to_string(epoch) + ": snapshot at tick " +
+      std::to_string(s.snapshot->tick) + ", " + std::to_string(log_entries.size()) + " applied entries replayed");
+}
+
+void FleetNode::onRegistered(std::int64_t lease) {
+  std::map<std::string, std::int64_t> mine;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    mine = my_epochs_;
+  }
+  for (const auto& [sid, epoch] : mine) {
+    try {
+      const std::string value = ownerValue(options_.server_id, epoch);
+      const std::optional<fleet::Kv> kv = client_.get(key("owners", sid));
+      if (kv && kv->value == value && kv->lease == lease) continue;  // the lease was resumed, keys and all
+      // absent (it went with the old lease) and nobody took a later epoch: claim it again
+      const fleet::TxnResult t = client_.txn(
+          {Compare::version(key("owners", sid), Result::Equal, 0),
+           Compare::valueIs(key("epochs", sid), Result::Equal, std::to_string(epoch))},
+          {Op::put(key("owners", sid), value, lease)});
+      if (t.succeeded) continue;
+    } catch (const std::exception& e) {
+      log(std::string("etcd: ") + e.what());
+    }
+    log("session " + sid + " was taken over while this server was cut off: dropped here");
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      disowned_.insert(sid);
+      my_epochs_.erase(sid);
+    }
+    service_.disown(sid);
+  }
+  fenced_ = false;
+  log("lease " + std::to_string(lease) + " held again: publishing");
+}
+
+void FleetNode::drain(std::chrono::milliseconds timeout) {
+  draining_ = true;
+  membership_->setDraining(true);
+  std::map<std::string, std::int64_t> mine;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    mine = my_epochs_;
+    for (const auto& [sid, e] : mine) disowned_.insert(sid);  // silent from now on
+  }
+  for (const auto& [sid, epoch] : mine) {
+    service_.disown(sid);
+    try {  // the owner key goes, the epoch stays: a standby resumes the session at a higher epoch
+      client_.txn({Compare::valueIs(key("owners", sid), Result::Equal, ownerValue(options_.server_id, epoch))},
+                  {Op::del(key("owners", sid))});
+    } catch (const std::exception& e) {
+      log(std::string("drain: etcd: ") + e.what());
+    }
+  }
+  const auto end = Clock::now() + timeout;
+  while (Clock::now() < end) {
+    bool all = true;
+    try {
+      std::set<std::string> owned;
+      for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/"))
+        owned.insert(kv.key.substr(options_.prefix.size() + 8));
+      for (const auto& [sid, e] : mine) all = all && owned.count(sid);
+    } catch (const std::exception&) {
+      all = false;
+    }
+    if (all) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    for (const auto& [sid, e] : mine) my_epochs_.erase(sid);
+  }
+  log("drained: " + std::to_string(mine.size()) + " session(s) handed over");
+}
+
+}  // namespace groundsim::net

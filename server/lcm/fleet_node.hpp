@@ -1,0 +1,146 @@
+// A server's part in a fleet (docs/fleet.md): membership on etcd
+// (fleet::Membership), the placement of creates heard on the shared bus,
+// ownership of sessions with epochs as fencing tokens, the standby copies of
+// other servers' sessions (their replicas and applied-command logs) and
+// their resumption here when their owner's lease lapses, self-fencing when
+// this server cannot renew its own lease, and drain.
+//
+// etcd keys under the prefix (default /groundsim):
+//   servers/<id>   the membership (fleet/membership.hpp), bound to its lease
+//   owners/<sid>   {"server", "epoch"}: who owns session sid, bound to the
+//                  owner's lease (it vanishes with the owner)
+//   epochs/<sid>   the last epoch given for sid (no lease: it outlives owners)
+//   creates/<client>/<request>  the server a create was placed on (10 s lease):
+//                  the first server to hear it places it and writes this
+//                  key; every server reads it; the one it names builds
+//                  the session
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fleet/etcd_client.hpp"
+#include "fleet/membership.hpp"
+#include "session/ownership.hpp"
+#include "session/service.hpp"
+
+namespace groundsim::net {
+
+struct FleetOptions {
+  std::vector<std::string> endpoints;  // etcd
+  std::string server_id;               // unique in the fleet
+  std::string address;                 // how others reach this server (informational)
+  std::string build;
+  std::string placement = "spread";    // "spread" balances, "packed" fills a server before the next
+  std::int64_t ttl_s = 2;              // the membership lease (etcd's minimum: 2)
+  std::string prefix = "/groundsim";
+  std::chrono::milliseconds scan_period{250};   // owners' view and failover checks
+  std::chrono::milliseconds rank_delay{200};    // failover: the standby ranked k claims after k x this
+  std::size_t max_standby_sessions = 4096;      // replicas kept of other servers' sessions
+  std::size_t max_log_entries = 1 << 20;        // applied entries kept per standby session
+};
+
+class FleetNode final : public session::Ownership {
+ public:
+  // Joins the fleet (throws fleet::MembershipError when the id is live
+  // elsewhere, fleet::EtcdError when etcd cannot be reached). `out`
+  // publishes replicas (the LcmServer); both outlive the node.
+  FleetNode(FleetOptions options, session::SessionService& service, session::Output& out);
+  ~FleetNode() override;
+
+  // ---- session::Ownership (workers; the receive thread) ----
+  std::int64_t claim(const std::string& id) override;
+  void release(const std::string& id) override;
+
+  // ---- the receive thread ----
+  // A create heard on the bus: `take` runs later on the node's thread if
+  // the create's placement (creates/<client>/<request>) names this server.
+  void onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take);
+  // Whether this server answers a request naming this session: it hosts
+  // it, or nobody owns it and this server answers for the fleet.
+  bool answers(const std::string& session_id) const;
+  // The one server that answers what no owner answers (OP_LIST, unknown sessions).
+  bool isAnswerer() const;
+  void onReplica(const session::Replica& r, const std::string& server_id);
+  void onApplied(const session::Applied& a);
+  // Another server's heartbeat listing (for OP_LIST and the heartbeat).
+  void onListing(const std::string& server_id, std::vector<session::SessionInfo> sessions);
+  // Every session of the fleet: this server's and the others' last heartbeats.
+  std::vector<session::SessionInfo> fleetSessions(std::vector<session::SessionInfo> own) const;
+
+  // ---- any thread ----
+  // False while fenced (the lease could not be renewed) and for sessions
+  // another server took over: their messages must not be published.
+  bool mayPublish(const std::string& session_id) const;
+  bool fenced() const { return fenced_.load(); }
+  // The heartbeat's figures as capacity in the membership.
+  void updateCapacity(const session::ServiceStatus& st);
+  // Takes no new session and hands every session over to the others (their
+  // standbys resume them); returns when done or after `timeout`.
+  void drain(std::chrono::milliseconds timeout);
+  bool draining() const { return draining_.load(); }
+  const std::string& serverId() const { return options_.server_id; }
+  fleet::Membership& membership() { return *membership_; }
+
+ private:
+  struct Standby {
+    std::string owner;
+    std::int64_t epoch = 0;
+    std::optional<session::Replica> scenario, snapshot;
+    std::map<std::int64_t, session::Applied> log;  // by seq, from the snapshot's applied_seq
+    std::chrono::steady_clock::time_point absent_since{};  // owners/<sid> missing since (zero: present)
+  };
+  using Clock = std::chrono::steady_clock;
+
+  void run();  // the node's thread: delayed creates, releases, scans
+  void scan();
+  void tryTakeOver(const std::string& sid, Standby copy);
+  void onRegistered(std::int64_t lease);
+  // Live members that take sessions, in placement order for these loads.
+  std::vector<std::string> ranked(const std::map<std::string, int>& loads) const;
+  std::string key(const std::string& kind, const std::string& rest) const;
+  std::int64_t claimsLease();
+
+  FleetOptions options_;
+  session::SessionService& service_;
+  session::Output& out_;
+  fleet::EtcdClient client_;
+  std::unique_ptr<fleet::Membership> membership_;
+  std::atomic<bool> fenced_{false}, draining_{false}, stopping_{false};
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  struct Pending {
+    std::string client_id;
+    std::int64_t request_id = 0;
+    std::function<void()> take;
+  };
+  void place(const Pending& p);
+  // Sessions per server: owners' keys and recent placements (both count a
+  // session being built, for every server alike, so the order is fair).
+  std::map<std::string, int> loads();
+  std::vector<Pending> creates_;
+  std::vector<std::string> releases_;
+  std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
+  bool owners_fresh_ = false;
+  std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs
+  std::set<std::string> disowned_;
+  std::map<std::string, Standby> standby_;
+  struct Listing { std::vector<session::SessionInfo> sessions; Clock::time_point at; };
+  std::map<std::string, Listing> listings_;
+  std::int64_t claims_lease_ = 0;
+  Clock::time_point claims_lease_at_{};
+  std::thread thread_;
+};
+
+}  // namespace groundsim::net
