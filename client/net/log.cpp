@@ -150,7 +150,7 @@ void registerLogCommand(CLI::App& app) {
       // ready line (tests and scripts wait for it instead of sleeping)
       std::fprintf(stderr, "log: recording %zu session(s) on %s\n", streams.size(), client.url().c_str());
       // the heartbeat tells of ends whose final state was lost
-      const long long beats_at_start = client.server().heartbeats();
+      const long long rounds_at_start = client.server().rounds();
       auto checkHeartbeat = [&] {
         const auto now = SteadyClock::now();
         for (auto& [id, st] : streams) {
@@ -158,7 +158,7 @@ void registerLogCommand(CLI::App& app) {
           const auto info = client.server().session(id);
           if (!info) {
             // listed by no heartbeat since we started: gone (or never there)
-            if (client.server().heartbeats() >= beats_at_start + 2) {
+            if (client.server().rounds() >= rounds_at_start + 2) {
               st.ended = true;
               st.end_note = st.received > 0 ? "no longer on the server; its final state was lost"
                                             : "not on the server";

@@ -92,17 +92,20 @@ void addList(CLI::App& app) {
       req.op = request_t::OP_LIST;
       const groundsim::reply_t r = client.call(req, o->timeout);
       expectOk(r);
-      std::printf("%-8s  %-16s  %-10s  %-8s  %10s  %12s  %6s  %8s  %5s  %7s  %s\n", "SESSION", "NAME", "MODE",
-                  "STATUS", "T [s]", "TICK", "RATE", "DT [s]", "ENVS", "IDLE[s]", "VEHICLES [WHEELS]");
+      // SERVER and EPOCH: the owner in a fleet (docs/fleet.md); epoch 0 on a lone server
+      std::printf("%-8s  %-16s  %-10s  %-8s  %10s  %12s  %6s  %8s  %5s  %7s  %-16s  %5s  %s\n", "SESSION", "NAME",
+                  "MODE", "STATUS", "T [s]", "TICK", "RATE", "DT [s]", "ENVS", "IDLE[s]", "SERVER", "EPOCH",
+                  "VEHICLES [WHEELS]");
       for (const auto& s : r.sessions) {
         std::string vehicles;
         for (size_t v = 0; v < s.vehicle_names.size(); ++v)
           vehicles += (vehicles.empty() ? "" : ",") + s.vehicle_names[v] +
                       (v < s.wheel_counts.size() ? "[" + std::to_string(s.wheel_counts[v]) + "]" : "");
-        std::printf("%-8s  %-16s  %-10s  %-8s  %10.3f  %12" PRId64 "  %6g  %8g  %5d  %7.1f  %s\n",
+        std::printf("%-8s  %-16s  %-10s  %-8s  %10.3f  %12" PRId64 "  %6g  %8g  %5d  %7.1f  %-16s  %5" PRId64 "  %s\n",
                     net::printable(s.session_id, 16).c_str(), net::printable(s.name, 40).c_str(),
                     net::modeName(s.mode), net::statusName(s.status), s.utime * 1e-6, s.tick, s.rate, s.dt,
-                    s.num_envs, s.idle_s, net::printable(vehicles).c_str());
+                    s.num_envs, s.idle_s, net::printable(s.server_id.empty() ? "-" : s.server_id, 64).c_str(),
+                    s.epoch, net::printable(vehicles).c_str());
       }
     });
   });

@@ -65,7 +65,7 @@ void registerWatchCommand(CLI::App& app) {
       sub->setQueueCapacity(net::kDeepQueue);
       std::fprintf(stderr, "watch %s: subscribed on %s\n", net::printable(o->session).c_str(), client.url().c_str());
       const auto start = std::chrono::steady_clock::now();
-      const long long beats_at_start = client.server().heartbeats();
+      const long long rounds_at_start = client.server().rounds();
       std::optional<std::chrono::steady_clock::time_point> final_listed;
       std::string note, server_lost;
       bool unknown = false;
@@ -79,7 +79,7 @@ void registerWatchCommand(CLI::App& app) {
           break;
         }
         const auto info = client.server().session(o->session);
-        if (!info && client.server().heartbeats() >= beats_at_start + 2) {
+        if (!info && client.server().rounds() >= rounds_at_start + 2) {
           ended = true;
           unknown = received == 0;
           note = received == 0 ? "not on the server" : "no longer on the server";
