@@ -12,6 +12,7 @@
 //   (the seqs up to it count as lost);
 // - no heartbeat for net::kHeartbeatTimeout ends the log with kExitNoServer.
 #include <chrono>
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <optional>
@@ -39,6 +40,7 @@ struct Stream {
   bool ended = false;
   std::string end_note;         // how the end was learnt, when not from the final state
   std::optional<SteadyClock::time_point> final_listed;  // heartbeat said final before the final state came
+  std::optional<long long> missing_since;  // heartbeat rounds when no server listed it (a fleet's handover: for a while)
 };
 
 // A seq range that did not arrive.
@@ -157,8 +159,10 @@ void registerLogCommand(CLI::App& app) {
           if (st.ended) continue;
           const auto info = client.server().session(id);
           if (!info) {
-            // listed by no heartbeat since we started: gone (or never there)
-            if (client.server().rounds() >= rounds_at_start + 2) {
+            // listed by no server for two rounds of every server's heartbeat: gone (or never there)
+            const long long rounds = client.server().rounds();
+            if (!st.missing_since) st.missing_since = rounds;
+            if (rounds >= std::max(rounds_at_start, *st.missing_since) + 2) {
               st.ended = true;
               st.end_note = st.received > 0 ? "no longer on the server; its final state was lost"
                                             : "not on the server";
@@ -166,6 +170,7 @@ void registerLogCommand(CLI::App& app) {
             }
             continue;
           }
+          st.missing_since.reset();
           if (!net::isFinal(info->status)) continue;
           // final: its state may still be on its way; wait one heartbeat period for it
           if (!st.final_listed) st.final_listed = now;

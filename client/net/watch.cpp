@@ -6,6 +6,7 @@
 // kExitNoServer when the heartbeat stops.
 #include <chrono>
 #include <optional>
+#include <algorithm>
 #include <cstdio>
 
 #include <unistd.h>
@@ -67,6 +68,7 @@ void registerWatchCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       const long long rounds_at_start = client.server().rounds();
       std::optional<std::chrono::steady_clock::time_point> final_listed;
+      std::optional<long long> missing_since;
       std::string note, server_lost;
       bool unknown = false;
       while (!stopRequested() && !ended && (o->count <= 0 || received < o->count)) {
@@ -79,7 +81,12 @@ void registerWatchCommand(CLI::App& app) {
           break;
         }
         const auto info = client.server().session(o->session);
-        if (!info && client.server().rounds() >= rounds_at_start + 2) {
+        // listed by no server for two rounds of every server's heartbeat (a
+        // fleet moves a session in a few seconds): gone
+        const long long rounds = client.server().rounds();
+        if (info) missing_since.reset();
+        else if (!missing_since) missing_since = rounds;
+        if (!info && rounds >= std::max(rounds_at_start, *missing_since) + 2) {
           ended = true;
           unknown = received == 0;
           note = received == 0 ? "not on the server" : "no longer on the server";

@@ -10,9 +10,14 @@
 # process, never killed) at the same instant, bit for bit. Prints the time
 # from the kill to the first state of the new owner (a figure, not a
 # verdict; bench/fleet records it). Exit 77 where the lab cannot be made.
-#   tests/fleet/failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO
+#
+# MODE kill: the owner's host is killed (above). drain: the owner gets
+# SIGTERM and hands the session over before it exits. partition: the
+# owner's host is cut off the switch for 5 s, then plugged back: the old
+# owner must drop the session (it was taken over) and stay silent.
+#   tests/fleet/failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO [MODE]
 set -euo pipefail
-lab=$1 server=$2 client=$3 scenario=$4
+lab=$1 server=$2 client=$3 scenario=$4 mode=${5:-kill}
 "$lab" check || exit $?
 if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
 name="ff$$"
@@ -36,9 +41,11 @@ fail() {
   exit 1
 }
 
+declare -A pid
 for i in 1 2 3; do
   "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" \
     --address "$("$lab" addr "$i")" --workers 1 --snapshot-interval 1 >"$tmp/s$i.log" 2>&1 &
+  pid[$i]=$!
 done
 for i in 1 2 3; do
   for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
@@ -64,10 +71,15 @@ for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" 
 [ -n "$owner" ] || fail "session $sid is listed by no server"
 [ "$epoch" = 1 ] || fail "a new session's epoch is $epoch, not 1"
 host=${owner#s}
-echo "session $sid on $owner (epoch 1); killing host $host in 3 s"
+echo "session $sid on $owner (epoch 1); $mode of host $host in 3 s"
 sleep 3
 t_kill=$(date +%s.%N)
-"$lab" kill "$name" "$host"
+case "$mode" in
+  kill) "$lab" kill "$name" "$host" ;;
+  drain) kill -TERM "${pid[$host]}" ;;
+  partition) "$lab" partition "$name" "$host" ;;
+  *) fail "unknown mode $mode" ;;
+esac
 
 new=""
 for _ in $(seq 150); do
@@ -80,6 +92,20 @@ done
 [ "$epoch" = 2 ] || fail "the new owner $new holds epoch $epoch, not 2"
 t_listed=$(date +%s.%N)
 grep -h "took over session $sid" "$tmp"/s*.log || true
+if [ "$mode" = drain ]; then
+  wait "${pid[$host]}" || fail "the drained server exited $?"
+  grep -q "drained: 1 session(s) handed over" "$tmp/$owner.log" || fail "the drained server did not say it handed the session over"
+fi
+if [ "$mode" = partition ]; then
+  sleep $((5 - 2))  # cut off 5 s in all (the takeover took about 2)
+  "$lab" heal "$name" "$host"
+  # it learns it from its new lease (the claim is gone) or from the owners' view (another owns it)
+  dropped="session $sid (was taken over while this server was cut off|is owned by s[0-9] now): dropped here"
+  for _ in $(seq 100); do grep -Eq "$dropped" "$tmp/$owner.log" && break; sleep 0.1; done
+  grep -Eq "$dropped" "$tmp/$owner.log" || fail "the old owner did not drop the session after the heal"
+  read -r now epoch < <(owner_of) || true
+  [ "$now" = "$new" ] && [ "$epoch" = 2 ] || fail "after the heal the session is listed on '$now' at epoch '$epoch'"
+fi
 
 # the session runs to its end on the new owner; the logger stops with it
 for _ in $(seq 400); do kill -0 $logger 2>/dev/null || break; sleep 0.1; done
