@@ -488,6 +488,13 @@ LcmServer::Counters LcmServer::counters() const {
   return c;
 }
 
+const char* LcmServer::fleetTrouble() const {
+  if (!fleet_) return nullptr;
+  if (fleet_->fenced()) return "fenced";
+  if (fleet_->draining() || drain_requested_.load()) return "draining";
+  return nullptr;
+}
+
 void LcmServer::setFleet(FleetNode* fleet) {
   fleet_ = fleet;
   if (!fleet_) return;

@@ -51,6 +51,8 @@ class LcmServer final : public session::Output {
   session::SessionService& service() { return *service_; }
   // OP_DRAIN named this server (or SIGTERM in a fleet): run() returns and the caller drains.
   bool drainRequested() const { return drain_requested_.load(); }
+  // "fenced" (no lease), "draining", or null: a lone server, or a member in good standing.
+  const char* fleetTrouble() const;
 
   // One received datagram, as LCM's handler gets it (also the entry of the
   // datagram fuzz target). Never throws: LCM's C code must not unwind.

@@ -231,11 +231,11 @@ std::string serverMetrics(const LcmServer::Counters& c, const ResendRing::Stats&
   return m.take();
 }
 
-std::string serverHealth(const LcmServer::Counters& c, bool stopping) {
+std::string serverHealth(const LcmServer::Counters& c, const char* status) {
   int sessions = 0;
   for (int n : c.sessions_by_mode) sessions += n;
   char b[128];
-  std::snprintf(b, sizeof b, "{\"status\":\"%s\",\"sessions\":%d,\"load\":%s}", stopping ? "stopping" : "ok", sessions,
+  std::snprintf(b, sizeof b, "{\"status\":\"%s\",\"sessions\":%d,\"load\":%s}", status, sessions,
                 metricNumber(c.load).c_str());
   return b;
 }
@@ -244,8 +244,11 @@ MetricsListener::Handler serverMetricsHandler(LcmServer& server, const std::atom
   return [&server, &stopping](std::string_view path) {
     if (path == "/metrics") return HttpAnswer{200, kMetricsContentType, serverMetrics(server.counters(), server.resendStats())};
     if (path == "/health") {
-      const bool stop = stopping.load();
-      return HttpAnswer{stop ? 503 : 200, "application/json", serverHealth(server.counters(), stop) + "\n"};
+      // 503 while stopping and, in a fleet, while fenced (no lease: it publishes
+      // nothing) or draining: a readiness probe takes it out of service then
+      const char* fleet = server.fleetTrouble();
+      const char* status = stopping.load() ? "stopping" : fleet ? fleet : "ok";
+      return HttpAnswer{status[0] == 'o' ? 200 : 503, "application/json", serverHealth(server.counters(), status) + "\n"};
     }
     return HttpAnswer{404, "text/plain; charset=utf-8", "not found (GET /metrics or /health)\n"};
   };

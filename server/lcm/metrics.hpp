@@ -64,7 +64,8 @@ class MetricsListener {
 // The server's metrics in the text format.
 std::string serverMetrics(const LcmServer::Counters& c, const ResendRing::Stats& resend);
 // {"status":"ok","sessions":N,"load":x}, or "stopping".
-std::string serverHealth(const LcmServer::Counters& c, bool stopping);
+// status: "ok", "stopping", or a fleet's "fenced" / "draining" (docs/fleet.md)
+std::string serverHealth(const LcmServer::Counters& c, const char* status);
 // /metrics and /health of `server` (which must outlive the listener); 503
 // on /health once `stopping` is set.
 MetricsListener::Handler serverMetricsHandler(LcmServer& server, const std::atomic<bool>& stopping);

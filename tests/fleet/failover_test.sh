@@ -44,7 +44,7 @@ fail() {
 declare -A pid
 for i in 1 2 3; do
   "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" \
-    --address "$("$lab" addr "$i")" --workers 1 --snapshot-interval 1 >"$tmp/s$i.log" 2>&1 &
+    --address "$("$lab" addr "$i")" --workers 1 --snapshot-interval 1 --metrics-port 9100 >"$tmp/s$i.log" 2>&1 &
   pid[$i]=$!
 done
 for i in 1 2 3; do
@@ -96,7 +96,24 @@ if [ "$mode" = drain ]; then
   wait "${pid[$host]}" || fail "the drained server exited $?"
   grep -q "drained: 1 session(s) handed over" "$tmp/$owner.log" || fail "the drained server did not say it handed the session over"
 fi
+health() {  # the /health status code of host $1's server, asked inside that host
+  "$lab" exec "$name" "$1" curl -s -o /dev/null -w '%{http_code}' --max-time 2 http://127.0.0.1:9100/health || true
+}
+if [ "$mode" = kill ]; then
+  # the same id again in the dead host (its etcd member stays dead): it joins
+  # once its old lease has lapsed, and does not take the session back
+  "$lab" exec "$name" "$host" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "$owner" --workers 1 \
+    --snapshot-interval 1 >"$tmp/$owner.again.log" 2>&1 &
+  for _ in $(seq 100); do grep -q "^fleet: server $owner joined" "$tmp/$owner.again.log" && break; sleep 0.1; done
+  grep -q "^fleet: server $owner joined" "$tmp/$owner.again.log" ||
+    fail "server $owner did not join again with its id: $(tail -n 3 "$tmp/$owner.again.log")"
+  sleep 1
+  read -r now epoch < <(owner_of) || true
+  [ "$now" = "$new" ] && [ "$epoch" = 2 ] || fail "after $owner came back the session is listed on '$now' at epoch '$epoch'"
+fi
 if [ "$mode" = partition ]; then
+  code=$(health "$host")
+  [ "$code" = 503 ] || fail "the cut-off owner's /health answered $code, not 503 (fenced)"
   sleep $((5 - 2))  # cut off 5 s in all (the takeover took about 2)
   "$lab" heal "$name" "$host"
   # it learns it from its new lease (the claim is gone) or from the owners' view (another owns it)
@@ -105,6 +122,8 @@ if [ "$mode" = partition ]; then
   grep -Eq "$dropped" "$tmp/$owner.log" || fail "the old owner did not drop the session after the heal"
   read -r now epoch < <(owner_of) || true
   [ "$now" = "$new" ] && [ "$epoch" = 2 ] || fail "after the heal the session is listed on '$now' at epoch '$epoch'"
+  for _ in $(seq 50); do code=$(health "$host"); [ "$code" = 200 ] && break; sleep 0.1; done
+  [ "$code" = 200 ] || fail "the healed server's /health answered $code, not 200, 5 s after it dropped the session"
 fi
 
 # the session runs to its end on the new owner; the logger stops with it
