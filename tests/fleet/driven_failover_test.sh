@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# A driven session survives its host (issue 20, docs/fleet.md): as
+# failover_test.sh, but the sedan is driven by a client (`groundsim drive`,
+# scripted controls at 20 Hz) and recorded by `groundsim record --exact` in
+# host 4. The owner's host is killed 3 s in; another server takes the
+# session over at epoch 2, replaying the owner's applied controls after its
+# last snapshot, and the driver goes on driving it. Checked: the recording
+# re-simulates bit for bit (`groundsim replay --resimulate`: every recorded
+# state, both owners', equals the re-simulation of the scenario and the
+# applied-command log), the takeover replayed applied entries, and no
+# controls the owner acknowledged (logged) are missing from the log.
+#   tests/fleet/driven_failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO
+set -euo pipefail
+lab=$1 server=$2 client=$3 scenario=$4
+"$lab" check || exit $?
+if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
+name="fd$$"
+tmp=$(mktemp -d /tmp/groundsim-driven-XXXXXX)
+cleanup() {
+  "$lab" down "$name" || true
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+for old in $(ip netns list | awk '{print $1}' | sed -n 's/^gs-fd\([0-9]\{1,\}\)-sw$/\1/p'); do
+  kill -0 "$old" 2>/dev/null || "$lab" down "fd$old" || true
+done
+"$lab" up "$name" 4
+url='udpm://239.255.76.67:7667?ttl=1'
+endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
+fail() {
+  echo "FAIL: $*" >&2
+  for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 8 "$tmp/s$i.log" >&2 || true; done
+  for f in record.err drive.err replay.out; do echo "--- $f" >&2; tail -n 12 "$tmp/$f" >&2 || true; done
+  exit 1
+}
+for i in 1 2 3; do
+  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
+    --snapshot-interval 1 >"$tmp/s$i.log" 2>&1 &
+done
+for i in 1 2 3; do
+  for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
+  grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
+done
+
+"$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --exact --out "$tmp/rec.mcap" \
+  --lcm-url "$url" --token-file "$tmp/tokens.json" --timeout 10 >"$tmp/record.out" 2>"$tmp/record.err" &
+recorder=$!
+for _ in $(seq 100); do [ -s "$tmp/record.out" ] && break; sleep 0.1; done
+sid=$(head -n 1 "$tmp/record.out")
+[ -n "$sid" ] || fail "no session was created"
+printf 'throttle 0.6\nwait 1.5\nsteer 0.4\nwait 1.5\nsteer -0.3\nwait 2\nthrottle 0.2\nsteer 0.2\nwait 2\nbrake 0.5\nthrottle 0\nwait 6\nquit\n' |
+  "$lab" exec "$name" 4 "$client" drive "$sid" --controls car --hold --lcm-url "$url" --token-file "$tmp/tokens.json" \
+    >"$tmp/drive.out" 2>"$tmp/drive.err" &
+owner_of() {
+  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
+    awk -v s="$sid" '$1 == s { print $(NF-2), $(NF-1) }'
+}
+owner=""
+for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" ] && break; sleep 0.2; done
+[ -n "$owner" ] || fail "session $sid is listed by no server"
+sleep 3
+"$lab" kill "$name" "${owner#s}"
+new=""
+for _ in $(seq 150); do
+  read -r new epoch < <(owner_of) || true
+  [ -n "$new" ] && [ "$new" != "$owner" ] && break
+  new=""
+  sleep 0.1
+done
+[ -n "$new" ] || fail "no server took session $sid over within 15 s"
+[ "$epoch" = 2 ] || fail "the new owner holds epoch $epoch, not 2"
+line=$(grep -h "took over session $sid" "$tmp"/s*.log || true)
+echo "$line"
+entries=$(echo "$line" | sed -n 's/.*, \([0-9]*\) applied entries replayed.*/\1/p')
+[ -n "$entries" ] && [ "$entries" -gt 0 ] || fail "the takeover replayed no applied entry (the driver's controls): '$line'"
+for _ in $(seq 400); do kill -0 $recorder 2>/dev/null || break; sleep 0.1; done
+kill -0 $recorder 2>/dev/null && { kill $recorder; fail "the recording did not end with the session"; }
+wait $recorder || fail "groundsim record exited $?"
+"$client" replay --resimulate "$tmp/rec.mcap" >"$tmp/replay.out" 2>&1 || fail "the recording does not re-simulate bit for bit (exit $?)"
+cat "$tmp/replay.out"
+grep -q "^identical: session $sid" "$tmp/replay.out" || fail "replay did not say the session is identical"
