@@ -29,6 +29,7 @@ rest=(
   prometheus                                     # promtool: scrapes checked by integration.MetricsServerAndBridge
   nftables                                       # frame loss between namespaced "hosts" (record.LossyLinkEndsComplete)
   etcd-server etcd-client                        # a fleet's membership and ownership (server/fleet; fleet tests, scripts/fleet_lab.sh)
+  curl                                           # fleet tests ask a namespaced server's /health
   clang-14 libclang-rt-14-dev llvm-14            # libFuzzer targets (scripts/fuzz.sh), llvm-symbolizer
   python3-dev pybind11-dev python3-pybind11      # the Python package groundsim (its C++ module groundsim._core)
   python3-numpy python3-pytest python3-venv      # its arrays, its tests (pytest through ctest), the venv install test
