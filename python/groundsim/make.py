@@ -117,7 +117,7 @@ def make_vec(scenario, num_envs, num_threads=0, *, files_dir=None, copy=True, au
     return VecEnv(_core.make_vec_env(text, n, threads, files_dir), name, **options)
 
 
-def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, copy=True,
+def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir=None, shards=1, copy=True,
                     autoreset_mode="next_step", episode_statistics=True, drawn_in_infos=False, render_mode=None):
     """num_envs environments of a scenario with a ``task`` section, run in a
     vectorised session of groundsim-server over LCM (docs/protocol.md),
@@ -131,7 +131,11 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
     a reply. Raises ScenarioError or ExperimentError as make_vec does (the
     server names the field: num_envs above its --max-envs is "num_envs"),
     RemoteError when the server is gone or parts of a reply are missing.
-    close() stops the session."""
+    shards: split the environments over this many vectorised sessions,
+    stepped at once; on a fleet (docs/fleet.md) each is placed by the
+    fleet, so they spread over its servers; env i is seeded seed + i
+    whatever the split, so the results are make_vec's, bit for bit.
+    close() stops the session(s)."""
     if render_mode is not None:
         raise ExperimentError("render_mode", "render_mode: a remote environment does not render (its state lives "
                                              "in the server); make_vec with the same seed runs the same bits and renders")
@@ -140,6 +144,9 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
     n = _index(num_envs, "num_envs")
     if not 1 <= n < 2**31:
         raise ExperimentError("num_envs", f"num_envs: must be at least 1, got {n}")
+    k = _index(shards, "shards")
+    if not 1 <= k <= n:
+        raise ExperimentError("shards", f"shards: must be in [1, num_envs = {n}], got {k}")
     if not (isinstance(timeout, (int, float)) and timeout > 0):
         raise ExperimentError("timeout", f"timeout: must be a positive number of seconds, got {timeout!r}")
     scenario, files_dir = task_source(scenario, files_dir)
@@ -150,7 +157,7 @@ def make_remote_vec(scenario, num_envs, lcm_url=None, *, timeout=30.0, files_dir
         files_dir = os.path.dirname(os.path.abspath(path))
     elif files_dir is not None:
         files_dir = os.fspath(files_dir)
-    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir), name, **options)
+    return VecEnv(_core.make_remote_vec_env(text, n, lcm_url or "", float(timeout), files_dir, k), name, **options)
 
 
 make_vec.__doc__ += _OPTIONS_DOC

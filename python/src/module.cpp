@@ -11,6 +11,7 @@
 
 #include "batch_env_binding.hpp"
 #include "client/experiments/remote_vec_env.hpp"
+#include "client/experiments/sharded_vec_env.hpp"
 #include "experiments/vec_env.hpp"
 #include "gate_env.hpp"
 #include "scenario/file_access.hpp"
@@ -69,7 +70,7 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "make_remote_vec_env",
       [](const std::string& text, int num_envs, const std::string& lcm_url, double timeout,
-         std::optional<std::string> files_dir) {
+         std::optional<std::string> files_dir, int shards) {
         experiments::RemoteVecOptions o;
         o.lcm_url = lcm_url;
         if (files_dir) {
@@ -81,12 +82,13 @@ PYBIND11_MODULE(_core, m) {
         std::unique_ptr<experiments::BatchEnv> env;
         {
           py::gil_scoped_release release;  // waits on the network
-          env = std::make_unique<experiments::RemoteVecEnv>(text, num_envs, o);
+          if (shards > 1) env = std::make_unique<experiments::ShardedVecEnv>(text, num_envs, shards, o);
+          else env = std::make_unique<experiments::RemoteVecEnv>(text, num_envs, o);
         }
         return std::make_unique<python::EnvHandle>(std::move(env));
       },
       py::arg("text"), py::arg("num_envs"), py::arg("lcm_url") = "", py::arg("timeout") = 30.0,
-      py::arg("files_dir") = py::none());
+      py::arg("files_dir") = py::none(), py::arg("shards") = 1);
 
   // For tests of the binding (tests/python/test_gil.py): an env whose step
   // waits until the returned gate is opened from another thread.

@@ -1,0 +1,50 @@
+"""make_remote_vec(..., shards=3) on a fleet of 3 servers (issue 20,
+docs/fleet.md): the shards are placed on 3 different servers, and the same
+seed and actions give make_vec's bits. Run by shards_test.sh in a lab host;
+prints the per-step time against the same batch in process (a figure)."""
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import groundsim
+
+URL = "udpm://239.255.76.67:7667?ttl=1"
+task = sys.argv[1]
+n, shards, steps = 12, 3, 60
+
+local = groundsim.make_vec(task, n, num_threads=2)
+remote = groundsim.make_remote_vec(task, n, lcm_url=URL, shards=shards, timeout=10)
+
+time.sleep(1.5)  # the other servers' heartbeats (1 Hz) list their new sessions
+listing = subprocess.run([os.environ["GROUNDSIM"], "list", "--lcm-url", URL, "--timeout", "5"],
+                         capture_output=True, text=True, check=True).stdout.splitlines()[1:]
+servers = {row.split()[-3] for row in listing if row.split()[2] == "vectorised"}
+print(f"{shards} shards on servers {sorted(servers)}")
+assert len(servers) == shards, listing
+
+rng = np.random.default_rng(7)
+low, high = local.single_action_space.low, local.single_action_space.high
+seq = [rng.uniform(low, high, size=(n, low.size)).astype(np.float32) for _ in range(steps)]
+for seed in (11, 12):
+    a, b = local.reset(seed=seed)[0], remote.reset(seed=seed)[0]
+    assert a.tobytes() == b.tobytes(), "reset observations differ"
+    for k, act in enumerate(seq):
+        x, y = local.step(act), remote.step(act)
+        for u, v, what in zip(x[:4], y[:4], ("obs", "reward", "terminated", "truncated")):
+            assert np.asarray(u).tobytes() == np.asarray(v).tobytes(), f"seed {seed} step {k}: {what} differ"
+print(f"{2 * steps} steps of {n} envs bit-identical to make_vec")
+
+t0 = time.perf_counter()
+for act in seq:
+    local.step(act)
+t1 = time.perf_counter()
+for act in seq:
+    remote.step(act)
+t2 = time.perf_counter()
+print(f"per step: in process {1e3 * (t1 - t0) / steps:.2f} ms, {shards} shards over the lab "
+      f"{1e3 * (t2 - t1) / steps:.2f} ms")
+remote.close()
+local.close()
