@@ -92,6 +92,7 @@ RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, Remot
   if (r.nsessions < 1 || r.sessions[0].nlayout < 1)
     throw RemoteError("create: the server's reply carries no layout (an older groundsim-server?)");
   session_id_ = r.session_id;
+  server_id_ = r.sessions[0].server_id;
   token_ = r.token;
   layout_ = fromWire(r.sessions[0].layout[0]);
   if (layout_.num_agents < 1) throw RemoteError("create: the server's layout has " + std::to_string(layout_.num_agents) + " agents");
@@ -188,6 +189,10 @@ groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double t
     if (!part_error_.empty())
       throw RemoteError(std::string(what) + ": request " + std::to_string(req.request_id) + ": " + part_error_);
     if (watch_.lost()) throw RemoteError(std::string(what) + ": " + watch_.lostMessage(url_));
+    // in a fleet the others' heartbeats go on: this session's server must beat
+    if (!server_id_.empty() && watch_.silenceOf(server_id_) > net::kHeartbeatTimeout)
+      throw RemoteError(std::string(what) + ": no heartbeat from server " + server_id_ + " (the owner of session " +
+                        session_id_ + ") for " + std::to_string(watch_.silenceOf(server_id_)).substr(0, 4) + " s");
     const int got = assembler_.parts() - static_cast<int>(assembler_.missing().size());
     if (got != parts_seen) {
       parts_seen = got;

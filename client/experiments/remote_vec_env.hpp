@@ -71,6 +71,7 @@ class RemoteVecEnv final : public BatchEnv {
   void close() override;
 
   const std::string& sessionId() const { return session_id_; }
+  const std::string& serverId() const { return server_id_; }  // the owner (a fleet's: its heartbeat is watched)
   const std::string& url() const { return url_; }
 
  private:
@@ -102,6 +103,7 @@ class RemoteVecEnv final : public BatchEnv {
   mutable std::optional<groundsim::reply_t> stop_reply_;
   mutable std::int64_t stop_waiting_ = -1;
   std::string session_id_, token_;
+  std::string server_id_;  // the session's owner, from the create reply ("" from an older server)
   Layout layout_;
   std::vector<EnvInfo> infos_;
   bool closed_ = false;

@@ -1,11 +1,14 @@
 #include "client/experiments/sharded_vec_env.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <thread>
 
 namespace groundsim::experiments {
 
-ShardedVecEnv::ShardedVecEnv(const std::string& scenario_text, int num_envs, int shards, RemoteVecOptions options) {
+ShardedVecEnv::ShardedVecEnv(const std::string& scenario_text, int num_envs, int shards, RemoteVecOptions options)
+    : scenario_text_(scenario_text), options_(options) {
   if (shards < 1 || shards > num_envs)
     throw ExperimentError("shards", "must be in [1, num_envs = " + std::to_string(num_envs) + "], got " +
                                         std::to_string(shards));
@@ -83,8 +86,23 @@ void ShardedVecEnv::step(const float* actions, float* obs, double* rewards, std:
   const std::size_t agents = layout_.num_agents, na = agents * layout_.actionSize(), no = agents * layout_.obsSize();
   everyShard([&](int k) {
     const std::size_t e = offset_[k];
-    shards_[k]->step(actions + e * na, obs + e * no, rewards + e * agents, terminated + e * agents,
-                     truncated + e * agents);
+    try {
+      shards_[k]->step(actions + e * na, obs + e * no, rewards + e * agents, terminated + e * agents,
+                       truncated + e * agents);
+    } catch (const RemoteError& lost) {
+      // its server is gone: the shard again, elsewhere; its episodes end truncated
+      const int n = offset_[k + 1] - offset_[k];
+      std::fprintf(stderr, "groundsim: shard %d (session %s) lost (%s): created again, its %d environments truncated\n",
+                   k, shards_[k]->sessionId().c_str(), lost.what(), n);
+      auto fresh = std::make_unique<RemoteVecEnv>(scenario_text_, n, options_);
+      fresh->reset(std::nullopt, obs + e * no);
+      shards_[k] = std::move(fresh);
+      const std::size_t rows = static_cast<std::size_t>(n) * agents;
+      std::fill(rewards + e * agents, rewards + e * agents + rows, 0.0);
+      std::fill(terminated + e * agents, terminated + e * agents + rows, std::uint8_t{0});
+      std::fill(truncated + e * agents, truncated + e * agents + rows, std::uint8_t{1});
+      ++restarts_;
+    }
   });
 }
 

@@ -5,11 +5,16 @@
 // a seeded reset seeds shard k with seed + offset(k), so env i is seeded
 // with seed + i as in makeVecEnv: the same seed and actions give the same
 // bits whatever the placement. A step sends every shard its request at once
-// (a thread per shard) and waits for all. A shard whose server is gone
-// fails the call with RemoteError naming the shard (its sessions are not
-// replicated: docs/fleet.md, "Not replicated").
+// (a thread per shard) and waits for all. When a shard's server is gone
+// during a step (no heartbeat from it for kHeartbeatTimeout, or no reply),
+// the shard is created again (the fleet places it on a live server) and
+// reset, and the step returns its environments' reset observations with
+// truncated set and reward 0: the training loop goes on (vectorised
+// sessions are not replicated: docs/fleet.md). Other calls fail with
+// RemoteError naming the shard.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,6 +44,7 @@ class ShardedVecEnv final : public BatchEnv {
   void close() override;
 
   int shards() const { return static_cast<int>(shards_.size()); }
+  int restarts() const { return restarts_; }  // shards created again after their server was lost
   const RemoteVecEnv& shard(int k) const { return *shards_.at(k); }
 
  private:
@@ -47,6 +53,9 @@ class ShardedVecEnv final : public BatchEnv {
   template <class F>
   void everyShard(F f);
 
+  std::string scenario_text_;
+  RemoteVecOptions options_;
+  std::atomic<int> restarts_{0};
   std::vector<std::unique_ptr<RemoteVecEnv>> shards_;
   std::vector<int> offset_;  // first env of each shard, then num_envs
   Layout layout_;

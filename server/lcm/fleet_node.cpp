@@ -98,14 +98,14 @@ bool FleetNode::isAnswerer() const {
   return first.empty() || first == options_.server_id;
 }
 
-bool FleetNode::answers(const std::string& session_id) const {
-  {
-    std::lock_guard<std::mutex> lk(mutex_);
-    if (disowned_.count(session_id)) return false;
-    if (my_epochs_.count(session_id)) return true;
-    if (owners_.count(session_id) || standby_.count(session_id)) return false;  // its owner, or its next one, answers
-  }
-  return isAnswerer();
+bool FleetNode::answers(const std::string& session_id, std::function<void()> unknown) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (disowned_.count(session_id)) return false;
+  if (my_epochs_.count(session_id)) return true;
+  if (owners_.count(session_id) || standby_.count(session_id)) return false;  // its owner, or its next one, answers
+  if (unknowns_.size() < kMaxUnknowns)
+    unknowns_.push_back(Unknown{session_id, Clock::now() + 2 * options_.scan_period, std::move(unknown)});
+  return false;
 }
 
 // ---- placement ----------------------------------------------------------------
@@ -278,6 +278,21 @@ void FleetNode::run() {
       if (Clock::now() >= next_scan) {
         scan();
         next_scan = Clock::now() + options_.scan_period;
+        // requests naming a session nobody owned: answered (unknown) by one server if still nobody does
+        std::vector<Unknown> due;
+        {
+          std::lock_guard<std::mutex> lk(mutex_);
+          const auto now = Clock::now();
+          auto split = std::stable_partition(unknowns_.begin(), unknowns_.end(),
+                                             [&](const Unknown& u) { return u.due > now; });
+          due.assign(std::make_move_iterator(split), std::make_move_iterator(unknowns_.end()));
+          unknowns_.erase(split, unknowns_.end());
+          std::erase_if(due, [&](const Unknown& u) {
+            return owners_.count(u.session_id) || standby_.count(u.session_id) || my_epochs_.count(u.session_id);
+          });
+        }
+        if (!due.empty() && isAnswerer())
+          for (const Unknown& u : due) u.answer();
       }
     } catch (const std::exception& e) {
       log(std::string("etcd: ") + e.what());

@@ -66,9 +66,12 @@ class FleetNode final : public session::Ownership {
   // A create heard on the bus: `take` runs later on the node's thread if
   // the create's placement (creates/<client>/<request>) names this server.
   void onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take);
-  // Whether this server answers a request naming this session: it hosts
-  // it, or nobody owns it and this server answers for the fleet.
-  bool answers(const std::string& session_id) const;
+  // Whether this server answers a request naming this session now: it
+  // hosts it. When no server is known to own it (a session created a
+  // moment ago may not be in the owners' view yet), `unknown` runs on the
+  // node's thread after two scans if still nobody owns it and this server
+  // answers for the fleet (the service then says it is unknown).
+  bool answers(const std::string& session_id, std::function<void()> unknown);
   // The one server that answers what no owner answers (OP_LIST, unknown sessions).
   bool isAnswerer() const;
   void onReplica(const session::Replica& r, const std::string& server_id);
@@ -131,6 +134,13 @@ class FleetNode final : public session::Ownership {
   std::map<std::string, int> loads();
   std::vector<Pending> creates_;
   std::vector<std::string> releases_;
+  struct Unknown {
+    std::string session_id;
+    Clock::time_point due;
+    std::function<void()> answer;
+  };
+  std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
+  static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
   bool owners_fresh_ = false;
   std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs

@@ -299,7 +299,7 @@ void LcmServer::handleRequest(const std::string& channel, const void* data, int 
       publishReply(reply);
       return;
     }
-    if (!fleet_->answers(r.session_id)) return;
+    if (!fleet_->answers(r.session_id, [this, r] { service_->handleRequest(r); })) return;
   }
   service_->handleRequest(r);
 }
@@ -316,7 +316,7 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
   if (LatencyTrace::on())
     LatencyTrace::line("drx %s %lld %lld", msg.session_id.c_str(), static_cast<long long>(msg.seq),
                        static_cast<long long>(LatencyTrace::us(drive.received)));
-  if (fleet_ && !fleet_->answers(drive.session_id)) return;
+  if (fleet_ && !fleet_->answers(drive.session_id, [this, drive] { service_->handleDrive(drive); })) return;
   service_->handleDrive(std::move(drive));
 }
 
@@ -328,8 +328,9 @@ void LcmServer::handleControls(const std::string& channel, const void* data, int
   if (why.empty()) why = badId("session_id", msg.session_id);
   if (why.empty()) why = badId("token", msg.token);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
-  if (fleet_ && !fleet_->answers(msg.session_id)) return;
-  service_->handleControls(fromMessage(msg));
+  session::CarDrive car = fromMessage(msg);
+  if (fleet_ && !fleet_->answers(car.session_id, [this, car] { service_->handleControls(car); })) return;
+  service_->handleControls(std::move(car));
 }
 
 void LcmServer::handleVecRequest(const std::string& channel, const void* data, int size) {
@@ -364,7 +365,7 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
       fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleVecRequest(r); });
       return;
     }
-    if (!fleet_->answers(r.session_id)) return;
+    if (!fleet_->answers(r.session_id, [this, r] { service_->handleVecRequest(r); })) return;
   }
   service_->handleVecRequest(std::move(r));
 }
@@ -407,7 +408,7 @@ void LcmServer::handleResend(const std::string& channel, const void* data, int s
   if (why.empty() && msg.to_seq < -1) why = "to_seq: must be >= -1 (-1: up to the newest), got " + std::to_string(msg.to_seq);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "resend: " + why);
   // in a fleet each server keeps its own: the owner answers for a session, every server for its events
-  if (fleet_ && msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id)) return;
+  if (fleet_ && msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id, [] {})) return;
   const std::string session = msg.stream == groundsim::resend_t::STREAM_EVENTS ? "" : msg.session_id;
   std::vector<ResendRing::Message> answer;
   {

@@ -8,7 +8,8 @@
 
 namespace groundsim::net {
 
-ServerWatch::ServerWatch(lcm::LCM& lcm, double timeout_s) : lcm_(lcm), timeout_s_(timeout_s), since_(Clock::now()) {
+ServerWatch::ServerWatch(lcm::LCM& lcm, double timeout_s)
+    : lcm_(lcm), timeout_s_(timeout_s), start_(Clock::now()), since_(start_) {
   sub_ = lcm_.subscribe(kStatusChannel, &ServerWatch::onStatus, this);
 }
 
@@ -29,6 +30,12 @@ void ServerWatch::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   const long long beats = it == last_.end() ? 1 : it->second.beats + 1;
   last_[id] = Beat{std::move(m), since_, beats};
   ++count_;
+}
+
+double ServerWatch::silenceOf(const std::string& server_id, Clock::time_point now) const {
+  auto it = last_.find(server_id);
+  const Clock::time_point at = it == last_.end() ? start_ : it->second.at;
+  return std::chrono::duration<double>(now - at).count();
 }
 
 long long ServerWatch::rounds() const {

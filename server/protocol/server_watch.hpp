@@ -38,6 +38,9 @@ class ServerWatch {
 
   // No heartbeat for the timeout.
   bool lost(Clock::time_point now = Clock::now()) const;
+  // Seconds since server_id's last heartbeat (a fleet: one server's
+  // silence while the others beat); since the start when never heard.
+  double silenceOf(const std::string& server_id, Clock::time_point now = Clock::now()) const;
   // Seconds since the last heartbeat (or since the start, before the first).
   double silence(Clock::time_point now = Clock::now()) const;
   long long heartbeats() const { return count_; }
@@ -60,7 +63,7 @@ class ServerWatch {
   lcm::LCM& lcm_;
   lcm::Subscription* sub_ = nullptr;
   double timeout_s_;
-  Clock::time_point since_;
+  Clock::time_point start_, since_;
   long long count_ = 0;
   struct Beat {
     groundsim::server_status_t status;

@@ -2,7 +2,9 @@
 # An experiment across hosts (issue 20): 3 servers and a 3-member etcd in lab
 # hosts 1-3; in host 4, Python's make_remote_vec(..., shards=3) spreads 12
 # environments over the 3 servers (tests/fleet/shards_check.py) and matches
-# make_vec bit for bit. Exit 77 where the lab cannot be made.
+# make_vec bit for bit; then host 2 is killed while another such env steps:
+# the loop goes on, the lost shard's environments come back truncated.
+# Exit 77 where the lab cannot be made.
 #   tests/fleet/shards_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM PYTHONPATH TASK PYTHON
 set -euo pipefail
 lab=$1 server=$2 client=$3 pypath=$4 task=$5 python=${6:-/usr/bin/python3}
@@ -31,4 +33,8 @@ for i in 1 2 3; do
   grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || { echo "FAIL: server s$i did not join" >&2; exit 1; }
 done
 sleep 1  # every server registered its capacity
-"$lab" exec "$name" 4 env PYTHONPATH="$pypath" GROUNDSIM="$client" "$python" "$(dirname "$0")/shards_check.py" "$task"
+rm -f "$tmp/marker"
+(for _ in $(seq 600); do [ -e "$tmp/marker" ] && break; sleep 0.05; done
+ [ -e "$tmp/marker" ] && sleep 1 && "$lab" kill "$name" 2) &
+"$lab" exec "$name" 4 env PYTHONPATH="$pypath" GROUNDSIM="$client" GROUNDSIM_KILL_MARKER="$tmp/marker" \
+  "$python" "$(dirname "$0")/shards_check.py" "$task"
