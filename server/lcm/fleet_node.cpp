@@ -137,9 +137,19 @@ std::map<std::string, int> FleetNode::loads() {
 std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loads) const {
   struct Row { std::string id; double used; };
   std::vector<Row> rows;
+  const auto now = Clock::now();
+  std::map<std::string, Clock::time_point> beats;
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    for (const auto& [id, l] : listings_) beats[id] = l.at;
+  }
   for (const fleet::Member& m : membership_->members()) {
     const nlohmann::json& info = m.info;
     if (!info.is_object() || info.value("draining", false)) continue;
+    // a member whose heartbeat stopped (dead, its lease not lapsed yet) takes nothing
+    const auto beat = beats.find(m.id);
+    if (m.id != options_.server_id && beat != beats.end() && now - beat->second > std::chrono::milliseconds(2500))
+      continue;
     const nlohmann::json cap = info.value("capacity", nlohmann::json::object());
     const double max = cap.value("max_sessions", 0.0);
     const auto it = loads.find(m.id);
@@ -384,7 +394,11 @@ void FleetNode::onRegistered(std::int64_t lease) {
     try {
       const std::string value = ownerValue(options_.server_id, epoch);
       const std::optional<fleet::Kv> kv = client_.get(key("owners", sid));
-      if (kv && kv->value == value && kv->lease == lease) continue;  // the lease was resumed, keys and all
+      if (kv && kv->value == value) {
+        if (kv->lease == lease) continue;  // the lease was resumed, keys and all
+        // still ours under the old lease (etcd has not ended it yet): onto the new one
+        if (client_.compareAndSwap(key("owners", sid), kv->mod_revision, value, lease)) continue;
+      }
       // absent (it went with the old lease) and nobody took a later epoch: claim it again
       const fleet::TxnResult t = client_.txn(
           {Compare::version(key("owners", sid), Result::Equal, 0),
