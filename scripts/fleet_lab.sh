@@ -56,6 +56,10 @@ case "$cmd" in
     ip -n "$s" link add br0 type bridge
     # a querier: the bridge forwards multicast to the ports that joined only (else it floods)
     ip -n "$s" link set br0 type bridge mcast_querier 1
+    # a general query every second (answered within 0.5 s): a port that went
+    # down (partition) loses its groups on the bridge, and its host, which saw
+    # only its carrier go, reports them again only when queried
+    ip -n "$s" link set br0 type bridge mcast_query_interval 100 mcast_query_response_interval 50
     ip -n "$s" link set br0 up
     for ((i = 1; i <= n; i++)); do
       h=$(host "$lab" "$i")

@@ -38,8 +38,10 @@ sleep 1  # every server registered its capacity
 rm -f "$tmp/marker"
 marker=""
 [ "${GROUNDSIM_SHARD_KILL:-0}" = 1 ] && marker="$tmp/marker"
-(for _ in $(seq 600); do [ -e "$tmp/marker" ] && break; sleep 0.05; done
- [ -e "$tmp/marker" ] && sleep 1 && "$lab" kill "$name" 2) &
+if [ -n "$marker" ]; then
+  (for _ in $(seq 600); do [ -e "$marker" ] && break; sleep 0.05; done
+   [ -e "$marker" ] && sleep 1 && "$lab" kill "$name" 2) &
+fi
 rc=0
 "$lab" exec "$name" 4 env PYTHONPATH="$pypath" GROUNDSIM="$client" GROUNDSIM_KILL_MARKER="$marker" \
   "$python" "$(dirname "$0")/shards_check.py" "$task" || rc=$?
