@@ -101,7 +101,6 @@ void ShardedVecEnv::step(const float* actions, float* obs, double* rewards, std:
       std::fill(rewards + e * agents, rewards + e * agents + rows, 0.0);
       std::fill(terminated + e * agents, terminated + e * agents + rows, std::uint8_t{0});
       std::fill(truncated + e * agents, truncated + e * agents + rows, std::uint8_t{1});
-      ++restarts_;
     }
   });
 }

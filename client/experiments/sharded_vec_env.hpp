@@ -14,7 +14,6 @@
 // RemoteError naming the shard.
 #pragma once
 
-#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,8 +43,6 @@ class ShardedVecEnv final : public BatchEnv {
   void close() override;
 
   int shards() const { return static_cast<int>(shards_.size()); }
-  int restarts() const { return restarts_; }  // shards created again after their server was lost
-  const RemoteVecEnv& shard(int k) const { return *shards_.at(k); }
 
  private:
   int shardOf(int env) const;  // throws ExperimentError("env") out of range
@@ -55,7 +52,6 @@ class ShardedVecEnv final : public BatchEnv {
 
   std::string scenario_text_;
   RemoteVecOptions options_;
-  std::atomic<int> restarts_{0};
   std::vector<std::unique_ptr<RemoteVecEnv>> shards_;
   std::vector<int> offset_;  // first env of each shard, then num_envs
   Layout layout_;

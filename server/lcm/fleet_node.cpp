@@ -193,7 +193,10 @@ void FleetNode::onReplica(const session::Replica& r, const std::string& server_i
   }
   auto it = standby_.find(r.session_id);
   if (it == standby_.end()) {
-    if (my_epochs_.count(r.session_id) || standby_.size() >= options_.max_standby_sessions) return;
+    // a session starts with its scenario replica; snapshots of one not known are not kept
+    if (r.kind != session::Replica::Kind::Scenario || my_epochs_.count(r.session_id) ||
+        standby_.size() >= options_.max_standby_sessions)
+      return;
     it = standby_.emplace(r.session_id, Standby{}).first;
   }
   Standby& s = it->second;
@@ -213,12 +216,10 @@ void FleetNode::onReplica(const session::Replica& r, const std::string& server_i
 
 void FleetNode::onApplied(const session::Applied& a) {
   std::lock_guard<std::mutex> lk(mutex_);
-  if (my_epochs_.count(a.session_id)) return;  // this server's own
+  // only for sessions whose scenario replica came (sent at creation, before
+  // any entry): a datagram naming made-up sessions adds nothing
   auto it = standby_.find(a.session_id);
-  if (it == standby_.end()) {
-    if (standby_.size() >= options_.max_standby_sessions) return;
-    it = standby_.emplace(a.session_id, Standby{}).first;
-  }
+  if (it == standby_.end() || my_epochs_.count(a.session_id)) return;
   Standby& s = it->second;
   if (a.epoch < s.epoch) return;
   if (s.snapshot && a.seq < s.snapshot->applied_seq) return;
@@ -228,8 +229,12 @@ void FleetNode::onApplied(const session::Applied& a) {
 
 void FleetNode::onListing(const std::string& server_id, std::vector<session::SessionInfo> sessions) {
   if (server_id == options_.server_id) return;
+  const auto now = Clock::now();
   std::lock_guard<std::mutex> lk(mutex_);
-  listings_[server_id] = Listing{std::move(sessions), Clock::now()};
+  // servers silent for a while are gone; a flood of made-up ids is bounded
+  std::erase_if(listings_, [&](const auto& kv) { return now - kv.second.at > std::chrono::seconds(6); });
+  if (!listings_.count(server_id) && listings_.size() >= kMaxServers) return;
+  listings_[server_id] = Listing{std::move(sessions), now};
 }
 
 std::vector<session::SessionInfo> FleetNode::fleetSessions(std::vector<session::SessionInfo> own) const {
@@ -321,7 +326,6 @@ void FleetNode::scan() {
   {
     std::lock_guard<std::mutex> lk(mutex_);
     owners_ = owners;
-    owners_fresh_ = true;
     for (const auto& [sid, epoch] : my_epochs_) {
       auto it = owners.find(sid);
       if (it != owners.end() && it->second != options_.server_id) lost.push_back(sid);

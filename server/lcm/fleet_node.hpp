@@ -47,7 +47,8 @@ struct FleetOptions {
   std::chrono::milliseconds scan_period{250};   // owners' view and failover checks
   std::chrono::milliseconds rank_delay{200};    // failover: the standby ranked k claims after k x this
   std::size_t max_standby_sessions = 4096;      // replicas kept of other servers' sessions
-  std::size_t max_log_entries = 1 << 20;        // applied entries kept per standby session
+  std::size_t max_log_entries = 1 << 16;        // applied entries kept per standby session (the oldest go:
+                                                //   one snapshot interval's worth is what a takeover replays)
 };
 
 class FleetNode final : public session::Ownership {
@@ -142,12 +143,12 @@ class FleetNode final : public session::Ownership {
   std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
   static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
-  bool owners_fresh_ = false;
   std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs
   std::set<std::string> disowned_;
   std::map<std::string, Standby> standby_;
   struct Listing { std::vector<session::SessionInfo> sessions; Clock::time_point at; };
-  std::map<std::string, Listing> listings_;
+  std::map<std::string, Listing> listings_;  // other servers' last heartbeats, silent ones dropped after 6 s
+  static constexpr std::size_t kMaxServers = 1024;
   std::int64_t claims_lease_ = 0;
   Clock::time_point claims_lease_at_{};
   std::thread thread_;

@@ -49,8 +49,6 @@ class LcmServer final : public session::Output {
   // and hears the other servers' replicas, applied logs and heartbeats.
   void setFleet(FleetNode* fleet);
   session::SessionService& service() { return *service_; }
-  // OP_DRAIN named this server (or SIGTERM in a fleet): run() returns and the caller drains.
-  bool drainRequested() const { return drain_requested_.load(); }
   // "fenced" (no lease), "draining", or null: a lone server, or a member in good standing.
   const char* fleetTrouble() const;
 

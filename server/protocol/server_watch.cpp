@@ -27,6 +27,7 @@ void ServerWatch::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   });
   const std::string id = m.server_id;
   auto it = last_.find(id);
+  if (it == last_.end() && last_.size() >= kMaxServers) return;  // a flood of made-up server ids
   const long long beats = it == last_.end() ? 1 : it->second.beats + 1;
   last_[id] = Beat{std::move(m), since_, beats};
   ++count_;

@@ -50,6 +50,7 @@ class ServerWatch {
   long long rounds() const;
   // How long a silent server's listing is kept (a failover's length, docs/fleet.md).
   static constexpr double kFleetRetention = 6.0;
+  static constexpr std::size_t kMaxServers = 1024;  // servers kept at once
   // The session as the last heartbeats listed it; nothing if none did.
   std::optional<groundsim::session_info_t> session(const std::string& id) const;
   // Every session the last heartbeats listed (running and recently ended), once each.

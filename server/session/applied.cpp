@@ -59,6 +59,35 @@ void resetTo(Simulator& sim, DrivenCars& cars, const State& initial) {
   cars.driven.assign(cars.driven.size(), false);
 }
 
+std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<VehicleWheels>& vehicles,
+                       const State& initial, const Applied& a) {
+  const VehicleWheels* v =
+      a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles.size()) ? &vehicles[a.vehicle] : nullptr;
+  switch (a.kind) {
+    case AppliedKind::Drive:
+      if (!v) return "drive of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
+      applyDrive(sim, v->wheels, a.wheels);
+      break;
+    case AppliedKind::Controls:
+      if (!v || v->road_car < 0)
+        return "controls of vehicle " + std::to_string(a.vehicle) + ", which is not a road car of the scenario";
+      applyCarControls(sim, cars, v->road_car, a.controls);
+      break;
+    case AppliedKind::DriveTimeout: releaseDrive(sim); break;
+    case AppliedKind::ControlsTimeout: releasePedals(sim); break;
+    case AppliedKind::Reset: resetTo(sim, cars, initial); break;
+    // no effect on the simulation: the states they publish come with their ticks
+    case AppliedKind::Pause:
+    case AppliedKind::Resume:
+    case AppliedKind::Step:
+    case AppliedKind::SetMode:
+    case AppliedKind::Stop:
+    case AppliedKind::End:
+      break;
+  }
+  return "";
+}
+
 void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vector<scenario::ControlTable>& tables) {
   for (const scenario::ControlTable& ct : tables) {
     const auto car = static_cast<size_t>(ct.road_car);

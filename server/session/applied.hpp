@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_build.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
@@ -50,6 +51,13 @@ void applyCarControls(Simulator& sim, DrivenCars& cars, int road_car, const CarC
 void releaseDrive(Simulator& sim);      // every wheel's drive and brake torque to zero
 void releasePedals(Simulator& sim);     // every road car's throttle and brake to zero
 void resetTo(Simulator& sim, DrivenCars& cars, const State& initial);
+// An entry of the log applied again to a simulation at its tick (the
+// re-simulator, and a session resumed from a lost owner's log): its effect
+// on the simulation, through the functions above; entries without one
+// (pause, step, stop ...) do nothing here. Returns "" or why it cannot (a
+// vehicle the scenario lacks).
+std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<VehicleWheels>& vehicles,
+                       const State& initial, const Applied& a);
 // Before each step: the scenario's control-table rows due to cars no client drives.
 void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vector<scenario::ControlTable>& tables);
 

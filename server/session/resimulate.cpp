@@ -53,34 +53,8 @@ std::string Resimulator::stepTo(std::int64_t tick) {
 
 std::string Resimulator::apply(const Applied& a) {
   if (std::string why = stepTo(a.tick); !why.empty()) return why;
-  const auto vehicle = [&]() -> const VehicleWheels* {
-    return a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles_.size()) ? &vehicles_[a.vehicle] : nullptr;
-  };
-  switch (a.kind) {
-    case AppliedKind::Drive:
-      if (!vehicle()) return "drive of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
-      applyDrive(sim_, vehicle()->wheels, a.wheels);
-      break;
-    case AppliedKind::Controls:
-      if (!vehicle() || vehicle()->road_car < 0)
-        return "controls of vehicle " + std::to_string(a.vehicle) + ", which is not a road car of the scenario";
-      applyCarControls(sim_, cars_, vehicle()->road_car, a.controls);
-      break;
-    case AppliedKind::DriveTimeout: releaseDrive(sim_); break;
-    case AppliedKind::ControlsTimeout: releasePedals(sim_); break;
-    case AppliedKind::Reset:
-      resetTo(sim_, cars_, initial_);
-      diverged_ = false;
-      break;
-    // no effect on the simulation: the states they publish come with their ticks
-    case AppliedKind::Pause:
-    case AppliedKind::Resume:
-    case AppliedKind::Step:
-    case AppliedKind::SetMode:
-    case AppliedKind::Stop:
-    case AppliedKind::End:
-      break;
-  }
+  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a); !why.empty()) return why;
+  if (a.kind == AppliedKind::Reset) diverged_ = false;
   return "";
 }
 

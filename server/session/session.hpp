@@ -80,7 +80,7 @@ class Session : public HostedSession {
 
   // ---- a fleet (session_replica.cpp, docs/fleet.md) ----
   // The settings a standby needs to build this session again (the scenario
-  // document and its settings), sent once at creation and now and then.
+  // document and its settings), sent at creation and at a takeover.
   Replica scenarioReplica() const;
   // Continues a session whose owner was lost, before its first run: the
   // snapshot's state, then the owner's applied entries after it (`log`,

@@ -62,7 +62,7 @@ void Session::replicate() {
 }
 
 // One entry of the lost owner's log, at its tick: its effect on the
-// simulation (as Resimulator::apply) and on the session's settings.
+// simulation (applyEntry, as the re-simulator) and on the session's settings.
 std::string Session::replay(const Applied& a) {
   while (sim_.state().tick < a.tick) {
     if (status_ != Status::Running) return "entry " + std::to_string(a.seq) + " steps a session that is not running";
@@ -80,31 +80,18 @@ std::string Session::replay(const Applied& a) {
   // also where its publish budget deferred a frame)
   if (frame_pending_ && a.frame_seq > seq_) frame_pending_ = false;
   seq_ = a.frame_seq;
-  const auto vehicle = [&]() -> const VehicleWheels* {
-    return a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles_.size()) ? &vehicles_[a.vehicle] : nullptr;
-  };
+  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a); !why.empty()) return why;
+  // and its effect on the session's own settings
   switch (a.kind) {
-    case AppliedKind::Drive:
-      if (!vehicle()) return "drive of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
-      applyDrive(sim_, vehicle()->wheels, a.wheels);
-      drive_held_ = false;  // its timeout restarts from the resumption
-      break;
-    case AppliedKind::Controls:
-      if (!vehicle() || vehicle()->road_car < 0) return "controls of a vehicle that is not a road car";
-      applyCarControls(sim_, cars_, vehicle()->road_car, a.controls);
-      break;
-    case AppliedKind::DriveTimeout: releaseDrive(sim_); break;
-    case AppliedKind::ControlsTimeout: releasePedals(sim_); break;
+    case AppliedKind::Drive: drive_held_ = false; break;  // its timeout restarts from the resumption
     case AppliedKind::Reset:
-      resetTo(sim_, cars_, initial_);
       status_ = Status::Running;
       reason_.clear();
       break;
     case AppliedKind::Pause: status_ = Status::Paused; break;
     case AppliedKind::Resume: status_ = Status::Running; break;
     case AppliedKind::SetMode:
-      if (a.mode != 0)
-        if (auto m = modeFromInt(a.mode)) setup_.mode = *m;
+      if (auto m = modeFromInt(a.mode); a.mode != 0 && m) setup_.mode = *m;
       if (a.rate > 0) setup_.rate = a.rate;
       if (a.publish_rate > 0) {
         setup_.publish_rate = a.publish_rate;
@@ -115,9 +102,7 @@ std::string Session::replay(const Applied& a) {
       status_ = Status::Stopped;
       reason_ = a.reason;
       break;
-    case AppliedKind::Step:
-    case AppliedKind::End:
-      break;
+    default: break;
   }
   applied_seq_ = a.seq + 1;
   return "";

@@ -18,22 +18,8 @@
 #   tests/fleet/failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO [MODE]
 set -euo pipefail
 lab=$1 server=$2 client=$3 scenario=$4 mode=${5:-kill}
-"$lab" check || exit $?
-if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
-name="ff$$"
-tmp=$(mktemp -d /tmp/groundsim-failover-XXXXXX)
-cleanup() {
-  "$lab" down "$name" || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-for old in $(ip netns list | awk '{print $1}' | sed -n 's/^gs-ff\([0-9]\{1,\}\)-sw$/\1/p'); do
-  kill -0 "$old" 2>/dev/null || "$lab" down "ff$old" || true
-done
-"$lab" up "$name" 4
-url='udpm://239.255.76.67:7667?ttl=1'
-endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
+. "$(dirname "$0")/fleet_lab_common.sh"
+fleet_lab_begin ff
 fail() {
   echo "FAIL: $*" >&2
   for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 12 "$tmp/s$i.log" >&2 || true; done
@@ -47,10 +33,7 @@ for i in 1 2 3; do
     --address "$("$lab" addr "$i")" --workers 1 --snapshot-interval 1 --metrics-port 9100 >"$tmp/s$i.log" 2>&1 &
   pid[$i]=$!
 done
-for i in 1 2 3; do
-  for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
-  grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
-done
+fleet_wait_joined
 
 # the reference: the same scenario in one process
 "$client" run "$scenario" --csv "$tmp/ref.csv" --quiet

@@ -12,22 +12,8 @@
 #   tests/fleet/placement_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO spread|packed
 set -euo pipefail
 lab=$1 server=$2 client=$3 scenario=$4 placement=$5
-"$lab" check || exit $?
-if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
-name="fp$$"
-tmp=$(mktemp -d /tmp/groundsim-placement-XXXXXX)
-cleanup() {
-  "$lab" down "$name" || true
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-for old in $(ip netns list | awk '{print $1}' | sed -n 's/^gs-fp\([0-9]\{1,\}\)-sw$/\1/p'); do
-  kill -0 "$old" 2>/dev/null || "$lab" down "fp$old" || true
-done
-"$lab" up "$name" 4
-url='udpm://239.255.76.67:7667?ttl=1'
-endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
+. "$(dirname "$0")/fleet_lab_common.sh"
+fleet_lab_begin fp
 fail() {
   echo "FAIL: $*" >&2
   for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 8 "$tmp/s$i.log" >&2 || true; done
@@ -39,10 +25,7 @@ for i in 1 2 3; do
   "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
     --placement "$placement" --max-sessions "$max" --quiet >"$tmp/s$i.log" 2>&1 &
 done
-for i in 1 2 3; do
-  for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
-  grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
-done
+fleet_wait_joined
 sleep 1  # every server has beaten once: the capacities are in the members' registrations
 
 for k in $(seq 60); do

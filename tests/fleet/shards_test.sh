@@ -10,30 +10,17 @@
 #   tests/fleet/shards_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM PYTHONPATH TASK PYTHON
 set -euo pipefail
 lab=$1 server=$2 client=$3 pypath=$4 task=$5 python=${6:-/usr/bin/python3}
-"$lab" check || exit $?
-if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
-name="fs$$"
-tmp=$(mktemp -d /tmp/groundsim-shards-XXXXXX)
-cleanup() {
-  "$lab" down "$name" || true
-  rm -rf "$tmp"
+. "$(dirname "$0")/fleet_lab_common.sh"
+fleet_lab_begin fs
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
 }
-trap cleanup EXIT
-trap 'exit 130' INT TERM
-for old in $(ip netns list | awk '{print $1}' | sed -n 's/^gs-fs\([0-9]\{1,\}\)-sw$/\1/p'); do
-  kill -0 "$old" 2>/dev/null || "$lab" down "fs$old" || true
-done
-"$lab" up "$name" 4
-url='udpm://239.255.76.67:7667?ttl=1'
-endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
 for i in 1 2 3; do
   "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
     >"$tmp/s$i.log" 2>&1 &
 done
-for i in 1 2 3; do
-  for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
-  grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || { echo "FAIL: server s$i did not join" >&2; exit 1; }
-done
+fleet_wait_joined
 sleep 1  # every server registered its capacity
 rm -f "$tmp/marker"
 marker=""

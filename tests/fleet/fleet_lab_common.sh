@@ -1,0 +1,34 @@
+# Sourced by the fleet's lab tests (failover, placement, shards): the lab
+# they share. Needs $lab (scripts/fleet_lab.sh).
+#   fleet_lab_begin PREFIX   checks (exit 77 with the reason where no lab can
+#                            be made or etcd is missing), a lab named
+#                            PREFIX<pid> of 4 hosts torn down on exit (and
+#                            those of killed earlier runs), a 3-member etcd
+#                            in hosts 1-3; sets name, tmp, url, endpoints
+#   fleet_wait_joined        waits until servers s1-s3 (logs $tmp/s<i>.log)
+#                            said they joined; else calls the test's fail
+
+fleet_lab_begin() {
+  local prefix=$1
+  "$lab" check || exit $?
+  if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
+  name="$prefix$$"
+  tmp=$(mktemp -d "/tmp/groundsim-$prefix-XXXXXX")
+  trap '"$lab" down "$name" || true; rm -rf "$tmp"' EXIT
+  trap 'exit 130' INT TERM
+  local old
+  for old in $(ip netns list | awk '{print $1}' | sed -n "s/^gs-$prefix\([0-9]\{1,\}\)-sw\$/\1/p"); do
+    kill -0 "$old" 2>/dev/null || "$lab" down "$prefix$old" || true
+  done
+  "$lab" up "$name" 4
+  url='udpm://239.255.76.67:7667?ttl=1'
+  endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
+}
+
+fleet_wait_joined() {
+  local i
+  for i in 1 2 3; do
+    for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
+    grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
+  done
+}
