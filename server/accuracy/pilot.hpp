@@ -20,7 +20,9 @@
 namespace groundsim::accuracy {
 
 struct PilotOptions {
-  double pilot_duration = 5.0;  // simulated s of the scene per trial (capped by its duration)
+  // simulated s of the scene per trial; a scene at most twice as long is
+  // piloted whole (the measure reads the final speed at its end)
+  double pilot_duration = 5.0;
   // the pilot refines a fit that is not clean (order off its nominal, or
   // differences that do not shrink) with finer runs, while their steps
   // stay within this many in all per integrator
@@ -54,8 +56,11 @@ struct IntegratorTrial {
   // what contact takes at dt0, kept at every finer step so that halving the
   // step halves the contact's substep too
   int contact_substeps = 1;
-  // added to every error of a trial at the automatic contact substeps: the
-  // contact error its own differences cannot see (pilot.cpp)
+  // a trial at the automatic contact substeps: the bound of its finest
+  // run's error through the refined family (their finest runs' gap plus
+  // that family's error), which its own differences cannot see (contact's
+  // substep does not shrink with its step); it stands in for its own
+  // Richardson error in each of its steps' errors (pilot.cpp)
   double contact_offset = 0.0;
   // the pilot's steps and each one's error (its difference to the next
   // finer run plus that run's error; the finest from the fit)
@@ -88,6 +93,20 @@ struct Choice {
   // the table of trials, one line each, for --verbose output and docs
   std::string report() const;
 };
+
+// Richardson on three runs at h, h/2, h/4 whose error measures between
+// neighbours are d_coarse (h against h/2) and d_fine (h/2 against h/4):
+// the observed order p = log2(d_coarse / d_fine) and the error of the
+// finest run, d_fine / (2^p - 1). Differences that do not shrink give the
+// order 0.5 and the larger difference (pessimistic); differences that
+// shrink by more than half an order faster than the integrator's nominal
+// order (a coarse run outside the asymptotic range) give the order 1, the
+// lowest: one difference says nothing of the order.
+struct ErrorFit {
+  double order = 0.0;
+  double e_fine = 0.0;  // error of the finest run
+};
+ErrorFit fitErrorLaw(double d_coarse, double d_fine, int nominal);
 
 // The options a scenario's `accuracy` section and a budget give.
 PilotOptions pilotOptions(const scenario::AccuracySpec& a, const scenario::Budget& budget);

@@ -95,5 +95,40 @@ TEST(Chooser, TheChosenDocumentRoundTrips) {
   EXPECT_EQ(again.options.collision.min_substeps, c.contact_substeps);
 }
 
+// Richardson on exact differences of E(h) = C h^p at h, h/2, h/4 gives p and
+// the error of the finest run, for each integrator's nominal order.
+TEST(Chooser, FitsTheErrorLawOfExactDifferences) {
+  for (int p : {1, 2, 4}) {
+    const double c = 3.0, h = 0.01;
+    const double e0 = c * std::pow(h, p), e1 = c * std::pow(h / 2, p), e2 = c * std::pow(h / 4, p);
+    const ErrorFit f = fitErrorLaw(e0 - e1, e1 - e2, p);
+    EXPECT_NEAR(f.order, p, 1e-9);
+    EXPECT_NEAR(f.e_fine, e2, 1e-9 * e2);
+  }
+}
+
+// Differences that shrink far faster than the integrator's order (the coarse
+// run outside the asymptotic range) are not credited with that order: one
+// difference says nothing of the order, so the lowest, 1, is taken and the
+// finest run's error is the fine difference itself (d / (2^1 - 1)), for
+// every integrator. Differences that do not shrink give the larger one
+// (pessimistic).
+TEST(Chooser, TakesTheNominalOrderWhenTheCoarseRunIsOutOfRange) {
+  const double d = 1e-4;
+  const ErrorFit first = fitErrorLaw(500 * d, d, 1);
+  EXPECT_EQ(first.order, 1.0);
+  EXPECT_NEAR(first.e_fine, d, 1e-12);
+  const ErrorFit second = fitErrorLaw(500 * d, d, 2);
+  EXPECT_EQ(second.order, 1.0);
+  EXPECT_NEAR(second.e_fine, d, 1e-12);
+  // within half an order above the nominal, the observed order stands
+  const ErrorFit near = fitErrorLaw(std::pow(2.0, 2.3) * d, d, 2);
+  EXPECT_NEAR(near.order, 2.3, 1e-12);
+  EXPECT_NEAR(near.e_fine, d / (std::pow(2.0, 2.3) - 1), 1e-15);
+  const ErrorFit flat = fitErrorLaw(d, 2 * d, 1);
+  EXPECT_EQ(flat.order, 0.5);
+  EXPECT_EQ(flat.e_fine, 2 * d);
+}
+
 }  // namespace
 }  // namespace groundsim::accuracy
