@@ -36,6 +36,7 @@ rest=(
   python3-matplotlib                             # examples/train_goal.py's learning curve, examples/ppo_plot.py
   python3-torch                                  # examples/ppo.py (PPO) and its smoke test
   ffmpeg                                         # groundsim.record_video: frames to H.264 MP4
+  emscripten                                     # the page's predictor: the physics core in WebAssembly (web/wasm)
 )
 
 case "${1:-}" in

@@ -433,7 +433,11 @@ void Hub::finishJoin(Peer* p, const JoinMsg& m) {
   std::string msg = "{\"op\":\"joined\",\"session\":" + quoted(m.session) +
                     ",\"role\":" + (ps.role == Role::Drive ? "\"drive\"" : "\"spectate\"") +
                     ",\"vehicle\":" + std::to_string(ps.vehicle) + ",\"note\":" + quoted(s.view ? "" : s.view_error) +
-                    ",\"layout\":" + (s.joined_layout ? *s.joined_layout : std::string("null")) + "}";
+                    ",\"layout\":" + (s.joined_layout ? *s.joined_layout : std::string("null"));
+  // a driver's page runs the scenario itself to predict its car (web/src/predict.js)
+  const auto text = ps.role == Role::Drive ? scenario_texts_.find(m.session) : scenario_texts_.end();
+  const std::string& doc = text != scenario_texts_.end() ? text->second : std::string();
+  msg += ",\"scenario\":" + (doc.empty() ? std::string("null") : quoted(doc)) + "}";
   sendJson(p, msg);
   for (const auto& race : s.race.catchUp()) p->send(race);  // a race under way: its layout and standings
   publishLobby();

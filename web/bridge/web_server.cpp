@@ -52,6 +52,7 @@ const char* contentType(const std::string& name) {
   if (ends(".css")) return "text/css; charset=utf-8";
   if (ends(".map") || ends(".json")) return "application/json";
   if (ends(".png")) return "image/png";
+  if (ends(".wasm")) return "application/wasm";  // the page's predictor (web/wasm)
   return "application/octet-stream";
 }
 

@@ -14,6 +14,9 @@ export const app = {
   vehicles: [], events: [], lobby: null, configs: [], scenarios: [], cameraMode: 'chase',
   frames: 0, fps: 0, frameMs: 0, pixelRatio: 1, lastState: null, states: 0, groundGrids: 0, controlsSent: 0, errors: [],
   followed: 0, lastControls: null, stateListeners: [],
+  frameListeners: [],  // fn(drawn state, now ms) after each frame's drawState (tests)
+  prediction: null,    // the own car's prediction (predict.js): active, reason, lead, error, drawn ...
+  net: null,           // round trip to the bridge (lag.js): rtt (median ms), rttLast, lagging
   car: null,  // the newest {"op":"car"} of the session: its road cars' gear, rpm, applied controls
   objects: null, objectMeshes: 0,  // the scenario's obstacles as drawn (objects.js)
   contacts: 0, hits: null, hitEvents: 0,  // contact states received, hits shown (hits.shown), "hit: " events

@@ -16,10 +16,13 @@ function forwardSpeed(v) {
 }
 
 export class Driver {
-  // onAction(name): the input's one-shot actions (camera, reset, pause, figure)
-  constructor(input, net, onAction) {
+  // onControls(c): every control update, sent or not (the own car's
+  // prediction takes it at once); onAction(name): the input's one-shot
+  // actions (camera, reset, pause, figure)
+  constructor(input, net, onControls, onAction) {
     this.input = input;
     this.net = net;
+    this.onControls = onControls;
     this.onAction = onAction;
     this.lastSend = 0;
     this.lastInput = performance.now();
@@ -34,6 +37,7 @@ export class Driver {
     for (const a of this.input.takeActions()) this.onAction(a);
     if (app.role !== 'drive' || app.replay) return;
     const c = this.input.update(dt, v ? forwardSpeed(v) : 0);
+    this.onControls(c);
     const key = JSON.stringify(c), now = performance.now();
     if (key !== app.lastControls || now - this.lastSend > SEND_PERIOD_MS) {
       this.net.send({ op: 'controls', ...c, seq: app.controlsSent++ });

@@ -2,7 +2,8 @@
 // rate, frames are drawn at the display's rate. A playback clock runs at the
 // measured real-time factor a little behind the newest state and each frame
 // interpolates the two states around it (positions linearly, orientations
-// by slerp). No three.js here: the module is plain data.
+// by slerp), or carries the newest on for a bounded time when the next is
+// late (extrapolateVehicle). No three.js here: the module is plain data.
 
 export function slerp(a, b, u) {  // quaternions [w, x, y, z]
   let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
@@ -19,6 +20,27 @@ export function slerp(a, b, u) {  // quaternions [w, x, y, z]
 }
 
 const lerp = (a, b, u) => a.map((x, i) => x + (b[i] - x) * u);
+
+// When the playback clock runs past the newest state (a state late on the
+// network), cars go on along their velocities for at most this long rather
+// than stopping and jumping when it comes; BeamMP predicts up to 0.3 s.
+export const MAX_EXTRAPOLATION_S = 0.2;
+
+// A vehicle state carried on by h seconds: position along v, orientation
+// turned by the angular velocity w (world) over h.
+export function extrapolateVehicle(a, h) {
+  if (!(h > 0)) return a;
+  const [wx, wy, wz] = a.w, ang = Math.hypot(wx, wy, wz) * h;
+  let q = a.q;
+  if (ang > 1e-12) {
+    const k = Math.sin(ang / 2) / (ang / h), d = [Math.cos(ang / 2), wx * k, wy * k, wz * k];
+    q = [d[0] * q[0] - d[1] * q[1] - d[2] * q[2] - d[3] * q[3],
+      d[0] * q[1] + d[1] * q[0] + d[2] * q[3] - d[3] * q[2],
+      d[0] * q[2] - d[1] * q[3] + d[2] * q[0] + d[3] * q[1],
+      d[0] * q[3] + d[1] * q[2] - d[2] * q[1] + d[3] * q[0]];
+  }
+  return { ...a, p: a.p.map((x, i) => x + a.v[i] * h), q };
+}
 
 export function interpolateVehicle(a, b, u) {
   if (!b || a === b) return a;
@@ -49,6 +71,7 @@ export class Playback {
     this.interval = 0.02;   // measured s of sim time between states
     this.rateWindow = [];   // [wall s, sim t]
     this.contacts = new Map();  // seq -> objects of a contact state whose state has not come yet
+    this.extrapolated = 0;      // s past the newest state the last frame drew (0: interpolated)
   }
   // A contact state (objects with mass) joins the state of the same seq,
   // whichever of the two arrives first.
@@ -91,6 +114,12 @@ export class Playback {
     while (i > 0 && this.states[i - 1].t > this.clock) --i;
     const b = this.states[i], a = i > 0 ? this.states[i - 1] : b;
     const u = b.t > a.t ? Math.min(1, Math.max(0, (this.clock - a.t) / (b.t - a.t))) : 1;
+    const ahead = Math.min(MAX_EXTRAPOLATION_S, this.clock - newest.t);
+    if (b === newest && ahead > 0 && newest.status === 1) {
+      this.extrapolated = ahead;
+      return { ...b, t: this.clock, vehicles: b.vehicles.map((v) => extrapolateVehicle(v, ahead)), objects: b.objects || null };
+    }
+    this.extrapolated = 0;
     return {
       ...b,
       t: a.t + (b.t - a.t) * u,

@@ -5,7 +5,8 @@
 // (obstacles), hits.js (hits), skids.js (tyre marks), camera.js (cameras),
 // hud.js (HUD, events), lobby.js (lobby), replay.js (recordings on a
 // timeline), net.js (WebSocket), interp.js (smoothing), input.js and
-// drive.js (controls).
+// drive.js (controls), predict.js (the own car ahead of the server's
+// states: the physics core in WebAssembly), lag.js (round trip, lag notice).
 import { app, $, COLORS } from './app.js';
 import { World } from './render.js';
 import { Terrain } from './terrain.js';
@@ -23,6 +24,8 @@ import { Input, RemapScreen } from './input.js';
 import { Driver } from './drive.js';
 import { probeHorizon } from './probe.js';
 import { RaceView } from './race.js';
+import { Prediction } from './predict.js';
+import { LagMeter } from './lag.js';
 
 // ?render=0 runs everything but the drawing (the latency benchmark isolates
 // the network path from a software renderer's frame time with it)
@@ -44,6 +47,10 @@ const race = new RaceView(scene);  // races: HUD, gates, ghost (race.js, ghost.j
 const net = new Connection(`${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`);
 Object.assign(app, { race, hits, terrain, skids, three: { scene, camera, renderer: world.renderer, sky: world.sky, world } });
 app.send = (m) => net.send(m);
+const prediction = new Prediction();
+const lag = new LagMeter(net);
+net.on('*', () => lag.heard());
+net.on('pong', (m) => lag.onPong(m));
 app.debug = { probeHorizon: (opts) => probeHorizon(world, opts) };
 
 function clearScene() {
@@ -56,6 +63,7 @@ function clearScene() {
   skids.reset();
   race.dispose();
   playback.reset();
+  prediction.stop('no session');
   terrain.clear();
   world.sky.visible = false;
 }
@@ -97,6 +105,8 @@ net.on('joined', (m) => {
   app.objectMeshes = app.objects.meshes.length;
   rig.set('chase');
   if (touch) touch.show(m.role === 'drive');
+  if (m.role === 'drive') prediction.start(m.session, m.vehicle, m.scenario);
+  else prediction.stop('spectating');
 });
 net.on('left', () => { app.session = null; clearScene(); showLobby(true); });
 net.on('ground', (m) => {
@@ -107,6 +117,7 @@ net.on('ground', (m) => {
 net.on('state', (m) => {
   if (m.session !== app.session || app.replay) return;
   playback.push(m, performance.now() / 1000);
+  prediction.onState(m, performance.now());
   app.lastState = m;
   app.states++;
   if (app.vehicles.length !== m.vehicles.length) buildVehicles(m);
@@ -175,7 +186,7 @@ function toggleFigure() {
   app.figure = !app.figure;
   for (const v of app.vehicles) v.setFigure(app.figure);
 }
-const driver = new Driver(input, net, (a) => {
+const driver = new Driver(input, net, (c) => prediction.setControls(c), (a) => {
   if (a === 'camera') toggleCamera();
   else if (a === 'figure') toggleFigure();
   else if (a === 'remap') remap.toggle();
@@ -327,9 +338,16 @@ world.renderer.setAnimationLoop(() => {
   } else {
     s = playback.frame(wallDt);
     driver.drive(app.lastState && app.lastState.vehicles[app.vehicle]);
+    // the own car from the local run, ahead by the round trip (predict.js);
+    // the others stay on the playback clock
+    const own = prediction.frame(wallDt, lag.rttS(), playback.rate, now);
+    if (s && own && s.vehicles[app.vehicle]) {
+      s.vehicles[app.vehicle] = { ...s.vehicles[app.vehicle], p: own.p, q: own.q, v: own.v, w: own.w, speed: Math.hypot(...own.v) };
+    }
   }
   if (s) drawState(s, wallDt);
   else if (rig.mode === 'free') rig.place(null, 3, 0);
+  for (const fn of app.frameListeners) fn(s, now);
   hits.frame(wallDt);
   const t0 = performance.now();
   if (DRAW) world.render();

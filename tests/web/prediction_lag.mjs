@@ -1,0 +1,183 @@
+// Play behind a real round trip (issue 21): the browser reaches the bridge
+// through a relay of this test that holds every chunk 60 ms each way (a
+// 120 ms round trip; delay_relay.mjs). The page is loaded with ?render=0
+// (everything but the WebGL draw: frames come at the display's rate, so a
+// frame is 16 ms and "two frames" is far under the round trip; software
+// WebGL would make a frame longer than the round trip and the check void).
+//
+// - With prediction (the physics core in WebAssembly, web/src/predict.js),
+//   a press of W moves the drawn own car within 2 frames, before any state
+//   that could reflect it has come back; without (?predict=0, the same
+//   press in a second session) it takes at least the round trip: the relay
+//   really delays, and the first check is not passed by a fast link.
+// - After W is released the drawn car converges to the server's states:
+//   the drawn pose at a state's time within 5 cm of that state.
+// - A spectator of the driven car sees no jump between frames larger than
+//   max(0.5 m, 2 |v| dt) (interpolation, bounded extrapolation).
+// - The lag notice is hidden at 120 ms, shown when the relay's delay rises
+//   to 150 ms each way (300 ms), hidden again when it falls back.
+// `--figures` instead prints key-to-motion with and without prediction at
+// round trips of 0, 60, 150 and 300 ms (docs/game.md).
+import * as h from './harness.mjs';
+import { startDelayRelay } from './delay_relay.mjs';
+
+const FIGURES = process.argv.includes('--figures');
+const DELAY_MS = 60;
+
+const { bridge } = await h.startServices();
+const bridgeUrl = bridge.output.match(/open (http:\/\/127\.0\.0\.1:(\d+)\/)/);
+const relay = await startDelayRelay(parseInt(bridgeUrl[2], 10), DELAY_MS);
+await h.launch();
+
+// Records each drawn frame's own car (forward speed along its heading,
+// position, time) and the frame and time of each W press, in the page.
+async function instrument(page) {
+  await page.evaluate(() => {
+    const g = window.groundsim;
+    const rec = window.__rec = { frames: [], presses: [], states: [], errors: [] };
+    const fwd = (v) => {
+      const [w, x, y, z] = v.q;
+      const fx = 1 - 2 * (y * y + z * z), fy = 2 * (x * y + w * z), n = Math.hypot(fx, fy) || 1;
+      return (fx * v.v[0] + fy * v.v[1]) / n;
+    };
+    g.frameListeners.push((s, now) => {
+      const k = g.role === 'drive' ? g.vehicle : 0, v = s && s.vehicles[k];
+      if (!v) return;
+      const d = g.prediction && g.prediction.active ? g.prediction.drawn : null;
+      rec.frames.push({ now, fwd: fwd(v), p: v.p.slice(), t: d ? d.t : s.t, speed: Math.hypot(...v.v), st: s.t });
+      if (rec.frames.length > 3000) rec.frames.shift();
+    });
+    g.stateListeners.push((m) => {
+      const k = g.role === 'drive' ? g.vehicle : 0, v = m.vehicles[k];
+      if (!v) return;
+      rec.states.push({ t: m.t, p: v.p.slice() });
+      if (rec.states.length > 3000) rec.states.shift();
+      if (g.prediction && g.prediction.active) rec.errors.push({ t: m.t, e: g.prediction.error, now: performance.now() });
+    });
+    window.addEventListener('keydown', (e) => {
+      if (e.key === 'w' && !e.repeat) rec.presses.push(performance.now());
+    }, true);
+  });
+}
+
+// Holds W for holdMs at rest; returns how many drawn frames after the press
+// the own car's forward speed first rose 0.02 m/s above its speed at the
+// press, and after how many ms.
+async function pressResponse(page, holdMs = 1500) {
+  await h.stopCars(page);
+  await page.waitForTimeout(800);
+  await page.keyboard.down('w');
+  await page.waitForTimeout(holdMs);
+  await page.keyboard.up('w');
+  return page.evaluate(() => {
+    const rec = window.__rec, at = rec.presses[rec.presses.length - 1];
+    const before = rec.frames.filter((f) => f.now <= at), after = rec.frames.filter((f) => f.now > at);
+    const v0 = before.length ? before[before.length - 1].fwd : 0;
+    const i = after.findIndex((f) => f.fwd > v0 + 0.02);
+    return i < 0 ? { frames: null, ms: null, v0 } : { frames: i + 1, ms: after[i].now - at, v0, v: after[i].fwd };
+  });
+}
+
+async function driverPage(query) {
+  const page = await h.newPage(`${relay.url}?render=0${query}`);
+  await instrument(page);
+  const session = await h.createAndDrive(page, 'sedan.json');
+  await h.until('a measured round trip', () => page.evaluate(() => window.groundsim.net.rtt !== null), 20000);
+  return { page, session };
+}
+
+const a = await driverPage('');
+await h.until('the prediction to run', () => a.page.evaluate(() => window.groundsim.prediction.active), 20000)
+  .catch(async () => h.fail(`no prediction: ${await a.page.evaluate(() => window.groundsim.prediction.reason)}`));
+const b = await driverPage('&predict=0');
+const rtt = await a.page.evaluate(() => window.groundsim.net.rtt);
+console.log(`round trip through the relay: ${rtt.toFixed(1)} ms (relay ${DELAY_MS} ms each way)`);
+if (!(rtt >= 2 * DELAY_MS)) await h.fail(`the relay does not delay: round trip ${rtt} ms`);
+
+if (FIGURES) {
+  console.log('| round trip (ms) | with prediction: frames, ms | without: frames, ms |');
+  for (const d of [0, 30, 75, 150]) {
+    relay.delayMs = d;
+    await a.page.waitForTimeout(3000);  // the round trip's median settles
+    const rows = [];
+    for (let k = 0; k < 3; ++k) rows.push([await pressResponse(a.page, 800), await pressResponse(b.page, 800)]);
+    const med = (xs) => xs.slice().sort((x, y) => x - y)[Math.floor(xs.length / 2)];
+    const cell = (j) => `${med(rows.map((r) => r[j].frames))}, ${med(rows.map((r) => r[j].ms)).toFixed(0)}`;
+    console.log(`| ${2 * d} (measured ${(await a.page.evaluate(() => window.groundsim.net.rtt)).toFixed(0)}) | ${cell(0)} | ${cell(1)} |`);
+  }
+  await h.pass('figures');
+}
+
+// a spectator of the driven car: every frame's step of car 0
+const watcher = await h.newPage(`${relay.url}?render=0&predict=0&session=${a.session}`);
+await h.until('the spectator to draw', () => watcher.evaluate(() => window.groundsim.states > 5), 20000);
+await instrument(watcher);
+
+// --- the press, with and without prediction ---
+const withP = await pressResponse(a.page);
+const releasedAt = await a.page.evaluate(() => window.groundsim.prediction.t);
+const withoutP = await pressResponse(b.page);
+console.log(`W to motion on screen: with prediction ${withP.frames} frames, ${withP.ms && withP.ms.toFixed(1)} ms; ` +
+  `without ${withoutP.frames} frames, ${withoutP.ms && withoutP.ms.toFixed(1)} ms (round trip ${rtt.toFixed(0)} ms)`);
+if (withP.frames === null) await h.fail('with prediction the drawn car never moved after W');
+if (withoutP.frames === null) await h.fail('without prediction the drawn car never moved after W');
+if (!(withoutP.ms >= rtt)) await h.fail(`without prediction the car moved ${withoutP.ms} ms after W, under the round trip (${rtt} ms): the delay is not in the path`);
+if (!(withP.frames <= 2)) await h.fail(`with prediction the car moved only ${withP.frames} frames (${withP.ms} ms) after W`);
+if (!(withP.ms < rtt)) await h.fail(`with prediction the car moved ${withP.ms} ms after W, not before a round trip (${rtt} ms)`);
+
+// --- convergence after the release: drawn (predicted) pose at each later state's time ---
+await a.page.waitForTimeout(1500);
+const conv = await a.page.evaluate((from) => {
+  const rec = window.__rec;
+  const drawn = rec.frames.filter((f) => f.t > from);
+  let worst = 0, n = 0;
+  for (const s of rec.states.filter((x) => x.t > from + 0.5)) {
+    const j = drawn.findIndex((f) => f.t >= s.t);
+    if (j < 1) continue;
+    const f0 = drawn[j - 1], f1 = drawn[j], u = f1.t > f0.t ? (s.t - f0.t) / (f1.t - f0.t) : 1;
+    const p = f0.p.map((x, i) => x + (f1.p[i] - x) * u);
+    worst = Math.max(worst, Math.hypot(p[0] - s.p[0], p[1] - s.p[1], p[2] - s.p[2]));
+    n++;
+  }
+  const errs = rec.errors.filter((x) => x.t > from + 0.5).map((x) => x.e);
+  const press = rec.presses[rec.presses.length - 1];
+  const held = rec.errors.filter((x) => x.now > press && x.now < press + 1500).map((x) => x.e);
+  return { worst, n, lastErr: Math.max(...errs), heldErr: Math.max(...held), info: window.groundsim.prediction };
+}, releasedAt);
+console.log(`after the release: drawn vs server at ${conv.n} states, worst ${(100 * conv.worst).toFixed(1)} cm; ` +
+  `prediction error at correction ${(100 * conv.lastErr).toFixed(1)} cm (while W was held: up to ${(100 * conv.heldErr).toFixed(1)} cm); ` +
+  `lead ${(1000 * conv.info.lead).toFixed(0)} ms (at most ${(1000 * conv.info.maxLead).toFixed(0)}), ${conv.info.corrections} corrections, ${conv.info.snaps} snaps, ` +
+  `${conv.info.restarts || 0} restarts (${conv.info.restartReason || ''})`);
+if (!(conv.n >= 10)) await h.fail(`too few states to compare after the release (${conv.n})`);
+if (!(conv.worst < 0.05)) await h.fail(`the drawn car did not converge to the server's states: ${conv.worst} m apart`);
+
+// --- the spectator: no jump between frames ---
+const jumps = await watcher.evaluate(() => {
+  const f = window.__rec.frames;
+  let worst = null;
+  for (let i = 1; i < f.length; ++i) {
+    const d = Math.hypot(...f[i].p.map((x, k) => x - f[i - 1].p[k])), dt = (f[i].now - f[i - 1].now) / 1000;
+    const allowed = Math.max(0.5, 2 * Math.max(f[i].speed, f[i - 1].speed) * dt);
+    if (!worst || d / allowed > worst.ratio) worst = { ratio: d / allowed, d, allowed, i, dt, v: f[i].speed, t0: f[i - 1].st, t1: f[i].st };
+  }
+  return { frames: f.length, worst };
+});
+console.log(`spectator: ${jumps.frames} frames, largest step ${jumps.worst.d.toFixed(3)} m of ${jumps.worst.allowed.toFixed(3)} m allowed`);
+if (!(jumps.frames > 30)) await h.fail(`the spectator drew too few frames (${jumps.frames})`);
+if (!(jumps.worst.ratio <= 1)) await h.fail(`the spectated car jumped ${jumps.worst.d} m between frames (allowed ${jumps.worst.allowed} m)`);
+
+// --- the lag notice ---
+const notice = () => a.page.evaluate(() => ({ shown: !document.getElementById('lag-notice').classList.contains('hidden'),
+  text: document.getElementById('lag-notice').textContent, rtt: window.groundsim.net.rtt }));
+const calm = await notice();
+if (calm.shown) await h.fail(`lag notice shown at a ${calm.rtt} ms round trip: "${calm.text}"`);
+relay.delayMs = 150;
+const lagging = await h.until('the lag notice', async () => { const n = await notice(); return n.shown && n; }, 15000)
+  .catch(async () => h.fail(`no lag notice at 300 ms: ${JSON.stringify(await notice())}`));
+console.log(`relay 150 ms each way: notice "${lagging.text}"`);
+relay.delayMs = DELAY_MS;
+await h.until('the lag notice to go', async () => !(await notice()).shown, 15000)
+  .catch(async () => h.fail(`the lag notice stayed at 120 ms: ${JSON.stringify(await notice())}`));
+relay.close();
+await h.pass(`W to motion ${withP.frames} frames (${withP.ms.toFixed(0)} ms) with prediction, ${withoutP.frames} frames ` +
+  `(${withoutP.ms.toFixed(0)} ms) without, at ${rtt.toFixed(0)} ms; converged to ${(100 * conv.worst).toFixed(1)} cm`);
