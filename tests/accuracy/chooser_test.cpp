@@ -113,7 +113,7 @@ TEST(Chooser, FitsTheErrorLawOfExactDifferences) {
 // finest run's error is the fine difference itself (d / (2^1 - 1)), for
 // every integrator. Differences that do not shrink give the larger one
 // (pessimistic).
-TEST(Chooser, TakesTheNominalOrderWhenTheCoarseRunIsOutOfRange) {
+TEST(Chooser, TakesOrderOneWhenTheCoarseRunIsOutOfRange) {
   const double d = 1e-4;
   const ErrorFit first = fitErrorLaw(500 * d, d, 1);
   EXPECT_EQ(first.order, 1.0);
