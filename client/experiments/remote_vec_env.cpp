@@ -190,7 +190,7 @@ groundsim::vec_reply_t RemoteVecEnv::call(groundsim::vec_request_t req, double t
       throw RemoteError(std::string(what) + ": request " + std::to_string(req.request_id) + ": " + part_error_);
     if (watch_.lost()) throw RemoteError(std::string(what) + ": " + watch_.lostMessage(url_));
     // in a fleet the others' heartbeats go on: this session's server must beat
-    if (!server_id_.empty() && watch_.silenceOf(server_id_) > net::kHeartbeatTimeout)
+    if (!server_id_.empty() && watch_.silenceOf(server_id_) > watch_.timeoutOf(server_id_))
       throw RemoteError(std::string(what) + ": no heartbeat from server " + server_id_ + " (the owner of session " +
                         session_id_ + ") for " + std::to_string(watch_.silenceOf(server_id_)).substr(0, 4) + " s");
     const int got = assembler_.parts() - static_cast<int>(assembler_.missing().size());
@@ -367,6 +367,10 @@ void RemoteVecEnv::close() {
   const auto start = Clock::now();
   while (!stop_reply_) {
     if (watch_.lost()) throw RemoteError("close: " + watch_.lostMessage(url_));
+    // in a fleet: the session's own server is gone (a lost shard is closed so)
+    if (!server_id_.empty() && watch_.silenceOf(server_id_) > watch_.timeoutOf(server_id_))
+      throw RemoteError("close: no heartbeat from server " + server_id_ + " (the owner of session " + session_id_ +
+                        "): the session went with it");
     if (secondsSince(start) > options_.timeout_s)
       throw RemoteError("close: no reply to the stop of session " + session_id_ + " on " + url_);
     lcm_.handleTimeout(100);

@@ -1,6 +1,7 @@
 #include "client/experiments/sharded_vec_env.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <thread>
@@ -94,15 +95,31 @@ void ShardedVecEnv::step(const float* actions, float* obs, double* rewards, std:
       const int n = offset_[k + 1] - offset_[k];
       std::fprintf(stderr, "groundsim: shard %d (session %s) lost (%s): created again, its %d environments truncated\n",
                    k, shards_[k]->sessionId().c_str(), lost.what(), n);
-      auto fresh = std::make_unique<RemoteVecEnv>(scenario_text_, n, options_);
-      fresh->reset(std::nullopt, obs + e * no);
-      shards_[k] = std::move(fresh);
+      shards_[k] = recreate(k, n, obs + e * no);
       const std::size_t rows = static_cast<std::size_t>(n) * agents;
       std::fill(rewards + e * agents, rewards + e * agents + rows, 0.0);
       std::fill(terminated + e * agents, terminated + e * agents + rows, std::uint8_t{0});
       std::fill(truncated + e * agents, truncated + e * agents + rows, std::uint8_t{1});
     }
   });
+}
+
+// A lost shard's environments, again on a server that beats (the fleet
+// places the create; a dead one is not placed on once it has been silent
+// for 3.5 heartbeat periods). A create that itself fails (its server died
+// too, the fleet's etcd was electing a leader) is tried twice more.
+std::unique_ptr<RemoteVecEnv> ShardedVecEnv::recreate(int k, int n, float* obs) {
+  for (int attempt = 1;; ++attempt) {
+    try {
+      auto fresh = std::make_unique<RemoteVecEnv>(scenario_text_, n, options_);
+      fresh->reset(std::nullopt, obs);
+      return fresh;
+    } catch (const RemoteError& e) {
+      if (attempt == 3) throw;
+      std::fprintf(stderr, "groundsim: shard %d: creating it again failed (%s): trying again\n", k, e.what());
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+  }
 }
 
 EnvInfo ShardedVecEnv::info(int row) const {

@@ -49,6 +49,8 @@ class ShardedVecEnv final : public BatchEnv {
   // f(k) for every shard at once; the first failure (by shard order) is rethrown
   template <class F>
   void everyShard(F f);
+  // shard k's n environments created again (reset, observations into obs)
+  std::unique_ptr<RemoteVecEnv> recreate(int k, int n, float* obs);
 
   std::string scenario_text_;
   RemoteVecOptions options_;

@@ -1,6 +1,7 @@
 #include "fleet_node.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -113,7 +114,7 @@ bool FleetNode::answers(const std::string& session_id, std::function<void()> unk
 void FleetNode::onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
-    creates_.push_back(Pending{client_id, request_id, std::move(take)});
+    creates_.push_back(Pending{client_id, request_id, std::move(take), Clock::now()});
   }
   wake_.notify_all();
 }
@@ -141,15 +142,16 @@ std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loa
   std::map<std::string, Clock::time_point> beats;
   {
     std::lock_guard<std::mutex> lk(mutex_);
-    for (const auto& [id, l] : listings_) beats[id] = l.at;
+    beats = beats_;
   }
+  // as a client judges a server (protocol/server_watch.hpp): silent for 3.5 periods
+  const auto silent = options_.heartbeat_period * 7 / 2;
   for (const fleet::Member& m : membership_->members()) {
     const nlohmann::json& info = m.info;
     if (!info.is_object() || info.value("draining", false)) continue;
     // a member whose heartbeat stopped (dead, its lease not lapsed yet) takes nothing
     const auto beat = beats.find(m.id);
-    if (m.id != options_.server_id && beat != beats.end() && now - beat->second > std::chrono::milliseconds(2500))
-      continue;
+    if (m.id != options_.server_id && beat != beats.end() && now - beat->second > silent) continue;
     const nlohmann::json cap = info.value("capacity", nlohmann::json::object());
     const double max = cap.value("max_sessions", 0.0);
     const auto it = loads.find(m.id);
@@ -233,6 +235,11 @@ void FleetNode::onListing(const std::string& server_id, std::vector<session::Ses
   std::lock_guard<std::mutex> lk(mutex_);
   // servers silent for a while are gone; a flood of made-up ids is bounded
   std::erase_if(listings_, [&](const auto& kv) { return now - kv.second.at > std::chrono::seconds(6); });
+  // last beats live longer than listings: a dead member whose listing went
+  // must not look like a new one (never heard) while its lease lasts
+  std::erase_if(beats_, [&](const auto& kv) { return now - kv.second > std::chrono::seconds(60); });
+  if (!beats_.count(server_id) && beats_.size() >= kMaxServers) return;
+  beats_[server_id] = now;
   if (!listings_.count(server_id) && listings_.size() >= kMaxServers) return;
   listings_[server_id] = Listing{std::move(sessions), now};
 }
@@ -251,7 +258,16 @@ std::vector<session::SessionInfo> FleetNode::fleetSessions(std::vector<session::
 }
 
 void FleetNode::updateCapacity(const session::ServiceStatus& st) {
-  membership_->update({{"sessions_free", std::max(0, st.max_sessions - static_cast<int>(st.sessions.size()))},
+  // every heartbeat (4 a second in a fleet) would be a write to etcd: only
+  // a change of the counts, a load moved by 0.1, or every 5 s
+  const int free = std::max(0, st.max_sessions - static_cast<int>(st.sessions.size()));
+  const auto now = Clock::now();
+  if (free == capacity_free_ && std::abs(st.load - capacity_load_) < 0.1 && now - capacity_at_ < std::chrono::seconds(5))
+    return;
+  capacity_free_ = free;
+  capacity_load_ = st.load;
+  capacity_at_ = now;
+  membership_->update({{"sessions_free", free},
                        {"max_sessions", st.max_sessions},
                        {"workers", st.workers},
                        {"load", st.load}});
@@ -266,14 +282,21 @@ void FleetNode::run() {
     std::vector<std::string> releases;
     {
       std::unique_lock<std::mutex> lk(mutex_);
-      wake_.wait_until(lk, next_scan, [&] { return stopping_.load() || !creates_.empty() || !releases_.empty(); });
+      wake_.wait_until(lk, next_scan,
+                       [&] { return stopping_.load() || (!retry_ && (!creates_.empty() || !releases_.empty())); });
+      retry_ = false;
       if (stopping_) return;
       creates.swap(creates_);
       releases.swap(releases_);
     }
+    // what etcd could not do now is tried again at the next wake (a create
+    // for as long as its client waits for a first answer, a release until done)
+    std::size_t placed = 0, released = 0;
     try {
-      for (const Pending& p : creates) place(p);
-      for (const std::string& id : releases) {
+      for (; placed < creates.size(); ++placed)
+        if (Clock::now() - creates[placed].at < kCreateRetry) place(creates[placed]);
+      for (; released < releases.size(); ++released) {
+        const std::string& id = releases[released];
         std::int64_t epoch = 0;
         {
           std::lock_guard<std::mutex> lk(mutex_);
@@ -312,6 +335,13 @@ void FleetNode::run() {
     } catch (const std::exception& e) {
       log(std::string("etcd: ") + e.what());
       next_scan = Clock::now() + options_.scan_period;
+      std::lock_guard<std::mutex> lk(mutex_);
+      if (placed < creates.size())
+        creates_.insert(creates_.begin(), std::make_move_iterator(creates.begin() + placed),
+                        std::make_move_iterator(creates.end()));
+      if (released < releases.size())
+        releases_.insert(releases_.begin(), releases.begin() + released, releases.end());
+      retry_ = true;  // not at once: after a scan period
     }
   }
 }

@@ -46,6 +46,7 @@ struct FleetOptions {
   std::string prefix = "/groundsim";
   std::chrono::milliseconds scan_period{250};   // owners' view and failover checks
   std::chrono::milliseconds rank_delay{200};    // failover: the standby ranked k claims after k x this
+  std::chrono::milliseconds heartbeat_period{250};  // every server's; silent for 3.5 of them: not placed on
   std::size_t max_standby_sessions = 4096;      // replicas kept of other servers' sessions
   std::size_t max_log_entries = 1 << 16;        // applied entries kept per standby session (the oldest go:
                                                 //   one snapshot interval's worth is what a takeover replays)
@@ -128,7 +129,10 @@ class FleetNode final : public session::Ownership {
     std::string client_id;
     std::int64_t request_id = 0;
     std::function<void()> take;
+    Clock::time_point at;  // heard; placement is tried again after an etcd error for kCreateRetry
   };
+  static constexpr std::chrono::seconds kCreateRetry{10};
+  bool retry_ = false;  // under mutex_: the last pass failed on etcd, wait a scan period
   void place(const Pending& p);
   // Sessions per server: owners' keys and recent placements (both count a
   // session being built, for every server alike, so the order is fair).
@@ -148,6 +152,10 @@ class FleetNode final : public session::Ownership {
   std::map<std::string, Standby> standby_;
   struct Listing { std::vector<session::SessionInfo> sessions; Clock::time_point at; };
   std::map<std::string, Listing> listings_;  // other servers' last heartbeats, silent ones dropped after 6 s
+  std::map<std::string, Clock::time_point> beats_;  // when each was last heard, kept 60 s (placement)
+  int capacity_free_ = -1;  // what was last written to etcd (updateCapacity)
+  double capacity_load_ = -1;
+  Clock::time_point capacity_at_{};
   static constexpr std::size_t kMaxServers = 1024;
   std::int64_t claims_lease_ = 0;
   Clock::time_point claims_lease_at_{};

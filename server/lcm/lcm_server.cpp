@@ -1,5 +1,7 @@
 #include "lcm_server.hpp"
 
+#include <algorithm>
+
 #include <groundsim/replica_t.hpp>
 
 #include "fleet_node.hpp"
@@ -159,6 +161,9 @@ void LcmServer::publishVecReply(const session::VecReply& r) {
       part.seq = vec_seq_++;
       publish(kVecReplyChannel, part);
     }
+    if (LatencyTrace::on())
+      LatencyTrace::line("vrep %s %lld %d %lld", whole.client_id.c_str(), static_cast<long long>(whole.request_id),
+                         whole.ok ? 1 : 0, static_cast<long long>(LatencyTrace::nowUs()));
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a vec reply: %s\n", e.what());
@@ -343,6 +348,10 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
   for (const auto& [f, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
     if (why.empty() && !(why = badId(f, *v)).empty()) field = f;
   session::VecRequest r = fromMessage(msg);
+  if (LatencyTrace::on())
+    LatencyTrace::line("vreq %s %s %lld %d %lld", msg.client_id.c_str(), msg.session_id.c_str(),
+                       static_cast<long long>(msg.request_id), static_cast<int>(msg.op),
+                       static_cast<long long>(LatencyTrace::nowUs()));
   if (!why.empty()) {
     // answerable: the client id is fine, so the client hears why
     session::VecReply reply;
@@ -554,22 +563,27 @@ void LcmServer::publishReplica(const session::Replica& r) {
 
 void LcmServer::run(const std::atomic<bool>& stop) {
   using namespace std::chrono;
-  auto next_beat = steady_clock::now();
+  auto next_beat = steady_clock::now(), next_housekeeping = next_beat;
+  const auto period = duration_cast<steady_clock::duration>(duration<double>(heartbeat_period_));
+  const int wait_ms = std::clamp(static_cast<int>(heartbeat_period_ * 250), 10, 100);
   while (!stop.load() && !drain_requested_.load()) {
-    // short timeout so that a signal is noticed promptly
-    if (lcm_.handleTimeout(100) < 0 && !stop.load()) {  // a signal interrupts the wait: not an error
+    // short timeout so that a signal is noticed promptly and beats keep their period
+    if (lcm_.handleTimeout(wait_ms) < 0 && !stop.load()) {  // a signal interrupts the wait: not an error
       std::fprintf(stderr, "groundsim-server: LCM receive error on %s\n", url_.c_str());
       std::this_thread::sleep_for(milliseconds(100));
     }
     const auto now = steady_clock::now();
     if (now >= next_beat) {
       try {
-        service_->housekeeping();
+        if (now >= next_housekeeping) {  // idle reclamation and the like: once a second is enough
+          service_->housekeeping();
+          next_housekeeping = now + seconds(1);
+        }
         heartbeat();
       } catch (const std::exception& e) {
         std::fprintf(stderr, "groundsim-server: heartbeat failed: %s\n", e.what());
       }
-      next_beat = now + seconds(1);
+      next_beat = now + period;
     }
   }
   session::Event bye;

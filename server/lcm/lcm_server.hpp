@@ -64,6 +64,9 @@ class LcmServer final : public session::Output {
   int workers() const { return service_->config().workers; }
   // Before run(): how much of what was published is kept for re-requests.
   void setResendLimits(const ResendLimits& limits);
+  // Before run(): seconds between heartbeats (1 alone; a fleet beats faster
+  // so that its clients tell a dead server within a second, docs/fleet.md).
+  void setHeartbeatPeriod(double s) { heartbeat_period_ = s; }
   ResendRing::Stats resendStats();
   const session::ServiceConfig& config() const { return service_->config(); }
 
@@ -109,6 +112,7 @@ class LcmServer final : public session::Output {
   ResendRing ring_;  // under publish_mutex_
   std::string server_id_;
   FleetNode* fleet_ = nullptr;
+  double heartbeat_period_ = 1.0;
   std::atomic<bool> drain_requested_{false};
   std::atomic<std::int64_t> replica_seq_{0};
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   groundsim::net::FleetOptions fleet;
   std::string etcd;
   double snapshot_interval = 1.0;
+  double heartbeat_period = 0;  // 0: 1 s alone, 0.25 s in a fleet
 
   CLI::App app{"groundsim-server: simulation sessions over LCM"};
   app.add_option("--lcm-url", url, "LCM URL (recv_buf_size is added when missing)")->capture_default_str();
@@ -112,6 +113,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::IsMember({"spread", "packed"}));
   app.add_option("--snapshot-interval", snapshot_interval, "s of simulated time between a session's snapshots for its standbys (fleet)")
       ->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  app.add_option("--heartbeat-period", heartbeat_period,
+                 "s between heartbeats (0: 1 s alone, 0.25 s in a fleet, where clients take a server silent for "
+                 "3.5 periods for dead: docs/fleet.md)")
+      ->capture_default_str()->check(CLI::Range(0.0, 10.0));
   app.add_option("--lease-ttl", fleet.ttl_s, "s, the fleet membership's lease (etcd's minimum is 2)")
       ->capture_default_str()->check(CLI::Range(2, 60));
   try {
@@ -124,6 +129,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   cfg.slice = slice_ms * 1e-3;
+  if (heartbeat_period <= 0) heartbeat_period = etcd.empty() ? 1.0 : 0.25;
+  if (heartbeat_period < 0.05) heartbeat_period = 0.05;  // a flood of heartbeats helps nobody
+  fleet.heartbeat_period = std::chrono::milliseconds(static_cast<int>(heartbeat_period * 1000));
   if (!etcd.empty()) cfg.replica_interval = snapshot_interval;
 
   struct sigaction sa {};
@@ -136,6 +144,7 @@ int main(int argc, char** argv) {
   try {
     groundsim::net::LcmServer server(url, cfg, !quiet);
     server.setResendLimits(resend);
+    server.setHeartbeatPeriod(heartbeat_period);
     std::unique_ptr<groundsim::net::FleetNode> node;
     if (!etcd.empty()) {
       if (!fleet.server_id.empty()) server.setServerId(fleet.server_id);

@@ -29,7 +29,12 @@ void ServerWatch::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   auto it = last_.find(id);
   if (it == last_.end() && last_.size() >= kMaxServers) return;  // a flood of made-up server ids
   const long long beats = it == last_.end() ? 1 : it->second.beats + 1;
-  last_[id] = Beat{std::move(m), since_, beats};
+  double period = 0;  // unknown until a second beat
+  if (it != last_.end()) {
+    const double gap = std::chrono::duration<double>(since_ - it->second.at).count();
+    period = it->second.period > 0 ? 0.75 * it->second.period + 0.25 * gap : gap;
+  }
+  last_[id] = Beat{std::move(m), since_, beats, period};
   ++count_;
 }
 
@@ -37,6 +42,12 @@ double ServerWatch::silenceOf(const std::string& server_id, Clock::time_point no
   auto it = last_.find(server_id);
   const Clock::time_point at = it == last_.end() ? start_ : it->second.at;
   return std::chrono::duration<double>(now - at).count();
+}
+
+double ServerWatch::timeoutOf(const std::string& server_id) const {
+  auto it = last_.find(server_id);
+  if (it == last_.end() || it->second.beats < 3 || it->second.period <= 0) return timeout_s_;
+  return std::clamp(4 * it->second.period, std::min(1.0, timeout_s_), timeout_s_);
 }
 
 long long ServerWatch::rounds() const {

@@ -41,6 +41,11 @@ class ServerWatch {
   // Seconds since server_id's last heartbeat (a fleet: one server's
   // silence while the others beat); since the start when never heard.
   double silenceOf(const std::string& server_id, Clock::time_point now = Clock::now()) const;
+  // How long server_id may be silent before it is taken for dead: 4 of its
+  // heartbeat periods as measured (a fleet beats every 0.25 s), at least
+  // 1 s, at most the watch's timeout, which is also the answer until 3 of
+  // its beats were heard.
+  double timeoutOf(const std::string& server_id) const;
   // Seconds since the last heartbeat (or since the start, before the first).
   double silence(Clock::time_point now = Clock::now()) const;
   long long heartbeats() const { return count_; }
@@ -70,6 +75,7 @@ class ServerWatch {
     groundsim::server_status_t status;
     Clock::time_point at;
     long long beats = 0;
+    double period = 0;  // s between its beats, smoothed; 0: not known yet
   };
   std::map<std::string, Beat> last_;  // by server_id
 };

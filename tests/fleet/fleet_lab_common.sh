@@ -2,9 +2,12 @@
 # they share. Needs $lab (scripts/fleet_lab.sh).
 #   fleet_lab_begin PREFIX   checks (exit 77 with the reason where no lab can
 #                            be made or etcd is missing), a lab named
-#                            PREFIX<pid> of 4 hosts torn down on exit (and
-#                            those of killed earlier runs), a 3-member etcd
-#                            in hosts 1-3; sets name, tmp, url, endpoints
+#                            PREFIX<pid> of 7 hosts torn down on exit (and
+#                            those of killed earlier runs): hosts 1-3 for
+#                            servers, 4 for clients, a 3-member etcd in
+#                            hosts 5-7 (as the issue lays the lab out: a
+#                            server's death is not an etcd member's);
+#                            sets name, tmp, url, endpoints
 #   fleet_wait_joined        waits until servers s1-s3 (logs $tmp/s<i>.log)
 #                            said they joined; else calls the test's fail
 
@@ -20,9 +23,9 @@ fleet_lab_begin() {
   for old in $(ip netns list | awk '{print $1}' | sed -n "s/^gs-$prefix\([0-9]\{1,\}\)-sw\$/\1/p"); do
     kill -0 "$old" 2>/dev/null || "$lab" down "$prefix$old" || true
   done
-  "$lab" up "$name" 4
+  "$lab" up "$name" 7
   url='udpm://239.255.76.67:7667?ttl=1'
-  endpoints=$("$lab" etcd-up "$name" "$tmp" 1 2 3)
+  endpoints=$("$lab" etcd-up "$name" "$tmp" 5 6 7)
 }
 
 fleet_wait_joined() {
