@@ -247,12 +247,22 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   // still rolling, not yet braked to rest) and leaves the end's events to
   // the growth law. Where the run is at most twice the pilot's duration,
   // the pilot runs all of it (at most twice the pilot's cost).
-  c.pilot_duration = s.duration <= 2 * o.pilot_duration ? s.duration : o.pilot_duration;
+  // A trial the whole scene would take past the work budget is piloted on
+  // the first pilot_duration only, as before.
+  const double short_segment = std::min(s.duration, o.pilot_duration);
+  c.pilot_duration = s.duration <= 2 * o.pilot_duration ? s.duration : short_segment;
   // a step longer than the output period would skip frames
   const double top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
   for (IntegratorKind k : o.integrators) {
     Trajectory refined, automatic;
-    c.trials.push_back(trial(s, k, c.pilot_duration, top, tolerance, o, 0, refined));
+    double segment = c.pilot_duration;
+    IntegratorTrial first = trial(s, k, segment, top, tolerance, o, 0, refined);
+    if (!first.usable && segment > short_segment && first.refusal.find("--max-work") != std::string::npos) {
+      segment = short_segment;
+      first = trial(s, k, segment, top, tolerance, o, 0, refined);
+    }
+    first.segment = segment;
+    c.trials.push_back(first);
     const IntegratorTrial& tf = c.trials.back();
     if (!tf.usable || tf.contact_substeps <= 1) continue;
     // With contact between bodies, also the automatic substeps (cheaper:
@@ -264,9 +274,10 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
     // in each of its steps' errors (adding both charged the integration
     // error twice: eight cars at 0.1%, the automatic substeps at 1.25 ms
     // charged 1.6e-3, realised 7e-4, and 5x the oracle's cost taken).
-    IntegratorTrial ta = trial(s, k, c.pilot_duration, top, tolerance, o, 1, automatic);
+    IntegratorTrial ta = trial(s, k, segment, top, tolerance, o, 1, automatic);
+    ta.segment = segment;
     if (ta.usable) {
-      const double scale = std::pow(std::max(1.0, s.duration / c.pilot_duration), tf.growth);
+      const double scale = std::pow(std::max(1.0, s.duration / segment), tf.growth);
       ta.contact_offset = compareRuns(automatic, refined).value() * scale + tf.level_error.back();
       const double own = ta.level_error.back();  // its finest run's Richardson error
       for (double& e : ta.level_error) e += ta.contact_offset - own;
@@ -308,6 +319,7 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
     best = closest;
     best_dt = closest_dt;
   }
+  c.pilot_duration = best->segment;
   c.integrator = best->kind;
   c.dt = best_dt;
   c.order = nominalOrder(best->kind);

@@ -45,6 +45,7 @@ struct IntegratorTrial {
   bool usable = false;
   std::string refusal;            // why not (when !usable), or what the pilot had to avoid
   double stability_dt = 0.0;      // largest stable step of the stiffest mode (inf: none)
+  double segment = 0.0;           // simulated s of the scene its runs took
   double dt0 = 0.0;               // the coarsest step tried that stayed healthy
   double diff_coarse = 0.0;       // error measure between dt0 and dt0/2
   double diff_fine = 0.0;         // between dt0/2 and dt0/4
@@ -83,7 +84,7 @@ struct Choice {
   bool meets = false;             // predicted within the tolerance
   double tolerance = 0.0;
   std::vector<IntegratorTrial> trials;
-  double pilot_duration = 0.0;    // simulated s per trial run
+  double pilot_duration = 0.0;    // simulated s per trial run (the chosen trial's)
   double pilot_wall_seconds = 0.0;
   // s with the chosen settings (its document says so; its `accuracy` kept)
   scenario::Scenario scenario;

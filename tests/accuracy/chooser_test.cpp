@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "physics/integrators/integrator.hpp"
 #include "scenes.hpp"
@@ -128,6 +129,36 @@ TEST(Chooser, TakesOrderOneWhenTheCoarseRunIsOutOfRange) {
   const ErrorFit flat = fitErrorLaw(d, 2 * d, 1);
   EXPECT_EQ(flat.order, 0.5);
   EXPECT_EQ(flat.e_fine, 2 * d);
+}
+
+// The measure reads the final speed at the run's end: a scene at most twice
+// pilot_duration long is piloted whole, a longer one on its first
+// pilot_duration; and where the whole scene would pass the work budget, the
+// trials fall back to the first pilot_duration rather than being refused.
+TEST(Chooser, PilotsAShortSceneWholeAndFallsBackWithinTheBudget) {
+  const PilotOptions o;
+  const scenario::Scenario whole = test::config("sedan_slalom.json", {"duration=8"});
+  const Choice c = chooseSettings(whole, 0.1, o);
+  EXPECT_EQ(c.pilot_duration, 8.0);
+  const scenario::Scenario longer = test::config("sedan_slalom.json", {"duration=12"});
+  EXPECT_EQ(chooseSettings(longer, 0.1, o).pilot_duration, o.pilot_duration);
+  // a budget below what every whole-scene trial's runs took (their steps
+  // times the model's work per step), above 5/8 of the cheapest's
+  const double step_work = scenario::estimateModelSize(whole).work_per_step;
+  double least = std::numeric_limits<double>::infinity();
+  for (const IntegratorTrial& t : c.trials) {
+    if (!t.usable) continue;
+    double work = 0.0;
+    for (double h : t.level_dt) work += std::ceil(8.0 / h) * t.contact_substeps * step_work;
+    least = std::min(least, work);
+  }
+  ASSERT_TRUE(std::isfinite(least));
+  PilotOptions tight = o;
+  tight.max_work = 0.75 * least;
+  const Choice fallback = chooseSettings(whole, 0.1, tight);
+  SCOPED_TRACE(fallback.report());
+  EXPECT_EQ(fallback.pilot_duration, o.pilot_duration);
+  EXPECT_TRUE(fallback.meets);
 }
 
 }  // namespace
