@@ -19,6 +19,7 @@ constexpr double kLadderTop = 0.02;  // s: the coarsest step considered
 // differences below this are roundoff: the runs agree
 constexpr double kRoundoff = 1e-13;
 constexpr int kMaxHalvings = 6;      // pilot retries after a divergence
+constexpr double kWholePilotCap = 60.0;  // s: the longest scene piloted whole by default
 
 std::string fmt(double x) {
   char buf[32];
@@ -242,22 +243,24 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   const auto t0 = std::chrono::steady_clock::now();
   Choice c;
   c.tolerance = tolerance;
-  // The measure reads the final speed, at the run's end: a pilot that
-  // stops short of it samples the speed error at another moment (a car
-  // still rolling, not yet braked to rest) and leaves the end's events to
-  // the growth law. Where the run is at most twice the pilot's duration,
-  // the pilot runs all of it (at most twice the pilot's cost).
-  // A trial the whole scene would take past the work budget is piloted on
-  // the first pilot_duration only, as before.
-  const double short_segment = std::min(s.duration, o.pilot_duration);
-  c.pilot_duration = s.duration <= 2 * o.pilot_duration ? s.duration : short_segment;
+  // The measure reads the final speed, at the run's end, and takes the
+  // largest path error over the whole run: a pilot that stops short of it
+  // samples the speed error at another moment (a car still rolling, not yet
+  // braked to rest) and leaves whatever happens later (a spin, a stop, a
+  // late impact) to a growth law that cannot see it. By default (no
+  // pilot_duration given) the pilot runs the whole scene, up to
+  // kWholePilotCap; a trial whose whole-scene runs would pass the work
+  // budget falls back to the first fallback_duration.
+  const bool whole = !(o.pilot_duration > 0.0);
+  c.pilot_duration = std::min(s.duration, whole ? kWholePilotCap : o.pilot_duration);
+  const double short_segment = std::min(c.pilot_duration, o.fallback_duration);
   // a step longer than the output period would skip frames
   const double top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
   for (IntegratorKind k : o.integrators) {
     Trajectory refined, automatic;
     double segment = c.pilot_duration;
     IntegratorTrial first = trial(s, k, segment, top, tolerance, o, 0, refined);
-    if (!first.usable && segment > short_segment && first.refusal.find("--max-work") != std::string::npos) {
+    if (!first.usable && whole && segment > short_segment && first.refusal.find("--max-work") != std::string::npos) {
       segment = short_segment;
       first = trial(s, k, segment, top, tolerance, o, 0, refined);
     }

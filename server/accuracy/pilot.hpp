@@ -20,9 +20,12 @@
 namespace groundsim::accuracy {
 
 struct PilotOptions {
-  // simulated s of the scene per trial; a scene at most twice as long is
-  // piloted whole (the measure reads the final speed at its end)
-  double pilot_duration = 5.0;
+  // simulated s of the scene per trial; 0: the whole scene (up to 60 s; the
+  // measure reads the final speed at its end and the largest path error
+  // over all of it), falling back to fallback_duration for a trial whose
+  // whole-scene runs would pass the work budget
+  double pilot_duration = 0.0;
+  double fallback_duration = 5.0;
   // the pilot refines a fit that is not clean (order off its nominal, or
   // differences that do not shrink) with finer runs, while their steps
   // stay within this many in all per integrator

@@ -12,8 +12,9 @@ struct AccuracySpec {
   // converged solution of the scenario as written
   double tolerance = 0.01;
   // simulated seconds of the scene the pilot runs at each trial step
-  // (capped by the scenario's duration)
-  double pilot_duration = 5.0;
+  // (capped by the scenario's duration); 0, the default: the whole scene
+  // (server/accuracy/pilot.hpp)
+  double pilot_duration = 0.0;
   // the live estimate (a shadow stepped at half the step over sampled
   // windows) while the run goes
   bool live_estimate = true;

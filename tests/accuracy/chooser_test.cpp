@@ -131,17 +131,20 @@ TEST(Chooser, TakesOrderOneWhenTheCoarseRunIsOutOfRange) {
   EXPECT_EQ(flat.e_fine, 2 * d);
 }
 
-// The measure reads the final speed at the run's end: a scene at most twice
-// pilot_duration long is piloted whole, a longer one on its first
-// pilot_duration; and where the whole scene would pass the work budget, the
-// trials fall back to the first pilot_duration rather than being refused.
-TEST(Chooser, PilotsAShortSceneWholeAndFallsBackWithinTheBudget) {
+// The measure reads the final speed at the run's end: by default the pilot
+// runs the whole scene; a pilot_duration given is kept; and where the whole
+// scene would pass the work budget, the trials fall back to the first
+// fallback_duration rather than being refused.
+TEST(Chooser, PilotsTheWholeSceneAndFallsBackWithinTheBudget) {
   const PilotOptions o;
   const scenario::Scenario whole = test::config("sedan_slalom.json", {"duration=8"});
   const Choice c = chooseSettings(whole, 0.1, o);
   EXPECT_EQ(c.pilot_duration, 8.0);
-  const scenario::Scenario longer = test::config("sedan_slalom.json", {"duration=12"});
-  EXPECT_EQ(chooseSettings(longer, 0.1, o).pilot_duration, o.pilot_duration);
+  const scenario::Scenario longer = test::config("sedan_slalom.json", {"duration=20"});
+  EXPECT_EQ(chooseSettings(longer, 0.1, o).pilot_duration, 20.0);
+  PilotOptions given = o;
+  given.pilot_duration = 3.0;
+  EXPECT_EQ(chooseSettings(longer, 0.1, given).pilot_duration, 3.0);
   // a budget below what every whole-scene trial's runs took (their steps
   // times the model's work per step), above 5/8 of the cheapest's
   const double step_work = scenario::estimateModelSize(whole).work_per_step;
@@ -157,7 +160,7 @@ TEST(Chooser, PilotsAShortSceneWholeAndFallsBackWithinTheBudget) {
   tight.max_work = 0.75 * least;
   const Choice fallback = chooseSettings(whole, 0.1, tight);
   SCOPED_TRACE(fallback.report());
-  EXPECT_EQ(fallback.pilot_duration, o.pilot_duration);
+  EXPECT_EQ(fallback.pilot_duration, o.fallback_duration);
   EXPECT_TRUE(fallback.meets);
 }
 
