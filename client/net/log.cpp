@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <string>
 
 #include "common.hpp"
 #include "create.hpp"
@@ -41,6 +42,15 @@ struct Stream {
   std::string end_note;         // how the end was learnt, when not from the final state
   std::optional<SteadyClock::time_point> final_listed;  // heartbeat said final before the final state came
   std::optional<long long> missing_since;  // heartbeat rounds when no server listed it (a fleet's handover: for a while)
+  // A fleet's failover (docs/fleet.md): the new owner, at a higher epoch,
+  // publishes again the seqs from its snapshot on; those are re-simulated,
+  // not repeats, and are compared with their first publication. Messages of
+  // a lower epoch than one heard come from a fenced old owner: dropped.
+  long long epoch = 0;
+  long long resimulated = 0, resimulated_same = 0, fenced = 0;
+  struct Seen { long long epoch; std::string rows; };
+  std::map<long long, Seen> recent;  // the last kRecent seqs' epochs and CSV rows (a snapshot interval's worth)
+  static constexpr std::size_t kRecent = 4096;
 };
 
 // A seq range that did not arrive.
@@ -90,10 +100,36 @@ void registerLogCommand(CLI::App& app) {
         if (it == streams.end()) return;
         const std::string& id = it->first;
         Stream& st = it->second;
+        if (m.epoch < st.epoch) {
+          ++st.fenced;  // an old owner's, cut off and not yet silent
+          return;
+        }
+        st.epoch = m.epoch;
+        std::string rows_text;
+        long long nrows = 0;
+        for (int v = 0; v < m.nvehicles && v < static_cast<int>(m.vehicles.size()); ++v) {
+          const std::string name = prefix ? m.session_id + "/" + m.vehicles[v].name : m.vehicles[v].name;
+          rows_text += csvRow(net::toSample(m, v), name);
+          rows_text += '\n';
+          ++nrows;
+        }
         if (st.last_seq >= 0 && m.seq <= st.last_seq) {
+          auto seen = st.recent.find(m.seq);
+          if (seen != st.recent.end() && seen->second.epoch < m.epoch) {
+            ++st.resimulated;  // published again by the session's new owner
+            if (seen->second.rows == rows_text) ++st.resimulated_same;
+            else if (st.resimulated - st.resimulated_same == 1)  // the first difference, in full
+              std::fprintf(stderr, "log: %s: seq %lld re-simulated at epoch %lld differs from its first publication:\n"
+                           "  first       %s  re-simulated %s", id.c_str(), static_cast<long long>(m.seq),
+                           static_cast<long long>(m.epoch), seen->second.rows.c_str(), rows_text.c_str());
+            seen->second.epoch = m.epoch;
+            return;
+          }
           ++st.duplicates;  // a reset does not restart seq: this is a repeat
           return;
         }
+        st.recent[m.seq] = Stream::Seen{m.epoch, rows_text};
+        if (st.recent.size() > Stream::kRecent) st.recent.erase(st.recent.begin());
         if (st.last_seq < 0) {
           if (st.expect_from >= 0) countGap(id, st, st.expect_from, m.seq - 1);
           st.first_seq = m.seq;
@@ -103,11 +139,8 @@ void registerLogCommand(CLI::App& app) {
         st.last_seq = m.seq;
         ++st.received;
         if (net::isFinal(m.status)) st.ended = true;
-        for (int v = 0; v < m.nvehicles && v < static_cast<int>(m.vehicles.size()); ++v) {
-          const std::string name = prefix ? m.session_id + "/" + m.vehicles[v].name : m.vehicles[v].name;
-          std::fprintf(out, "%s\n", csvRow(net::toSample(m, v), name).c_str());
-          ++rows;
-        }
+        std::fputs(rows_text.c_str(), out);
+        rows += nrows;
       };
       auto handler = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
         groundsim::state_t m;
@@ -211,6 +244,12 @@ void registerLogCommand(CLI::App& app) {
         std::fprintf(stderr, "log %s: %lld states received (seq %lld..%lld), %lld lost in %lld gaps%s%s\n",
                      net::printable(id).c_str(), st.received, st.first_seq, st.last_seq, st.lost, st.gaps,
                      st.ended ? ", session ended" : "", st.end_note.empty() ? "" : (": " + st.end_note).c_str());
+        if (st.resimulated > 0 || st.fenced > 0)
+          std::fprintf(stderr,
+                       "log %s: %lld states re-simulated after a move (epoch %lld now), %lld identical to their first "
+                       "publication, %lld not; %lld from a fenced owner dropped\n",
+                       net::printable(id).c_str(), st.resimulated, st.epoch, st.resimulated_same,
+                       st.resimulated - st.resimulated_same, st.fenced);
         if (st.expect_from < 0 && st.first_seq > 0)
           std::fprintf(stderr, "log %s: seq 0..%lld were published before this log subscribed (not counted)\n",
                        net::printable(id).c_str(), st.first_seq - 1);

@@ -341,7 +341,14 @@ bool Session::stepOnce() {
   }
   if (sim_.model().collisions) reportHits();
   if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;
-  if (replica_every_ > 0 && sim_.state().tick % replica_every_ == 0 && !replaying_) replicate();
+  if (replica_every_ > 0 && sim_.state().tick % replica_every_ == 0 && !replaying_) {
+    // after this tick's frame: a standby resumes from a published frame and
+    // publishes only frames of steps it took (their wheel forces and slips
+    // come from its own step's evaluation, as the owner's did; a restored
+    // state has no evaluation behind it)
+    if (frame_pending_) replica_due_ = true;
+    else replicate();
+  }
   return true;
 }
 
@@ -460,6 +467,10 @@ void Session::publishFrame() {
     logApplied(std::move(a));
   }
   out_.publishState(makeFrame());
+  if (replica_due_) {
+    replica_due_ = false;
+    replicate();
+  }
 }
 
 void Session::logApplied(Applied a) {

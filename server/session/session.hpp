@@ -150,6 +150,7 @@ class Session : public HostedSession {
   std::string reason_;
   std::int64_t seq_ = 0;
   bool frame_pending_ = true;         // the initial state is the first frame
+  bool replica_due_ = false;          // a snapshot for the standbys once this tick's frame is out
   RealtimeAnchor anchor_;
   PublishBudget budget_;
   std::deque<StepJob> steps_;

@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# A session survives its host (issue 20, docs/fleet.md): a lab of 4 hosts
-# (scripts/fleet_lab.sh), a 3-member etcd and a groundsim-server on hosts
-# 1-3, a client on host 4 that creates a real-time session of a scripted
-# car (its control table, no client commands) and logs its states. The
-# owner's host is killed (SIGKILL of every process in it, its etcd member
-# too). Checked: another server resumes the session at epoch 2; the log has
-# every seq from 0 to the end, none lost; and every state logged, before and
-# after the move, equals the state of `groundsim run` (the same core in one
-# process, never killed) at the same instant, bit for bit. Prints the time
-# from the kill to the first state of the new owner (a figure, not a
-# verdict; bench/fleet records it). Exit 77 where the lab cannot be made.
+# A session survives its host (issue 20, docs/fleet.md): a lab of 7 hosts
+# (scripts/fleet_lab.sh), a groundsim-server on hosts 1-3, a 3-member etcd
+# on hosts 5-7, a client on host 4 that creates a real-time session of a
+# scripted car (its control table, no client commands) and logs its states.
+# The owner's host is killed (SIGKILL of every process in it). Checked:
+# another server resumes the session at epoch 2; the log has every seq from
+# 0 to the end, none lost, and counts the states the new owner published
+# again from its snapshot on as re-simulated, each equal to its first
+# publication; and every state logged, before and after the move, equals
+# the state of `groundsim run` (the same core in one process, never killed)
+# at the same instant, bit for bit. Prints the time from the kill to the
+# new owner's listing (a figure, not a verdict). Exit 77 where the lab
+# cannot be made.
 #
 # MODE kill: the owner's host is killed (above). drain: the owner gets
 # SIGTERM and hands the session over before it exits. partition: the
@@ -83,11 +85,11 @@ health() {  # the /health status code of host $1's server, asked inside that hos
   "$lab" exec "$name" "$1" curl -s -o /dev/null -w '%{http_code}' --max-time 2 http://127.0.0.1:9100/health || true
 }
 if [ "$mode" = kill ]; then
-  # the same id again in the dead host (its etcd member stays dead): it joins
+  # the same id again in the dead host: it joins
   # once its old lease has lapsed, and does not take the session back
   "$lab" exec "$name" "$host" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "$owner" --workers 1 \
     --snapshot-interval 1 >"$tmp/$owner.again.log" 2>&1 &
-  for _ in $(seq 100); do grep -q "^fleet: server $owner joined" "$tmp/$owner.again.log" && break; sleep 0.1; done
+  for _ in $(seq 100); do grep -qs "^fleet: server $owner joined" "$tmp/$owner.again.log" && break; sleep 0.1; done
   grep -q "^fleet: server $owner joined" "$tmp/$owner.again.log" ||
     fail "server $owner did not join again with its id: $(tail -n 3 "$tmp/$owner.again.log")"
   sleep 1
@@ -120,6 +122,12 @@ for _ in $(seq 400); do kill -0 $logger 2>/dev/null || break; sleep 0.1; done
 kill -0 $logger 2>/dev/null && { kill $logger; fail "the log did not end with the session"; }
 wait $logger || fail "groundsim log exited $? ($(tail -n 3 "$tmp/log.err"))"
 grep -q " 0 lost" "$tmp/log.err" || fail "the log lost states: $(grep -i lost "$tmp/log.err")"
+# what the new owner published again from its snapshot on: counted as
+# re-simulated (not repeats, not loss), each equal to its first publication
+resim=$(grep "re-simulated after a move" "$tmp/log.err" || true)
+echo "log: ${resim:-no state re-simulated}"
+[ -z "$resim" ] || echo "$resim" | grep -q ", 0 not;" || fail "re-simulated states differ from their first publication: $resim"
+echo "$resim" | grep -q "^log $sid: 0 states re-simulated" && fail "a move without its re-simulated states counted: $resim"
 
 python3 - "$tmp/ref.csv" "$tmp/fleet.csv" "$t_kill" "$t_listed" <<'PY'
 import sys
