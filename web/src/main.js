@@ -112,6 +112,7 @@ net.on('left', () => { app.session = null; clearScene(); showLobby(true); });
 net.on('ground', (m) => {
   if (m.session !== app.session) return;
   terrain.show(m);
+  prediction.onGround(m);
   app.groundGrids++;
 });
 net.on('state', (m) => {

@@ -70,7 +70,8 @@ export class Prediction {
     this.lastReplay = 0;    // ms: when, and how long the last replay took
     this.replayMs = 0;
     this.session = null;
-    this.broken = false;
+    this.doc = null;
+    this.gridGround = false;
   }
   // A driver joined `session` as `vehicle` with the scenario's text (the
   // bridge's `joined`); spectators predict nothing.
@@ -90,11 +91,29 @@ export class Prediction {
     // (divergence by energy growth) means nothing here
     doc.physics = doc.physics || {};
     doc.physics.limits = { ...(doc.physics.limits || {}), max_energy_growth: 1e9 };
-    if (m.ccall('gs_create', 'number', ['string', 'number'], [JSON.stringify(doc), vehicle]) !== 0)
-      return this.stop(`scenario not predictable here: ${m.ccall('gs_error', 'string', [], [])}`);
     this.vehicle = vehicle;
+    // a ground this build cannot read (its PNG, its expression: no libpng
+    // or muParser in WebAssembly) is replaced by the bridge's grid of it
+    // around the car, the one the page draws (onGround)
+    const g = doc.ground || {};
+    this.doc = doc;
+    this.gridGround = g.type === 'expression' || typeof g.file === 'string' ||
+      !!(g.friction_map && typeof g.friction_map.file === 'string');
+    if (this.gridGround) {
+      this.info.reason = 'waiting for the ground grid';
+      // a grid that came while the module loaded
+      if (this.lastGrid && this.lastGrid.session === session) this.onGround(this.lastGrid);
+      return undefined;
+    }
+    return this.create(doc);
+  }
+  create(doc) {
+    const m = this.m;
+    if (m.ccall('gs_create', 'number', ['string', 'number'], [JSON.stringify(doc), this.vehicle]) !== 0)
+      return this.stop(`scenario not predictable here: ${m.ccall('gs_error', 'string', [], [])}`);
     this.dt = m._gs_dt();
-    this.poseBuf = m._malloc(13 * 8);
+    this.poseCount = 64;  // vehicles a scene may hold (the bridge's --max-vehicles at most)
+    this.poseBuf = m._malloc(13 * 8 * this.poseCount);
     this.active = true;
     Object.assign(this.info, { active: true, reason: '', dt: this.dt });
     return undefined;
@@ -106,6 +125,31 @@ export class Prediction {
     this.info.restarts = (this.info.restarts || 0) + 1;
     this.info.restartReason = why;
     return null;
+  }
+  // The bridge's grid of the ground around the car ({x0, y0, n, step, z},
+  // metres): the local run's ground when the scenario's own cannot be read
+  // here. Each new grid (the car moved a quarter of it) rebuilds the scene
+  // and the run goes on; beyond its edge a heightfield continues flat.
+  onGround(grid) {
+    this.lastGrid = grid;
+    if (!this.gridGround || !this.m || grid.session !== this.session || !grid.z) return;
+    const g = this.doc.ground, n = grid.n, rows = [];
+    let fill = grid.z.find((h) => h !== null);
+    if (fill === undefined) return;
+    for (let i = 0; i < n; ++i) {
+      rows.push(grid.z.slice(i * n, (i + 1) * n).map((h) => { if (h !== null) fill = h; return fill; }));
+    }
+    const ground = { type: 'heightfield', heights: rows, cell_size: grid.step, origin: [grid.x0, grid.y0] };
+    if (g.friction_patches) ground.friction_patches = g.friction_patches;
+    const doc = { ...this.doc, ground };
+    if (!this.active) {
+      this.create(doc);
+      this.info.ground = this.active ? 'grid' : null;
+      return;
+    }
+    if (this.m.ccall('gs_rebuild', 'number', ['string'], [JSON.stringify(doc)]) !== 0)
+      this.stop(`ground grid refused: ${this.m.ccall('gs_error', 'string', [], [])}`);
+    else this.info.grids = (this.info.grids || 0) + 1;
   }
   stop(reason) {
     this.active = false;
@@ -137,16 +181,27 @@ export class Prediction {
     // replays cost (lead / dt) steps each: with a small dt (the report's
     // car, 50 us) not every state is used, at most REPLAY_SHARE of the time
     if (!first && nowMs - this.lastReplay < this.replayMs / REPLAY_SHARE) return;
+    // a page whose frames are slow (a busy machine) has not stepped the
+    // local run past this state yet: step it there first (controls in force)
+    const behind = s.t - this.m._gs_time();
+    if (!first && behind > 0.5 * this.dt && behind < MAX_STEP_S && this.m._gs_step(Math.round(behind / this.dt)) !== 0)
+      return this.restart(s.t, `local run diverged at t ${this.m._gs_time().toFixed(3)}`);
     const before = this.pose();
-    const h = this.m.HEAPF64, b = this.poseBuf / 8;
-    [...v.p, ...v.q, ...v.v, ...v.w].forEach((x, i) => { h[b + i] = x; });
+    const h = this.m.HEAPF64, b = this.poseBuf / 8, count = Math.min(s.vehicles.length, this.poseCount);
+    for (let k = 0; k < count; ++k) {
+      const x = s.vehicles[k];
+      [...x.p, ...x.q, ...x.v, ...x.w].forEach((y, i) => { h[b + 13 * k + i] = y; });
+    }
     const t0 = performance.now();
-    const n = this.m._gs_reconcile(s.t, this.poseBuf);
+    const n = this.m._gs_reconcile(s.t, this.poseBuf, count);
     this.replayMs = performance.now() - t0;
     if (n === -2) return this.restart(s.t, `replay from t ${s.t.toFixed(3)} diverged`);
     this.lastReplay = nowMs;
-    this.info.error = this.m._gs_last_error();
+    // the prediction's error: the local run at t against the server's state
+    // (a placement compares other times: not counted)
+    if (n >= 0) this.info.error = this.m._gs_last_error();
     this.info.replayed = n;
+    if (n === -1) this.info.placed = (this.info.placed || 0) + 1;  // no saved state at t: placed at the present
     this.info.corrections++;
     const after = this.pose();
     // keep the car where it was drawn, and let the difference fade
@@ -181,6 +236,7 @@ export class Prediction {
     const p = this.pose();
     const drawn = { p: p.p.map((x, i) => x + this.off[i]), q: qmul(this.qoff, p.q), v: p.v, w: p.w, t: this.m._gs_time() };
     this.info.lead = drawn.t - n.t;
+    this.info.offset = Math.hypot(...this.off);  // m: a correction still fading on screen
     this.info.maxLead = Math.max(this.info.maxLead || 0, this.info.lead);
     this.info.t = drawn.t;
     this.info.drawn = drawn;

@@ -47,6 +47,7 @@ struct Predictor {
   int road_car = -1;
   std::vector<int> wheels;       // the vehicle's wheels in drive_t order (front-left, front-right, rear-left, rear-right)
   std::vector<int> bodies;       // the vehicle's bodies: its chassis first
+  std::vector<std::vector<int>> vbodies;  // every vehicle's, the same way
   // web/bridge/controls.hpp's ControlScale (the bridge's defaults; set by gs_scale)
   double drive_torque = 1.2, brake_torque = 6.0, steer = 0.6;
   std::vector<State> ring;
@@ -116,13 +117,17 @@ EMSCRIPTEN_KEEPALIVE int gs_create(const char* scenario_json, int vehicle) {
     const double state_bytes = 8.0 * m.stateSize() + 64.0 * (m.wheels.size() + m.road_cars.size()) + 256.0;
     pr->kRing = static_cast<long long>(std::clamp(std::min(std::ceil(kRingSeconds / m.opt.dt), kRingBytes / state_bytes), 16.0, 1e6));
     pr->ring.resize(static_cast<size_t>(pr->kRing));
-    pr->bodies.push_back(m.vehicle_body[vehicle]);
-    for (size_t w = 0; w < m.wheels.size(); ++w) {
-      if (m.vehicle_of_wheel[w] != vehicle) continue;
-      pr->wheels.push_back(static_cast<int>(w));
-      const int b = m.wheels[w].body;
-      if (b >= 0 && std::find(pr->bodies.begin(), pr->bodies.end(), b) == pr->bodies.end()) pr->bodies.push_back(b);
+    for (size_t k = 0; k < m.vehicle_names.size(); ++k) {
+      std::vector<int> bodies{m.vehicle_body[k]};
+      for (size_t w = 0; w < m.wheels.size(); ++w) {
+        if (m.vehicle_of_wheel[w] != static_cast<int>(k)) continue;
+        if (static_cast<int>(k) == vehicle) pr->wheels.push_back(static_cast<int>(w));
+        const int b = m.wheels[w].body;
+        if (b >= 0 && std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+      }
+      pr->vbodies.push_back(std::move(bodies));
     }
+    pr->bodies = pr->vbodies[static_cast<size_t>(vehicle)];
     g = std::move(pr);
     g_error.clear();
     return 0;
@@ -198,27 +203,44 @@ EMSCRIPTEN_KEEPALIVE double* gs_pose() {
   return g_pose;
 }
 
-// The server's chassis at its time t (13 doubles as gs_pose). When the ring
-// holds the state at t: that state gets the server's chassis and the steps
-// since are replayed with their recorded controls (returns how many). When
-// t is ahead of the local run or older than the ring: the present state gets
-// the server's chassis and the run's time becomes t (the page steps it
-// ahead again with the controls in force; returns -1).
-EMSCRIPTEN_KEEPALIVE int gs_reconcile(double t, const double* pose) {
+// A server state at its time t: the chassis of every vehicle, 13 doubles
+// each as gs_pose, count of them. When the ring holds the state at t: that
+// state gets the server's chassis and the steps since are replayed with
+// their recorded controls (returns how many; 0 when t is the present). The
+// other cars are placed too and replayed with the controls the local run
+// has for them (the scenario's: their drivers' are not known here), so they
+// are where the server had them, carried on by the physics, not phantoms
+// at their start. When t is ahead of the local run or older than the ring:
+// the present state gets the server's chassis and the run's time becomes t
+// (returns -1; the page steps it on).
+EMSCRIPTEN_KEEPALIVE int gs_reconcile(double t, const double* poses, int count) {
   if (!g) return -1;
   Predictor& pr = *g;
   const Model& m = pr.sim->model();
   const double dt = m.opt.dt;
-  const Vec3 p(pose[0], pose[1], pose[2]), v(pose[7], pose[8], pose[9]), w(pose[10], pose[11], pose[12]);
-  const Quat q = Quat(pose[3], pose[4], pose[5], pose[6]).normalized();
+  if (count <= pr.vehicle) return -1;
+  auto place = [&](State& s) {
+    for (int k = 0; k < count && k < static_cast<int>(pr.vbodies.size()); ++k) {
+      const double* pose = poses + 13 * k;
+      const Vec3 p(pose[0], pose[1], pose[2]), v(pose[7], pose[8], pose[9]), w(pose[10], pose[11], pose[12]);
+      const Quat q = Quat(pose[3], pose[4], pose[5], pose[6]).normalized();
+      if (k == pr.vehicle) g_last_error = (Vec3(bodyPos(s.y, pr.bodies.front())) - p).norm();
+      placeVehicle(m, s, pr.vbodies[static_cast<size_t>(k)], p, q, v, w);
+    }
+  };
+  const double now_t = pr.sim->state().t;
   long long j = pr.steps - 1;
   // the state saved before the step starting nearest t (a rounding's slack)
   while (j >= pr.oldest && pr.ring[static_cast<size_t>(j % pr.kRing)].t > t + 0.5 * dt) --j;
-  const bool ahead = t > pr.sim->state().t - 0.5 * dt;
-  if (ahead || j < pr.oldest || pr.steps == 0) {
+  if (pr.steps > 0 && std::abs(t - now_t) <= 0.5 * dt) {  // t is the present
     State s = pr.sim->state();
-    g_last_error = (Vec3(bodyPos(s.y, pr.bodies.front())) - p).norm();
-    placeVehicle(m, s, pr.bodies, p, q, v, w);
+    place(s);
+    pr.sim->restore(s);
+    return 0;
+  }
+  if (t > now_t || j < pr.oldest || pr.steps == 0) {
+    State s = pr.sim->state();
+    place(s);
     s.t = t;
     pr.sim->restore(s);
     pr.oldest = pr.steps;  // the saved states are of another timeline now
@@ -226,8 +248,7 @@ EMSCRIPTEN_KEEPALIVE int gs_reconcile(double t, const double* pose) {
   }
   const long long now = pr.steps;
   State s = pr.ring[static_cast<size_t>(j % pr.kRing)];
-  g_last_error = (Vec3(bodyPos(s.y, pr.bodies.front())) - p).norm();
-  placeVehicle(m, s, pr.bodies, p, q, v, w);
+  place(s);
   pr.sim->restore(s);
   pr.steps = j;
   for (long long k = j; k < now; ++k) {
@@ -241,6 +262,27 @@ EMSCRIPTEN_KEEPALIVE int gs_reconcile(double t, const double* pose) {
     ++pr.steps;
   }
   return static_cast<int>(now - j);
+}
+
+// The same scenario on another ground (the page's near grid of the ground,
+// inline, in place of a ground this build cannot read: a PNG heightfield,
+// an expression): the run goes on from its present state, saved states
+// and all. 0 on success, else -1 and gs_error() says why.
+EMSCRIPTEN_KEEPALIVE int gs_rebuild(const char* scenario_json) {
+  if (!g) return -1;
+  try {
+    scenario::Scene scene = scenario::buildScene(scenario::parseScenario(std::string(scenario_json)));
+    if (scene.built.model->stateSize() != g->sim->model().stateSize())
+      throw std::runtime_error("the rebuilt scene's state does not match the run's");
+    auto sim = std::make_unique<Simulator>(scene.built.model, scene.built.initial);
+    sim->restore(g->sim->state());
+    g->scene = std::move(scene);
+    g->sim = std::move(sim);
+    return 0;
+  } catch (const std::exception& e) {
+    g_error = e.what();
+    return -1;
+  }
 }
 
 // Back to the scenario's initial state (a session reset), at time t.
