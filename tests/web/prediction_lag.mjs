@@ -107,7 +107,7 @@ if (FIGURES) {
     relay.delayMs = d;
     await a.page.waitForTimeout(3000);  // the round trip's median settles
     const rows = [];
-    for (let k = 0; k < 3; ++k) rows.push([await pressResponse(a.page, 800), await pressResponse(b.page, 800)]);
+    for (let k = 0; k < 5; ++k) rows.push([await pressResponse(a.page, 800), await pressResponse(b.page, 800)]);
     const med = (xs) => xs.slice().sort((x, y) => x - y)[Math.floor(xs.length / 2)];
     const cell = (j) => `${med(rows.map((r) => r[j].frames))}, ${med(rows.map((r) => r[j].ms)).toFixed(0)}`;
     console.log(`| ${2 * d} (measured ${(await a.page.evaluate(() => window.groundsim.net.rtt)).toFixed(0)}) | ${cell(0)} | ${cell(1)} |`);
