@@ -19,6 +19,12 @@ const std::vector<ToleranceScene>& toleranceScenes() {
       {"sedan_hills_heightfield", "sedan_hills.json", {"duration=10"}},
       {"expression_ground", "expression.json", {}},
       {"eight_cars", "accuracy/eight_cars.json", {}},
+      // four of the sedan's run for 20 s: what happens after a short pilot
+      // (a spin on the wet road after 5 s) is the pilot's to see
+      {"slalom_long", "sedan_slalom.json", {"duration=20"}},
+      {"skidpad_long", "sedan_skidpad.json", {"duration=20"}},
+      {"stick_slip_long", "sedan_stick_slip.json", {"duration=20"}},
+      {"wet_long", "sedan_wet.json", {"duration=20"}},
   };
   return scenes;
 }

@@ -107,6 +107,7 @@ void liveEstimate(const accuracy::Choice& c, Row& row) {
   o.duration = s.duration;
   accuracy::LiveEstimate live(s, c.order, o);
   live.setPrediction(c.predicted_error, s.duration, c.growth);
+  live.setWindowScale(c.window_scale);
   const long long n = std::llround(s.duration / s.options.dt);
   const auto t0 = std::chrono::steady_clock::now();
   for (long long i = 0; i < n; ++i) {

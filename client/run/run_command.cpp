@@ -372,7 +372,10 @@ int run(const RunOptions& o) {
     accuracy::LiveEstimateOptions lo;
     lo.duration = s.duration;
     live = std::make_unique<accuracy::LiveEstimate>(s, accuracy::nominalOrder(s.options.integrator), lo);
-    if (choice) live->setPrediction(choice->predicted_error, s.duration, choice->growth);
+    if (choice) {
+      live->setPrediction(choice->predicted_error, s.duration, choice->growth);
+      live->setWindowScale(choice->window_scale);
+    }
   }
   const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(),
                                s.accuracy ? s.accuracy->tolerance : 0.0);

@@ -123,7 +123,7 @@ void LiveEstimate::update(const Simulator& main) {
     // brakes pull the speed back): the mean made in one window
     speed_ = std::max(speed_, sum_v_[i] / windows_ / std::max(speed_now_[i], kMinSpeed));
   }
-  estimate_ = std::max({path_, speed_, predicted(t)});
+  estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
 }
 
 }  // namespace groundsim::accuracy

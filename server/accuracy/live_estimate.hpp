@@ -53,6 +53,10 @@ class LiveEstimate {
   // as t^growth): a floor of the estimate (0: none).
   void setPrediction(double error, double duration, double growth);
 
+  // The windows' calibration (Choice::window_scale, at most 1): their
+  // reading is scaled by it before it is compared with the prediction.
+  void setWindowScale(double scale) { window_scale_ = scale > 0.0 ? scale : 1.0; }
+
   // The estimated error of the run so far (the error measure's value), 0
   // before the first window ends.
   double estimate() const { return estimate_; }
@@ -88,6 +92,7 @@ class LiveEstimate {
   int windows_ = 0;
   double estimate_ = 0.0, path_ = 0.0, speed_ = 0.0;
   double prediction_ = 0.0, prediction_duration_ = 0.0, prediction_growth_ = 0.0;
+  double window_scale_ = 1.0;
 };
 
 }  // namespace groundsim::accuracy

@@ -71,7 +71,9 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
   // every scatter up and charges a coarse step several times its error.
   t.level_dt.assign(n, 0.0);
   t.level_error.assign(n, 0.0);
+  t.level_windows.assign(n, -1.0);
   for (size_t k = 0; k < n; ++k) {
+    t.level_windows[k] = r[k].windows;
     const double e = f.e_fine + (k + 1 < n ? compareRuns(r[k], c).value() : 0.0);
     t.level_dt[k] = r[k].duration / static_cast<double>(std::max<long long>(1, r[k].steps));
     t.level_error[k] = e * scale;
@@ -143,7 +145,7 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
         t.refusal = avoided;
         return t;
       }
-      r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment));
+      r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment, nominalOrder(kind)));
       steps += r.back().steps;
       if (!r.back().healthy) {
         note("dt " + fmt(dt / (1 << k)) + " s diverged in the pilot (" + r.back().failure + ")");
@@ -165,7 +167,7 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
              " s would pass the pilot's step or work budget");
         break;
       }
-      r.push_back(runTrajectory(withSettings(s, kind, finest / 2, nc), segment));
+      r.push_back(runTrajectory(withSettings(s, kind, finest / 2, nc), segment, nominalOrder(kind)));
       steps += more;
       if (!r.back().healthy) {
         r.pop_back();
@@ -330,6 +332,16 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   c.growth = best->growth;
   c.predicted_error = best->error(best_dt);
   c.predicted_cost = best->step_cost / best_dt;
+  {
+    size_t k = best->level_dt.size() - 1;  // below the pilot's steps: the finest one's ratio
+    for (size_t j = 0; j < best->level_dt.size(); ++j)
+      if (std::abs(best_dt / best->level_dt[j] - 1.0) < 1e-9) k = j;
+    const double w = k < best->level_windows.size() ? best->level_windows[k] : -1.0;
+    // the error over the pilot's segment, as the windows read it there
+    const double grown = std::pow(std::max(1.0, s.duration / std::max(best->segment, 1e-9)), best->growth);
+    const double e = best->level_error.empty() ? 0.0 : best->level_error[k] / grown;
+    c.window_scale = w > 0.0 && std::isfinite(e) ? std::min(1.0, e / w) : 1.0;
+  }
   c.contact_substeps = best->contact_substeps;
   c.scenario = withSettings(s, c.integrator, c.dt, c.contact_substeps);
   c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -69,6 +69,9 @@ struct IntegratorTrial {
   // the pilot's steps and each one's error (its difference to the next
   // finer run plus that run's error; the finest from the fit)
   std::vector<double> level_dt, level_error;
+  // the live estimate's windows on each pilot run (watched as the run will
+  // be), for the windows' calibration
+  std::vector<double> level_windows;
   double raw_order = 0.0;         // log2 of the last two differences' ratio, unclamped
   // predicted over the whole duration: measured at the pilot's steps, the
   // fitted law below them, infinite above dt0
@@ -84,6 +87,13 @@ struct Choice {
   double growth = 0.0;            // the chosen trial's error growth exponent
   double predicted_error = 0.0;
   double predicted_cost = 0.0;    // force evaluations per simulated s
+  // the live estimate's windows calibrated on the pilot's own run at the
+  // chosen step (the finest pilot step's below them): the pilot's error
+  // there over the windows' reading, at most 1. The windows see the error
+  // a step makes in a window and extrapolate it linearly; where that reads
+  // above the error the pilot measured on the same run, their reading is
+  // scaled down by as much (LiveEstimate::setWindowScale).
+  double window_scale = 1.0;
   bool meets = false;             // predicted within the tolerance
   double tolerance = 0.0;
   std::vector<IntegratorTrial> trials;

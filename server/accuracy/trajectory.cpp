@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 
+#include "accuracy/live_estimate.hpp"
 #include "physics/checks/telemetry.hpp"
 #include "physics/integrators/integrator.hpp"
 #include "physics/simulator.hpp"
@@ -40,7 +42,7 @@ void sample(const Simulator& sim, const scenario::Scene& scene, std::vector<Vec3
 
 }  // namespace
 
-Trajectory runTrajectory(const scenario::Scenario& s, double duration) {
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order) {
   const scenario::Scene scene = scenario::buildScene(s);
   Simulator sim(scene.built.model, scene.built.initial);
   const double dt = s.options.dt;
@@ -51,15 +53,35 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration) {
   t.positions.emplace_back();
   sample(sim, scene, t.positions.back(), nullptr);
   const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<LiveEstimate> live;
+  if (watch_order > 0) {
+    LiveEstimateOptions o;
+    o.duration = s.duration;
+    live = std::make_unique<LiveEstimate>(s, watch_order, o);
+  }
+  // one step at a time under the watch (the same run: the estimate only reads it)
+  auto advance = [&](long long n) {
+    if (!live) return scenario::stepScene(scene, sim, n);
+    for (long long i = 0; i < n; ++i) {
+      live->beforeStep(sim);
+      if (!scenario::stepScene(scene, sim, 1)) return false;
+      live->afterStep(sim);
+    }
+    return true;
+  };
   long long done = 0;
   while (done < total) {
     const long long n = std::min(per_sample - done % per_sample, total - done);
-    if (!scenario::stepScene(scene, sim, n)) break;
+    if (!advance(n)) break;
     done += n;
     t.positions.emplace_back();
     sample(sim, scene, t.positions.back(), done == total ? &t.final_velocity : nullptr);
   }
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (live) {
+    live->beforeStep(sim);  // a last update at the end
+    t.windows = std::max(live->pathEstimate(), live->speedEstimate());
+  }
   t.steps = sim.state().tick;
   t.evaluations = sim.forceEvaluations();
   if (!sim.healthy()) {

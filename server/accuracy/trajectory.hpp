@@ -27,6 +27,9 @@ struct Trajectory {
   long long steps = 0;
   long long evaluations = 0;                 // force evaluations
   double wall_seconds = 0.0;
+  // the live estimate's windows alone at the end (live_estimate.hpp), when
+  // the run was watched; -1 otherwise
+  double windows = -1.0;
   // wall seconds per simulated second
   double cost() const { return duration > 0.0 ? wall_seconds / duration : 0.0; }
 };
@@ -37,7 +40,10 @@ struct Trajectory {
 scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps = 1);
 
 // Runs s (its scene built here; ScenarioError when it cannot be) for
-// `duration` simulated seconds with the scene's scripted controls.
-Trajectory runTrajectory(const scenario::Scenario& s, double duration);
+// `duration` simulated seconds with the scene's scripted controls. With
+// watch_order > 0 the live estimate watches it (its windows placed as in a
+// run of s.duration, Richardson at that order) and `windows` is its reading
+// at the end; the run itself is the same, bit for bit.
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order = 0);
 
 }  // namespace groundsim::accuracy

@@ -292,6 +292,7 @@ void SessionService::build(const Request& r) {
         lo.duration = run > 0 ? run : 0.0;  // a session without end: windows of 0.25 s
         live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
         live->setPrediction(choice.predicted_error, sc.duration, choice.growth);
+        live->setWindowScale(choice.window_scale);
         tolerance = spec.tolerance;
       }
     }

@@ -16,7 +16,8 @@ struct Watched {
 };
 
 // prediction: the pilot's, as `groundsim run` gives it (0: windows alone)
-Watched watch(const scenario::Scenario& s, int order, double prediction = 0.0, double growth = 0.0) {
+Watched watch(const scenario::Scenario& s, int order, double prediction = 0.0, double growth = 0.0,
+              double window_scale = 1.0) {
   Watched w;
   const scenario::Scene scene = scenario::buildScene(s);
   Simulator sim(scene.built.model, scene.built.initial);
@@ -24,6 +25,7 @@ Watched watch(const scenario::Scenario& s, int order, double prediction = 0.0, d
   o.duration = s.duration;
   LiveEstimate live(s, order, o);
   live.setPrediction(prediction, s.duration, growth);
+  live.setWindowScale(window_scale);
   const long long n = std::llround(s.duration / s.options.dt);
   for (long long i = 0; i < n; ++i) {
     live.beforeStep(sim);
@@ -89,6 +91,40 @@ TEST(LiveEstimate, LeavesTheRunUntouched) {
   scenario::stepScene(scene, plain, 600);
   EXPECT_GT(live.windowsMeasured(), 0);
   EXPECT_EQ(watched.state().y, plain.state().y);
+}
+
+// The windows' calibration scales their reading, and nothing else.
+TEST(LiveEstimate, TheWindowScaleScalesTheWindows) {
+  const scenario::Scenario s =
+      withSettings(test::config("sedan_slalom.json", {"duration=3"}), IntegratorKind::SemiImplicitEuler, 0.005);
+  const Watched one = watch(s, 1), half = watch(s, 1, 0.0, 0.0, 0.5);
+  ASSERT_GT(one.estimate, 0.0);
+  EXPECT_DOUBLE_EQ(half.estimate, 0.5 * one.estimate);
+}
+
+// A pilot run watched as the run will be is the same run, and reads what
+// the run's own windows read.
+TEST(LiveEstimate, AWatchedPilotRunIsTheSameRun) {
+  const scenario::Scenario s =
+      withSettings(test::config("sedan_slalom.json", {"duration=3"}), IntegratorKind::SemiImplicitEuler, 0.005);
+  const Trajectory plain = runTrajectory(s, s.duration), watched = runTrajectory(s, s.duration, 1);
+  ASSERT_EQ(plain.positions.size(), watched.positions.size());
+  for (size_t k = 0; k < plain.positions.size(); ++k) EXPECT_EQ(plain.positions[k], watched.positions[k]);
+  EXPECT_EQ(plain.windows, -1.0);
+  EXPECT_DOUBLE_EQ(watched.windows, watch(s, 1).estimate);
+}
+
+// On a scripted run the pilot ran whole, the calibrated windows read at
+// most the error the pilot measured at the chosen step (their reading on
+// the pilot's own run is that run's, so their scale brings it down to
+// that error): the estimate at the end is the pilot's prediction.
+TEST(LiveEstimate, CalibratedWindowsAgreeWithThePilotOnItsOwnRun) {
+  const scenario::Scenario base = test::config("sedan_slalom.json", {"duration=8"});
+  const Choice c = chooseSettings(base, 0.01);
+  ASSERT_EQ(c.pilot_duration, base.duration);
+  EXPECT_LE(c.window_scale, 1.0);
+  const Watched w = watch(c.scenario, c.order, c.predicted_error, c.growth, c.window_scale);
+  EXPECT_NEAR(w.estimate, c.predicted_error, 1e-9 * c.predicted_error) << c.line();
 }
 
 }  // namespace
