@@ -102,10 +102,10 @@ export class Prediction {
     if (this.gridGround) {
       this.info.reason = 'waiting for the ground grid';
       // a grid that came while the module loaded
-      if (this.lastGrid && this.lastGrid.session === session) this.onGround(this.lastGrid);
+      if (this.lastGrid && this.lastGrid.session === session) this.groundIn(this.lastGrid);
       return undefined;
     }
-    return this.create(doc);
+    return this.guard(() => this.create(doc));
   }
   create(doc) {
     const m = this.m;
@@ -130,7 +130,16 @@ export class Prediction {
   // metres): the local run's ground when the scenario's own cannot be read
   // here. Each new grid (the car moved a quarter of it) rebuilds the scene
   // and the run goes on; beyond its edge a heightfield continues flat.
-  onGround(grid) {
+  // The page's frame loop and message handlers must not stop on an error of
+  // the local run (an exception or abort in the module): prediction stops,
+  // says why, and the own car is drawn from the server's states again.
+  guard(fn) {
+    try { return fn(); } catch (e) { this.stop(`stopped: ${(e && e.message) || e}`); return null; }
+  }
+  onGround(grid) { this.guard(() => this.groundIn(grid)); }
+  onState(s, nowMs) { this.guard(() => this.stateIn(s, nowMs)); }
+  frame(dtWall, rttS, rate, nowMs) { return this.guard(() => this.frameOut(dtWall, rttS, rate, nowMs)); }
+  groundIn(grid) {
     this.lastGrid = grid;
     if (!this.gridGround || !this.m || grid.session !== this.session || !grid.z) return;
     const g = this.doc.ground, n = grid.n, rows = [];
@@ -168,7 +177,7 @@ export class Prediction {
       v: [h[ptr + 7], h[ptr + 8], h[ptr + 9]], w: [h[ptr + 10], h[ptr + 11], h[ptr + 12]] };
   }
   // A server state of the session: the own car's chassis corrects the local run.
-  onState(s, nowMs) {
+  stateIn(s, nowMs) {
     if (!this.active || s.session !== this.session) return;
     const v = s.vehicles[this.vehicle];
     if (!v) return;
@@ -218,7 +227,7 @@ export class Prediction {
   }
   // Steps the local run to the present of the server plus a round trip and
   // returns the own car's pose to draw (null when not predicting).
-  frame(dtWall, rttS, rate, nowMs) {
+  frameOut(dtWall, rttS, rate, nowMs) {
     if (!this.active || !this.newest) return null;
     const n = this.newest;
     const running = n.status === 1;
