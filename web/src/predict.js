@@ -18,7 +18,8 @@ import { app } from './app.js';
 
 const SMOOTH_S = 0.1;      // time constant of a correction's fade on screen
 const MAX_LEAD_S = 0.5;    // never predict further ahead of the newest state
-const MAX_STEP_S = 0.25;   // sim time one frame may step (a stalled tab catches up over frames)
+const MAX_STEP_S = 0.5;    // sim time one frame may step (a stalled tab catches up over frames)
+const MAX_STEPS = 20000;   // steps one call may take (the report's car: 1 s at 50 us)
 const REPLAY_SHARE = 0.25; // at most this share of wall time spent replaying
 
 let modulePromise = null;
@@ -193,7 +194,8 @@ export class Prediction {
     // a page whose frames are slow (a busy machine) has not stepped the
     // local run past this state yet: step it there first (controls in force)
     const behind = s.t - this.m._gs_time();
-    if (!first && behind > 0.5 * this.dt && behind < MAX_STEP_S && this.m._gs_step(Math.round(behind / this.dt)) !== 0)
+    if (!first && behind > 0.5 * this.dt && behind < 2 * MAX_STEP_S && behind / this.dt < MAX_STEPS &&
+        this.m._gs_step(Math.round(behind / this.dt)) !== 0)
       return this.restart(s.t, `local run diverged at t ${this.m._gs_time().toFixed(3)}`);
     const before = this.pose();
     const h = this.m.HEAPF64, b = this.poseBuf / 8, count = Math.min(s.vehicles.length, this.poseCount);
@@ -237,7 +239,7 @@ export class Prediction {
     else this.clock += dtWall * rate + (target - this.clock) * 0.1;
     this.clock = Math.min(this.clock, n.t + MAX_LEAD_S);
     if (!running) this.clock = Math.min(this.clock, this.m._gs_time());
-    const steps = Math.min(Math.floor((this.clock - this.m._gs_time()) / this.dt + 1e-6), Math.ceil(MAX_STEP_S / this.dt));
+    const steps = Math.min(Math.floor((this.clock - this.m._gs_time()) / this.dt + 1e-6), Math.ceil(MAX_STEP_S / this.dt), MAX_STEPS);
     if (steps > 0 && this.m._gs_step(steps) !== 0) return this.restart(n.t, `local run diverged at t ${this.m._gs_time().toFixed(3)}`);
     const fade = Math.exp(-dtWall / SMOOTH_S);
     this.off = this.off.map((x) => x * fade);
