@@ -437,7 +437,9 @@ void Hub::finishJoin(Peer* p, const JoinMsg& m) {
   // a driver's page runs the scenario itself to predict its car (web/src/predict.js)
   const auto text = ps.role == Role::Drive ? scenario_texts_.find(m.session) : scenario_texts_.end();
   const std::string& doc = text != scenario_texts_.end() ? text->second : std::string();
-  msg += ",\"scenario\":" + (doc.empty() ? std::string("null") : quoted(doc)) + "}";
+  msg += ",\"scenario\":" + (doc.empty() ? std::string("null") : quoted(doc)) + ",\"scale\":{\"drive_torque\":" +
+         std::to_string(cfg_.scale.drive_torque) + ",\"brake_torque\":" + std::to_string(cfg_.scale.brake_torque) +
+         ",\"steer\":" + std::to_string(cfg_.scale.steer) + "}}";
   sendJson(p, msg);
   for (const auto& race : s.race.catchUp()) p->send(race);  // a race under way: its layout and standings
   publishLobby();

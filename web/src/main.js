@@ -105,7 +105,7 @@ net.on('joined', (m) => {
   app.objectMeshes = app.objects.meshes.length;
   rig.set('chase');
   if (touch) touch.show(m.role === 'drive');
-  if (m.role === 'drive') prediction.start(m.session, m.vehicle, m.scenario);
+  if (m.role === 'drive') prediction.start(m.session, m.vehicle, m.scenario, m.scale);
   else prediction.stop('spectating');
 });
 net.on('left', () => { app.session = null; clearScene(); showLobby(true); });

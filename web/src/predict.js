@@ -76,9 +76,11 @@ export class Prediction {
   }
   // A driver joined `session` as `vehicle` with the scenario's text (the
   // bridge's `joined`); spectators predict nothing.
-  async start(session, vehicle, scenarioText) {
+  async start(session, vehicle, scenarioText, scale) {
     this.clear();
-    Object.assign(this.info, { active: false, reason: '', error: 0, replayed: 0, corrections: 0, snaps: 0, drawn: null });
+    this.scale = scale || null;  // the bridge's mapping of controls to torques (--drive-torque ...)
+    Object.assign(this.info, { active: false, reason: '', error: 0, replayed: 0, corrections: 0, snaps: 0, placed: 0,
+      restarts: 0, restartReason: '', grids: 0, ground: null, maxLead: 0, drawn: null });
     if (!this.enabled) return this.stop('off (?predict=0)');
     if (!scenarioText || vehicle < 0) return this.stop('no scenario from the bridge');
     this.session = session;
@@ -113,6 +115,7 @@ export class Prediction {
     if (m.ccall('gs_create', 'number', ['string', 'number'], [JSON.stringify(doc), this.vehicle]) !== 0)
       return this.stop(`scenario not predictable here: ${m.ccall('gs_error', 'string', [], [])}`);
     this.dt = m._gs_dt();
+    if (this.scale) m._gs_scale(this.scale.drive_torque, this.scale.brake_torque, this.scale.steer);
     this.poseCount = 64;  // vehicles a scene may hold (the bridge's --max-vehicles at most)
     this.poseBuf = m._malloc(13 * 8 * this.poseCount);
     this.active = true;
