@@ -142,7 +142,13 @@ export class Prediction {
   }
   onGround(grid) { this.guard(() => this.groundIn(grid)); }
   onState(s, nowMs) { this.guard(() => this.stateIn(s, nowMs)); }
-  frame(dtWall, rttS, rate, nowMs) { return this.guard(() => this.frameOut(dtWall, rttS, rate, nowMs)); }
+  frame(dtWall, rttS, rate, nowMs) {
+    const t0 = performance.now();
+    const out = this.guard(() => this.frameOut(dtWall, rttS, rate, nowMs));
+    // what prediction costs a frame, and a correction (ms, smoothed)
+    if (out) this.info.frameMs = 0.95 * (this.info.frameMs || 0) + 0.05 * (performance.now() - t0);
+    return out;
+  }
   groundIn(grid) {
     this.lastGrid = grid;
     if (!this.gridGround || !this.m || grid.session !== this.session || !grid.z) return;
@@ -209,6 +215,7 @@ export class Prediction {
     const t0 = performance.now();
     const n = this.m._gs_reconcile(s.t, this.poseBuf, count);
     this.replayMs = performance.now() - t0;
+    this.info.replayMs = 0.95 * (this.info.replayMs || 0) + 0.05 * this.replayMs;
     if (n === -2) return this.restart(s.t, `replay from t ${s.t.toFixed(3)} diverged`);
     this.lastReplay = nowMs;
     // the prediction's error: the local run at t against the server's state
