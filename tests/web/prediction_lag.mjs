@@ -48,8 +48,8 @@ async function instrument(page) {
     g.frameListeners.push((s, now) => {
       const k = g.role === 'drive' ? g.vehicle : 0, v = s && s.vehicles[k];
       if (!v) return;
-      const d = g.prediction && g.prediction.active ? { ...g.prediction.drawn, off: g.prediction.offset, lead: g.prediction.lead } : null;
-      rec.frames.push({ now, fwd: fwd(v), p: v.p.slice(), t: d ? d.t : s.t, speed: Math.hypot(...v.v), st: s.t, v: v.v.slice(), off: d ? d.off : 0, grids: g.prediction && g.prediction.grids, lead: d ? d.lead : 0 });
+      const d = g.prediction && g.prediction.active ? { ...g.prediction.drawn, off: g.prediction.offset } : null;
+      rec.frames.push({ now, fwd: fwd(v), p: v.p.slice(), t: d ? d.t : s.t, speed: Math.hypot(...v.v), v: v.v.slice(), off: d ? d.off : 0 });
       if (rec.frames.length > 3000) rec.frames.shift();
     });
     g.stateListeners.push((m) => {
@@ -140,7 +140,7 @@ await a.page.waitForTimeout(1500);
 const conv = await a.page.evaluate((from) => {
   const rec = window.__rec;
   const drawn = rec.frames.filter((f) => f.t > from);
-  let worst = 0, n = 0;
+  let worst = 0, n = 0, at = null;
   for (const s of rec.states.filter((x) => x.t > from + 0.5)) {
     // the drawn frame nearest the state's time, carried to it along its
     // velocity (frames come every 16-100 ms; the states every 16 ms)
@@ -149,21 +149,21 @@ const conv = await a.page.evaluate((from) => {
     if (!f || Math.abs(f.t - s.t) > 0.05) continue;
     const p = f.p.map((x, i) => x + f.v[i] * (s.t - f.t));
     const e = Math.hypot(p[0] - s.p[0], p[1] - s.p[1], p[2] - s.p[2]);
-    if (e > worst) window.__worst = { t: s.t, ft: f.t, e, dz: p[2] - s.p[2], v: f.speed, off: f.off, grids: f.grids, lead: f.lead,
-      near: drawn.filter((x) => Math.abs(x.t - s.t) < 0.2).map((x) => [x.t.toFixed(3), x.off.toFixed(3), x.grids, x.now.toFixed(0)]) };
+    if (e > worst) at = { t: s.t, frameT: f.t, fading: f.off };
     worst = Math.max(worst, e);
     n++;
   }
   const errs = rec.errors.filter((x) => x.t > from + 0.5).map((x) => x.e);
   const press = rec.presses[rec.presses.length - 1];
   const held = rec.errors.filter((x) => x.now > press && x.now < press + 1500).map((x) => x.e);
-  return { at: window.__worst, worst, n, lastErr: Math.max(...errs), heldErr: Math.max(...held), info: window.groundsim.prediction };
+  return { at, worst, n, lastErr: Math.max(...errs), heldErr: Math.max(...held), info: window.groundsim.prediction };
 }, releasedAt);
 console.log(`after the release: drawn vs server at ${conv.n} states, worst ${(100 * conv.worst).toFixed(1)} cm; ` +
   `prediction error at correction ${(100 * conv.lastErr).toFixed(1)} cm (while W was held: up to ${(100 * conv.heldErr).toFixed(1)} cm); ` +
   `lead ${(1000 * conv.info.lead).toFixed(0)} ms (at most ${(1000 * conv.info.maxLead).toFixed(0)}), ${conv.info.corrections} corrections, ${conv.info.snaps} snaps, ` +
   `${conv.info.restarts || 0} restarts (${conv.info.restartReason || ''}), ${conv.info.placed || 0} placed without replay`);
-if (process.env.PRED_DEBUG) console.log(JSON.stringify(conv.at));
+// where the drawn car was furthest from a state, and the correction fading then
+if (conv.at) console.log(`  furthest at t ${conv.at.t.toFixed(3)} (frame at ${conv.at.frameT.toFixed(3)}), ${(100 * conv.at.fading).toFixed(1)} cm fading`);
 if (!(conv.n >= 10)) await h.fail(`too few states to compare after the release (${conv.n})`);
 // the local run at each state's time against that state: what prediction got wrong
 if (!(conv.lastErr < 0.02)) await h.fail(`the prediction did not converge to the server's states: ${conv.lastErr} m apart at a correction`);
@@ -186,7 +186,7 @@ const jumps = await watcher.evaluate(() => {
   for (let i = 1; i < f.length; ++i) {
     const d = Math.hypot(...f[i].p.map((x, k) => x - f[i - 1].p[k])), dt = (f[i].now - f[i - 1].now) / 1000;
     const allowed = Math.max(0.5, 2 * Math.max(f[i].speed, f[i - 1].speed) * dt);
-    if (!worst || d / allowed > worst.ratio) worst = { ratio: d / allowed, d, allowed, i, dt, v: f[i].speed, t0: f[i - 1].st, t1: f[i].st };
+    if (!worst || d / allowed > worst.ratio) worst = { ratio: d / allowed, d, allowed };
   }
   return { frames: f.length, worst };
 });
