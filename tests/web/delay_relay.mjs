@@ -6,16 +6,33 @@
 // (a chunk never leaves before the one read before it).
 import net from 'node:net';
 
-export async function startDelayRelay(targetPort, delayMs) {
-  const relay = { delayMs, sockets: new Set() };
+// jitterMs: each chunk held up to that much longer, at random (uniform);
+// order is kept, so a late chunk holds back those behind it, as on TCP.
+export async function startDelayRelay(targetPort, delayMs, jitterMs = 0) {
+  const relay = { delayMs, jitterMs, sockets: new Set() };
+  // one queue per direction and one timer at its head: chunks leave in the
+  // order they came (timers of different durations may fire out of order)
   const pipe = (from, to) => {
-    let last = 0;
-    const at = () => { last = Math.max(Date.now() + relay.delayMs, last); return last - Date.now(); };
-    from.on('data', (d) => setTimeout(() => { if (!to.destroyed) to.write(d); }, at()));
+    const queue = [];
+    let last = 0, timer = null;
+    const pump = () => {
+      timer = null;
+      while (queue.length && queue[0].due <= Date.now()) {
+        const { data } = queue.shift();
+        if (data === null) to.end(); else if (!to.destroyed) to.write(data);
+      }
+      if (queue.length) timer = setTimeout(pump, queue[0].due - Date.now());
+    };
+    const push = (data) => {
+      last = Math.max(Date.now() + relay.delayMs + Math.random() * relay.jitterMs, last);
+      queue.push({ due: last, data });
+      if (!timer) timer = setTimeout(pump, last - Date.now());
+    };
+    from.on('data', (d) => push(d));
     // end, not destroy: a write the kernel has not taken yet (a large
     // file) still goes out before the close
-    from.on('end', () => setTimeout(() => to.end(), at()));
-    from.on('close', () => setTimeout(() => to.end(), at()));
+    from.on('end', () => push(null));
+    from.on('close', () => push(null));
     from.on('error', () => to.destroy());
   };
   const server = net.createServer((client) => {

@@ -15,7 +15,8 @@
 //   nearest frame's drawn pose carried to the state's time along its
 //   velocity) within 25 cm while corrections fade, and at rest within 1 cm.
 // - A spectator of the driven car sees no jump between frames larger than
-//   max(0.5 m, 2 |v| dt) (interpolation, bounded extrapolation).
+//   max(0.5 m, 2 |v| dt) (interpolation, bounded extrapolation), while the
+//   relay adds 0-40 ms of jitter each way.
 // - The lag notice is hidden at 120 ms, shown when the relay's delay rises
 //   to 150 ms each way (300 ms), hidden again when it falls back.
 // `--figures` instead prints key-to-motion with and without prediction at
@@ -121,7 +122,10 @@ await h.until('the spectator to draw', () => watcher.evaluate(() => window.groun
 await instrument(watcher);
 
 // --- the press, with and without prediction ---
+// the spectator's link jitters (0-40 ms more each way) while page a drives
+relay.jitterMs = 40;
 const withP = await pressResponse(a.page);
+relay.jitterMs = 0;
 const releasedAt = await a.page.evaluate(() => window.groundsim.prediction.t);
 const withoutP = await pressResponse(b.page);
 console.log(`W to motion on screen: with prediction ${withP.frames} frames, ${withP.ms && withP.ms.toFixed(1)} ms; ` +
