@@ -92,6 +92,11 @@ bool FleetNode::mayPublish(const std::string& session_id) const {
   return !disowned_.count(session_id);
 }
 
+bool FleetNode::holds(const std::string& session_id) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return !disowned_.count(session_id);
+}
+
 bool FleetNode::isAnswerer() const {
   std::string first;
   for (const fleet::Member& m : membership_->members())

@@ -88,6 +88,8 @@ class FleetNode final : public session::Ownership {
   // another server took over: their messages must not be published.
   bool mayPublish(const std::string& session_id) const;
   bool fenced() const { return fenced_.load(); }
+  // Not disowned: as far as this server knows, the session is still its own.
+  bool holds(const std::string& session_id) const;
   // The heartbeat's figures as capacity in the membership.
   void updateCapacity(const session::ServiceStatus& st);
   // Takes no new session and hands every session over to the others (their

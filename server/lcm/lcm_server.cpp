@@ -72,14 +72,14 @@ LcmServer::~LcmServer() { service_.reset(); }
 
 template <class T>
 void LcmServer::publish(const std::string& channel, const T& msg, const std::string* keep_session,
-                        std::int64_t keep_seq) {
+                        std::int64_t keep_seq, bool send) {
   // encode outside the lock; one reusable buffer per thread
   static thread_local std::vector<std::uint8_t> buf;
   const int size = msg.getEncodedSize();
   if (buf.size() < static_cast<size_t>(size)) buf.resize(size);
   if (msg.encode(buf.data(), 0, size) < 0) return;
   std::lock_guard<std::mutex> lk(publish_mutex_);
-  lcm_.publish(channel, buf.data(), static_cast<unsigned>(size));
+  if (send) lcm_.publish(channel, buf.data(), static_cast<unsigned>(size));
   if (keep_seq < 0) return;
   if (keep_session) ring_.addFrame(*keep_session, keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
   else ring_.addEvent(keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
@@ -99,10 +99,25 @@ bool LcmServer::mayPublish(const std::string& session_id) const {
   return !fleet_ || session_id.empty() || fleet_->mayPublish(session_id);
 }
 
+LcmServer::Outlet LcmServer::outlet(const std::string& session_id) const {
+  if (mayPublish(session_id)) return Outlet::Send;
+  // fenced, not known to be taken over: kept for re-requests, which a
+  // recorder makes once the lease is back and the session still ours (a
+  // leader election of the fleet's etcd costs it no message)
+  return fleet_->fenced() && fleet_->holds(session_id) ? Outlet::Keep : Outlet::Drop;
+}
+
 void LcmServer::publishState(const session::Frame& f) {
-  if (!mayPublish(f.session_id)) return;
+  const Outlet o = outlet(f.session_id);
+  if (o == Outlet::Drop) return;
+  const bool send = o == Outlet::Send;
   try {
-    publish(stateChannel(f.session_id), toMessage(f), &f.session_id, f.seq);
+    publish(stateChannel(f.session_id), toMessage(f), &f.session_id, f.seq, send);
+    if (!send) {
+      if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f), &f.session_id, f.seq, false);
+      if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f), &f.session_id, f.seq, false);
+      return;
+    }
     ++frames_;
     if (LatencyTrace::on())
       LatencyTrace::line("spub %s %lld %lld %lld %lld", f.session_id.c_str(), static_cast<long long>(f.seq),
@@ -118,9 +133,10 @@ void LcmServer::publishState(const session::Frame& f) {
 }
 
 void LcmServer::publishApplied(const session::Applied& a) {
-  if (!mayPublish(a.session_id)) return;
+  const Outlet o = outlet(a.session_id);
+  if (o == Outlet::Drop) return;
   try {
-    publish(appliedChannel(a.session_id), toMessage(a), &a.session_id, a.frame_seq);
+    publish(appliedChannel(a.session_id), toMessage(a), &a.session_id, a.frame_seq, o == Outlet::Send);
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish an applied command of %s: %s\n", a.session_id.c_str(),
@@ -416,7 +432,9 @@ void LcmServer::handleResend(const std::string& channel, const void* data, int s
   if (why.empty() && msg.from_seq < 0) why = "from_seq: must be >= 0, got " + std::to_string(msg.from_seq);
   if (why.empty() && msg.to_seq < -1) why = "to_seq: must be >= -1 (-1: up to the newest), got " + std::to_string(msg.to_seq);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "resend: " + why);
-  // in a fleet each server keeps its own: the owner answers for a session, every server for its events
+  // in a fleet each server keeps its own: the owner answers for a session, every server for its events;
+  // a fenced one answers nothing (what it kept goes out once its lease is back and the session still its own)
+  if (fleet_ && fleet_->fenced()) return;
   if (fleet_ && msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id, [] {})) return;
   const std::string session = msg.stream == groundsim::resend_t::STREAM_EVENTS ? "" : msg.session_id;
   std::vector<ResendRing::Message> answer;

@@ -100,10 +100,15 @@ class LcmServer final : public session::Output {
   void handleDrive(const std::string& channel, const void* data, int size);
   void handleControls(const std::string& channel, const void* data, int size);
   // keep_session: also keep the bytes in the resend ring as that session's
-  // frame keep_seq ("" and keep_seq >= 0: as event keep_seq)
+  // frame keep_seq ("" and keep_seq >= 0: as event keep_seq); send false:
+  // only keep them (a fenced owner's, for re-requests once its lease is back)
   template <class T>
   void publish(const std::string& channel, const T& msg, const std::string* keep_session = nullptr,
-               std::int64_t keep_seq = -1);
+               std::int64_t keep_seq = -1, bool send = true);
+  // Whether a session's messages go on the wire, are only kept (its owner
+  // fenced), or neither (disowned: another server owns it).
+  enum class Outlet { Send, Keep, Drop };
+  Outlet outlet(const std::string& session_id) const;
 
   std::string url_;
   bool verbose_;
