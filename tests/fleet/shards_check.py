@@ -49,6 +49,30 @@ print(f"per step: in process {1e3 * (t1 - t0) / steps:.2f} ms, {shards} shards o
 remote.close()
 local.close()
 
+# The issue's benchmark (not in CTest's run): GROUNDSIM_SHARDS_BENCH=256
+# steps 3 shards x 256 environments against the same batch in process.
+per_shard = int(os.environ.get("GROUNDSIM_SHARDS_BENCH", "0"))
+if per_shard:
+    big = shards * per_shard
+    local = groundsim.make_vec(task, big, num_threads=2)
+    remote = groundsim.make_remote_vec(task, big, lcm_url=URL, shards=shards, timeout=30)
+    local.reset(seed=3), remote.reset(seed=3)
+    acts = [rng.uniform(low, high, size=(big, low.size)).astype(np.float32) for _ in range(20)]
+    for act in acts[:5]:  # warm up both
+        local.step(act), remote.step(act)
+    t0 = time.perf_counter()
+    for act in acts:
+        local.step(act)
+    t1 = time.perf_counter()
+    for act in acts:
+        remote.step(act)
+    t2 = time.perf_counter()
+    a, b = 1e3 * (t1 - t0) / len(acts), 1e3 * (t2 - t1) / len(acts)
+    print(f"{shards} shards x {per_shard} envs: in process {a:.2f} ms per step, over the lab {b:.2f} ms "
+          f"(overhead {b - a:.2f} ms, {b / a:.2f}x)")
+    remote.close()
+    local.close()
+
 # A shard's server dies mid-rollout (shards_test.sh kills host 2 once the
 # marker file is there): the loop goes on, that shard's environments come
 # back truncated from a new shard elsewhere, no exception.

@@ -26,7 +26,7 @@ marker="$tmp/marker"
 (for _ in $(seq 2400); do [ -e "$marker" ] && break; sleep 0.05; done
  [ -e "$marker" ] && sleep 1 && "$lab" kill "$name" 2) &
 rc=0
-"$lab" exec "$name" 4 env PYTHONPATH="$pypath" GROUNDSIM="$client" GROUNDSIM_KILL_MARKER="$marker" \
+"$lab" exec "$name" 4 env PYTHONPATH="$pypath" GROUNDSIM="$client" GROUNDSIM_KILL_MARKER="$marker" GROUNDSIM_SHARDS_BENCH="${GROUNDSIM_SHARDS_BENCH:-0}" \
   "$python" "$(dirname "$0")/shards_check.py" "$task" || rc=$?
 if [ $rc != 0 ]; then
   for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 12 "$tmp/s$i.log" >&2; done
