@@ -59,7 +59,7 @@ void inspect(const std::string& path) {
   for (const auto& [name, kv] : meta) {
     if (name.rfind("ledger/", 0) != 0) continue;
     std::string line;
-    for (const char* k : {"state_received_count", "state_repaired_count", "state_lost_count", "state_lost",
+    for (const char* k : {"state_received_count", "state_repaired_count", "state_lost_count", "state_lost", "state_resimulated_count",
                           "event_received_count", "event_repaired_count", "event_lost_count", "event_lost"}) {
       auto it = kv.find(k);
       if (it == kv.end()) continue;

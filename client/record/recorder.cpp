@@ -130,6 +130,7 @@ void Recorder::write(Stream& s, std::uint16_t channel, std::int64_t seq, std::in
 
 bool Recorder::fencedOff(Stream& s, std::int64_t epoch) {
   if (epoch >= s.epoch) {
+    if (epoch > s.epoch && s.epoch > 0) s.moved_at = s.top;  // what a new owner publishes up to here is re-simulated
     s.epoch = epoch;
     return false;
   }
@@ -157,7 +158,11 @@ bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int 
     if (it == sessions_.end()) return true;
     Stream& s = it->second;
     if (fencedOff(s, m.epoch)) return true;
-    if (!s.ledger.arrive(m.seq, repaired)) return true;
+    if (!s.ledger.arrive(m.seq, repaired)) {
+      if (m.seq <= s.moved_at) ++s.resimulated;
+      return true;
+    }
+    s.top = std::max(s.top, m.seq);
     // the frame's other messages follow the state: owed up to the one before
     if (s.car.started()) s.car.reach(m.seq - 1);
     if (s.contact.started()) s.contact.reach(m.seq - 1);
@@ -498,6 +503,10 @@ std::vector<std::string> Recorder::report() const {
     if (s.contact.started()) line += "; contacts: " + s.contact.summary();
     if (s.applied.started()) line += "; applied commands: " + s.applied.summary();
     if (!s.end_missing.empty()) line += "; the applied log's end entry missing";
+    if (s.resimulated > 0 || s.fenced > 0)
+      line += "; " + std::to_string(s.resimulated) + " states re-simulated after a move (epoch " +
+              std::to_string(s.epoch) + "; the first publication kept), " + std::to_string(s.fenced) +
+              " messages of a fenced owner dropped";
     lines.push_back(line + (s.ended ? "; ended" : ""));
   }
   lines.push_back("events: " + events_.ledger.summary());
@@ -534,7 +543,8 @@ void Recorder::writeLedgers() {
   };
   for (const auto& [id, s] : sessions_) {
     std::map<std::string, std::string> kv{{"session_id", id}, {"ended", s.ended ? "true" : "false"},
-                                          {"epoch", std::to_string(s.epoch)}, {"fenced_count", std::to_string(s.fenced)}};
+                                          {"epoch", std::to_string(s.epoch)}, {"fenced_count", std::to_string(s.fenced)},
+                                          {"state_resimulated_count", std::to_string(s.resimulated)}};
     ledger(s.ledger, "state_", kv);
     if (s.car.started()) ledger(s.car, "car_state_", kv);
     if (s.contact.started()) ledger(s.contact, "contact_", kv);

@@ -111,6 +111,10 @@ class Recorder {
     // protocol 2: the newest owner's epoch heard; a message of a lower one
     // (a fenced old owner's, docs/protocol.md) is counted, not written
     std::int64_t epoch = 0, fenced = 0;
+    // A failover: the new owner publishes again the seqs from its snapshot
+    // on (docs/fleet.md). Those up to the highest seq heard when the epoch
+    // rose are counted as re-simulated, not repeats (the first kept).
+    std::int64_t top = -1, moved_at = -1, resimulated = 0;
     std::int64_t live_seq = -1, live_utime = 0;   // the newest state heard live
     std::string scenario;  // the scenario's JSON, once heard
     std::vector<std::pair<std::string, std::shared_ptr<const std::string>>> assets;  // by name

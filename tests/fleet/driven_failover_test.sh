@@ -60,6 +60,10 @@ entries=$(echo "$line" | sed -n 's/.*, \([0-9]*\) applied entries replayed.*/\1/
 for _ in $(seq 400); do kill -0 $recorder 2>/dev/null || break; sleep 0.1; done
 kill -0 $recorder 2>/dev/null && { kill $recorder; fail "the recording did not end with the session"; }
 wait $recorder || fail "groundsim record exited $?"
+# the recorder counts what the new owner published again (its ledger's
+# state_resimulated_count), neither as loss nor written twice
+grep -h "states re-simulated after a move" "$tmp/record.err" | sed 's/.*; \([0-9]* states re-simulated[^;]*\).*/record: \1/' || true
+"$client" inspect "$tmp/rec.mcap" | grep "^ledger/$sid" | grep -o "state_resimulated_count [0-9]*" || fail "the ledger has no re-simulated count"
 "$client" replay --resimulate "$tmp/rec.mcap" >"$tmp/replay.out" 2>&1 || fail "the recording does not re-simulate bit for bit (exit $?)"
 cat "$tmp/replay.out"
 grep -q "^identical: session $sid" "$tmp/replay.out" || fail "replay did not say the session is identical"

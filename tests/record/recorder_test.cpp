@@ -200,6 +200,38 @@ TEST(Recorder, OverTheRateLimitItWaitsWithoutSpendingAsks) {
   EXPECT_TRUE(rec.repairing());
 }
 
+// A failover: the new owner (epoch 2) publishes again from its snapshot
+// (seq 3 on) what the old one published up to seq 5; those three are
+// re-simulated, counted once each and not written twice; a repeat within
+// one epoch is not.
+TEST(Recorder, StatesANewOwnerPublishesAgainAreCountedReSimulated) {
+  const std::string path = tempPath("recorder_resim.mcap");
+  {
+    Recorder rec(std::make_unique<recording::McapWriter>(path), "resim");
+    rec.add("a", true);
+    const auto send = [&](std::int64_t seq, std::int64_t epoch) {
+      groundsim::state_t m = state("a", seq);
+      m.epoch = epoch;
+      const auto b = encode(m);
+      EXPECT_TRUE(rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size())));
+    };
+    for (int s = 0; s <= 5; ++s) send(s, 1);
+    send(5, 1);  // a repeat, not a move
+    for (int s = 3; s <= 8; ++s) send(s, 2);
+    rec.finish();
+    EXPECT_EQ(rec.totals().lost, 0);
+  }
+  recording::McapReader r(path);
+  const auto channels = r.channels();
+  int states = 0;
+  r.readMessages([&](const recording::McapMessage& m) { states += channels.at(m.channel).topic == "/a/state"; });
+  EXPECT_EQ(states, 9);
+  const auto ledger = r.metadata().at("ledger/a");
+  EXPECT_EQ(ledger.at("epoch"), "2");
+  EXPECT_EQ(ledger.at("state_resimulated_count"), "3");
+  EXPECT_EQ(ledger.at("state_received"), "0-8");
+}
+
 }  // namespace
 }  // namespace groundsim::record
 
