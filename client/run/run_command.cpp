@@ -155,12 +155,8 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
   bool warned = false;
   // n steps, with the live estimate around each when there is one
   auto advance = [&](long long n) {
-    if (!live) return scenario::stepScene(scene, sim, n);
-    for (long long i = 0; i < n; ++i) {
-      live->beforeStep(sim);
-      if (!scenario::stepScene(scene, sim, 1)) return false;
-      live->afterStep(sim);
-    }
+    if (!accuracy::stepWatched(scene, sim, n, live)) return false;
+    if (!live) return true;
     if (!warned && tolerance > 0.0 && live->estimate() > tolerance) {
       warned = true;
       std::fprintf(stderr, "%swarning: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s\n",

@@ -126,4 +126,14 @@ void LiveEstimate::update(const Simulator& main) {
   estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
 }
 
+bool stepWatched(const scenario::Scene& scene, Simulator& sim, long long n, LiveEstimate* live) {
+  if (!live) return scenario::stepScene(scene, sim, n);
+  for (long long i = 0; i < n; ++i) {
+    live->beforeStep(sim);
+    if (!scenario::stepScene(scene, sim, 1)) return false;
+    live->afterStep(sim);
+  }
+  return true;
+}
+
 }  // namespace groundsim::accuracy

@@ -95,4 +95,8 @@ class LiveEstimate {
   double window_scale_ = 1.0;
 };
 
+// n steps of the scene, each watched by `live` when there is one (the same
+// run: the estimate only reads it); false when the simulation diverged.
+bool stepWatched(const scenario::Scene& scene, Simulator& sim, long long n, LiveEstimate* live);
+
 }  // namespace groundsim::accuracy

@@ -59,16 +59,7 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
     o.duration = s.duration;
     live = std::make_unique<LiveEstimate>(s, watch_order, o);
   }
-  // one step at a time under the watch (the same run: the estimate only reads it)
-  auto advance = [&](long long n) {
-    if (!live) return scenario::stepScene(scene, sim, n);
-    for (long long i = 0; i < n; ++i) {
-      live->beforeStep(sim);
-      if (!scenario::stepScene(scene, sim, 1)) return false;
-      live->afterStep(sim);
-    }
-    return true;
-  };
+  auto advance = [&](long long n) { return stepWatched(scene, sim, n, live.get()); };
   long long done = 0;
   while (done < total) {
     const long long n = std::min(per_sample - done % per_sample, total - done);

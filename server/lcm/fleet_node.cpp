@@ -119,6 +119,8 @@ bool FleetNode::answers(const std::string& session_id, std::function<void()> unk
 void FleetNode::onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
+    // kept for retries while etcd is away: a flood of creates is not all kept (their clients time out)
+    if (creates_.size() >= kMaxPendingCreates) return;
     creates_.push_back(Pending{client_id, request_id, std::move(take), Clock::now()});
   }
   wake_.notify_all();

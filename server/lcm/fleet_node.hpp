@@ -134,6 +134,7 @@ class FleetNode final : public session::Ownership {
     Clock::time_point at;  // heard; placement is tried again after an etcd error for kCreateRetry
   };
   static constexpr std::chrono::seconds kCreateRetry{10};
+  static constexpr std::size_t kMaxPendingCreates = 4096;
   bool retry_ = false;  // under mutex_: the last pass failed on etcd, wait a scan period
   void place(const Pending& p);
   // Sessions per server: owners' keys and recent placements (both count a

@@ -113,19 +113,16 @@ void LcmServer::publishState(const session::Frame& f) {
   const bool send = o == Outlet::Send;
   try {
     publish(stateChannel(f.session_id), toMessage(f), &f.session_id, f.seq, send);
-    if (!send) {
-      if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f), &f.session_id, f.seq, false);
-      if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f), &f.session_id, f.seq, false);
-      return;
+    if (send) {
+      ++frames_;
+      if (LatencyTrace::on())
+        LatencyTrace::line("spub %s %lld %lld %lld %lld", f.session_id.c_str(), static_cast<long long>(f.seq),
+                           static_cast<long long>(LatencyTrace::nowUs()),
+                           static_cast<long long>(LatencyTrace::us(f.drive_received)),
+                           static_cast<long long>(LatencyTrace::us(f.drive_applied)));
     }
-    ++frames_;
-    if (LatencyTrace::on())
-      LatencyTrace::line("spub %s %lld %lld %lld %lld", f.session_id.c_str(), static_cast<long long>(f.seq),
-                         static_cast<long long>(LatencyTrace::nowUs()),
-                         static_cast<long long>(LatencyTrace::us(f.drive_received)),
-                         static_cast<long long>(LatencyTrace::us(f.drive_applied)));
-    if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f), &f.session_id, f.seq);
-    if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f), &f.session_id, f.seq);
+    if (!f.cars.empty()) publish(carStateChannel(f.session_id), toCarMessage(f), &f.session_id, f.seq, send);
+    if (f.contacts) publish(contactChannel(f.session_id), toContactMessage(f), &f.session_id, f.seq, send);
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a state of %s: %s\n", f.session_id.c_str(), e.what());

@@ -20,11 +20,7 @@ fail() {
   for f in record.err drive.err replay.out; do echo "--- $f" >&2; tail -n 12 "$tmp/$f" >&2 || true; done
   exit 1
 }
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
-    --snapshot-interval 1 >"$tmp/s$i.log" 2>&1 &
-done
-fleet_wait_joined
+fleet_start_servers --snapshot-interval 1
 
 "$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --exact --out "$tmp/rec.mcap" \
   --lcm-url "$url" --token-file "$tmp/tokens.json" --timeout 10 >"$tmp/record.out" 2>"$tmp/record.err" &

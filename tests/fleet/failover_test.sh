@@ -30,12 +30,7 @@ fail() {
 }
 
 declare -A pid
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" \
-    --address "$("$lab" addr "$i")" --workers 1 --snapshot-interval 1 --metrics-port 9100 >"$tmp/s$i.log" 2>&1 &
-  pid[$i]=$!
-done
-fleet_wait_joined
+fleet_start_servers --snapshot-interval 1 --metrics-port 9100
 
 # the reference: the same scenario in one process
 "$client" run "$scenario" --csv "$tmp/ref.csv" --quiet

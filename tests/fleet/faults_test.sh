@@ -25,11 +25,7 @@ fail() {
   echo "--- recorder (last lines)" >&2; tail -n 8 "$tmp/rec.err" >&2 || true
   exit 1
 }
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
-    >"$tmp/s$i.log" 2>&1 &
-done
-fleet_wait_joined
+fleet_start_servers
 
 "$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --publish-rate 200 \
   --out "$tmp/rec.mcap" --lcm-url "$url" --timeout 10 >"$tmp/rec.out" 2>"$tmp/rec.err" &

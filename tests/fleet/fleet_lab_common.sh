@@ -8,6 +8,10 @@
 #                            hosts 5-7 (as the issue lays the lab out: a
 #                            server's death is not an etcd member's);
 #                            sets name, tmp, url, endpoints
+#   fleet_start_servers ARG...  groundsim-server ($server) s1-s3 in hosts 1-3
+#                            (one worker, --address, the lab's bus and etcd,
+#                            then ARG...), logs in $tmp/s<i>.log, pids in
+#                            pid[i]; waits until they joined (fleet_wait_joined)
 #   fleet_wait_joined        waits until servers s1-s3 (logs $tmp/s<i>.log)
 #                            said they joined; else calls the test's fail
 
@@ -34,4 +38,14 @@ fleet_wait_joined() {
     for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
     grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
   done
+}
+
+fleet_start_servers() {
+  local i
+  for i in 1 2 3; do
+    "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" \
+      --address "$("$lab" addr "$i")" --workers 1 "$@" >"$tmp/s$i.log" 2>&1 &
+    pid[$i]=$!
+  done
+  fleet_wait_joined
 }

@@ -21,11 +21,7 @@ fail() {
 }
 max=64
 [ "$placement" = packed ] && max=25
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
-    --placement "$placement" --max-sessions "$max" --quiet >"$tmp/s$i.log" 2>&1 &
-done
-fleet_wait_joined
+fleet_start_servers --placement "$placement" --max-sessions "$max" --quiet
 sleep 1  # every server has beaten once: the capacities are in the members' registrations
 
 for k in $(seq 60); do

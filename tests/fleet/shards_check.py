@@ -37,15 +37,15 @@ for seed in (11, 12):
             assert np.asarray(u).tobytes() == np.asarray(v).tobytes(), f"seed {seed} step {k}: {what} differ"
 print(f"{2 * steps} steps of {n} envs bit-identical to make_vec")
 
-t0 = time.perf_counter()
-for act in seq:
-    local.step(act)
-t1 = time.perf_counter()
-for act in seq:
-    remote.step(act)
-t2 = time.perf_counter()
-print(f"per step: in process {1e3 * (t1 - t0) / steps:.2f} ms, {shards} shards over the lab "
-      f"{1e3 * (t2 - t1) / steps:.2f} ms")
+def ms_per_step(env, actions):
+    t = time.perf_counter()
+    for act in actions:
+        env.step(act)
+    return 1e3 * (time.perf_counter() - t) / len(actions)
+
+
+print(f"per step: in process {ms_per_step(local, seq):.2f} ms, {shards} shards over the lab "
+      f"{ms_per_step(remote, seq):.2f} ms")
 remote.close()
 local.close()
 
@@ -60,14 +60,7 @@ if per_shard:
     acts = [rng.uniform(low, high, size=(big, low.size)).astype(np.float32) for _ in range(20)]
     for act in acts[:5]:  # warm up both
         local.step(act), remote.step(act)
-    t0 = time.perf_counter()
-    for act in acts:
-        local.step(act)
-    t1 = time.perf_counter()
-    for act in acts:
-        remote.step(act)
-    t2 = time.perf_counter()
-    a, b = 1e3 * (t1 - t0) / len(acts), 1e3 * (t2 - t1) / len(acts)
+    a, b = ms_per_step(local, acts), ms_per_step(remote, acts)
     print(f"{shards} shards x {per_shard} envs: in process {a:.2f} ms per step, over the lab {b:.2f} ms "
           f"(overhead {b - a:.2f} ms, {b / a:.2f}x)")
     remote.close()

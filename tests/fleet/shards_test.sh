@@ -16,11 +16,7 @@ fail() {
   echo "FAIL: $*" >&2
   exit 1
 }
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "s$i" --workers 1 \
-    >"$tmp/s$i.log" 2>&1 &
-done
-fleet_wait_joined
+fleet_start_servers
 sleep 1  # every server registered its capacity
 marker="$tmp/marker"
 (for _ in $(seq 2400); do [ -e "$marker" ] && break; sleep 0.05; done
