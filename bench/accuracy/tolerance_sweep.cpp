@@ -20,6 +20,7 @@
 
 #include "accuracy/error_measure.hpp"
 #include "accuracy/live_estimate.hpp"
+#include "accuracy/model_options.hpp"
 #include "accuracy/pilot.hpp"
 #include "accuracy/trajectory.hpp"
 #include "physics/checks/stability.hpp"
@@ -125,6 +126,21 @@ void liveEstimate(const accuracy::Choice& c, Row& row) {
   scenario::stepScene(scene, plain, n);
   const double without = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   row.live_wall_ratio = with / std::max(without, 1e-9);
+}
+
+// " | model NAME gap G" when the choice swapped the model (NAME with '_'
+// for spaces, for tolerance_tables.py), else the models kept out, briefly
+std::string modelNote(const accuracy::Choice& c) {
+  std::string out;
+  for (size_t k = 0; k < c.models.size(); ++k) {
+    std::string name = c.models[k].name;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    if (static_cast<int>(k) + 1 == c.model)
+      out += " | model " + name + " gap " + fmt(c.model_gap);
+    else
+      out += " | kept " + name + (std::isfinite(c.models[k].gap) ? " gap " + fmt(c.models[k].gap) : " (not piloted)");
+  }
+  return out;
 }
 
 }  // namespace
@@ -252,11 +268,23 @@ int main(int argc, char** argv) {
       accuracy::PilotOptions po;
       row.choice = accuracy::chooseSettings(s, tol, po);
       const auto same = std::find_if(cells.begin(), cells.end(), [&](const Cell& c) {
-        return c.kind == row.choice.integrator && std::abs(c.dt / row.choice.dt - 1) < 1e-9 &&
+        return row.choice.model == 0 && c.kind == row.choice.integrator && std::abs(c.dt / row.choice.dt - 1) < 1e-9 &&
                c.floor == row.choice.contact_substeps;
       });
-      row.chosen = same != cells.end() ? *same
-                                       : runCell(s, row.choice.integrator, row.choice.dt, row.choice.contact_substeps, ref());
+      if (same != cells.end()) {
+        row.chosen = *same;
+      } else if (row.choice.model == 0) {
+        row.chosen = runCell(s, row.choice.integrator, row.choice.dt, row.choice.contact_substeps, ref());
+      } else {
+        // another model chosen: its run against the scene as written's
+        // reference; its evaluations counted in the user's model's work
+        // (the oracle's cells are the user's model's), so the cost compares
+        const Trajectory t = accuracy::runTrajectory(row.choice.scenario, s.duration);
+        row.chosen = Cell{row.choice.integrator, row.choice.dt, accuracy::compareRuns(t, ref()).value(), t.cost(),
+                          static_cast<double>(t.evaluations) / std::max(t.duration, 1e-9) *
+                              accuracy::workPerEvaluation(row.choice.scenario) / accuracy::workPerEvaluation(s),
+                          t.healthy, row.choice.contact_substeps};
+      }
       // the oracle: the fewest force evaluations per simulated second (the
       // chooser's own cost, exact), ties to the smaller wall time
       for (const Cell& c : cells)
@@ -268,14 +296,14 @@ int main(int argc, char** argv) {
         }
       liveEstimate(row.choice, row);
       std::printf("tol %-6g chose %-19s dt %-9.3g pred %s real %s | oracle %-19s dt %-9.3g cost x%.2f evals x%.2f | "
-                  "estimate %s (x%.2f, shadow %.0f%%, wall x%.2f, windows %s) | pilot %.2f s\n",
+                  "estimate %s (x%.2f, shadow %.0f%%, wall x%.2f, windows %s) | pilot %.2f s%s\n",
                   tol, integratorName(row.choice.integrator), row.choice.dt, fmt(row.choice.predicted_error).c_str(),
                   fmt(row.chosen.error).c_str(), row.oracle_found ? integratorName(row.oracle.kind) : "-",
                   row.oracle.dt, row.oracle_found ? row.chosen.cost / row.oracle.cost : 0.0,
                   row.oracle_found ? row.chosen.evals / row.oracle.evals : 0.0,
                   fmt(row.estimate).c_str(), row.estimate / std::max(row.chosen.error, 1e-300),
                   100 * row.estimate_cost, row.live_wall_ratio, fmt(row.windows).c_str(),
-                  row.choice.pilot_wall_seconds);
+                  row.choice.pilot_wall_seconds, modelNote(row.choice).c_str());
       if (verbose) std::printf("%s", row.choice.report().c_str());
       std::fflush(stdout);
       rows.push_back(row);

@@ -19,6 +19,9 @@ from collections import defaultdict
 head = re.compile(r"^## (\S+): reference (\S+) dt (\S+) \(uncertainty (\S+)\)")
 row = re.compile(r"^tol (\S+)\s+chose (\S+)\s+dt (\S+)\s+pred (\S+) real (\S+) \| oracle (\S+)\s+dt (\S+)\s+cost x(\S+)"
                  r"(?: evals x(\S+))? \| estimate (\S+) \(x(\S+), shadow (\d+)%")
+# a choice on another model than the scene's (its name, '_' for spaces, and
+# the bound of its converged solution's distance from the scene's)
+swapped = re.compile(r"\| model (\S+) gap (\S+)")
 
 
 def main(sweep, cells_path):
@@ -33,10 +36,12 @@ def main(sweep, cells_path):
             scene = m[1]
             uncert[scene] = float(m[4])
         elif m := row.match(line):
+            sw = swapped.search(line)
             rows.append(dict(scene=scene, tol=float(m[1]), kind=m[2], dt=float(m[3]), pred=float(m[4]),
                              real=float(m[5]), okind=m[6], odt=float(m[7]), cost=float(m[8]),
                              eratio=float(m[9]) if m[9] else None, est=float(m[10]), ratio=float(m[11]),
-                             shadow=int(m[12])))
+                             shadow=int(m[12]), model=sw[1].replace("_", " ") if sw else None,
+                             gap=float(sw[2]) if sw else None))
 
     def evals(r, kind, dt, error=None):
         best = None
@@ -69,7 +74,8 @@ def main(sweep, cells_path):
             # the bar is on force evaluations (exact; the chooser's own cost)
             cheap += r["okind"] != "-" and eratio is not None and eratio <= 2 + 1e-9
             est3 += 1 / 3 <= r["ratio"] <= 3
-            print(f"| {r['scene']} | {r['kind']} {r['dt']:.3g} | {r['pred']:.2e} | {r['real']:.2e} | "
+            chosen = f"{r['kind']} {r['dt']:.3g}" + (f" on {r['model']} (gap {r['gap']:.1e})" if r["model"] else "")
+            print(f"| {r['scene']} | {chosen} | {r['pred']:.2e} | {r['real']:.2e} | "
                   f"{'yes' if ok else '**no**'} | {r['cost']:.2f} | {f'{eratio:.2f}' if eratio else '-'} | "
                   f"{r['ratio']:.2f} |")
         print(f"\nJudged {judged}: within the tolerance {within} ({100 * within / max(judged, 1):.0f}%), "

@@ -38,6 +38,9 @@ struct PilotOptions {
   // tolerance at 1.5 only when the two differ by less than that
   double safety = 1.5;
   double min_dt = 1e-5;         // the finest step considered, s
+  // also pilot the cheaper wheel and tyre models the core offers for the
+  // scene's vehicles (model_options.hpp), each taken only where admitted
+  bool other_models = true;
   std::vector<IntegratorKind> integrators = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
                                              IntegratorKind::Rk4};
 };
@@ -73,10 +76,36 @@ struct IntegratorTrial {
   // be), for the windows' calibration
   std::vector<double> level_windows;
   double raw_order = 0.0;         // log2 of the last two differences' ratio, unclamped
+  // the model it ran: 0 the user's, k > 0 Choice::models[k - 1] (a cheaper
+  // wheel or tyre model); model_gap, the bound of that model's converged
+  // solution's distance from the user's, is part of every error it predicts
+  int model = 0;
+  double model_gap = 0.0;
+  // work units (scenario/budget.hpp) of one force evaluation of its model:
+  // evaluations of two models compare through it
+  double work_per_evaluation = 1.0;
   // predicted over the whole duration: measured at the pilot's steps, the
-  // fitted law below them, infinite above dt0
+  // fitted law below them, infinite above dt0; plus model_gap
   double error(double h) const;
 };
+
+// A cheaper model the pilot considered (model_options.hpp) and what it
+// found: the bound of the distance between its converged solution and the
+// user's (their most accurate pilot runs' difference plus each run's own
+// error), and whether that is within the fraction of the tolerance a model
+// may take (kModelShare).
+struct ModelTrial {
+  std::string name, what;
+  double gap = 0.0;                 // the bound (infinite: not measured)
+  double difference = 0.0;          // the two most accurate runs' difference
+  double user_error = 0.0, own_error = 0.0;  // each of those runs' error
+  bool admitted = false;            // gap within kModelShare x tolerance
+  std::string verdict;              // one line: why taken, kept out or not piloted
+};
+
+// A model may take at most this share of the tolerance: its converged
+// solution's distance from the user's, as bounded by the pilot.
+inline constexpr double kModelShare = 1.0 / 3.0;
 
 struct Choice {
   IntegratorKind integrator{};
@@ -96,6 +125,13 @@ struct Choice {
   double window_scale = 1.0;
   bool meets = false;             // predicted within the tolerance
   double tolerance = 0.0;
+  // the model chosen: 0 the user's, k > 0 models[k - 1] (its scenario runs)
+  int model = 0;
+  double model_gap = 0.0;         // part of predicted_error (0 with the user's model)
+  // work units per simulated s (evaluations x their model's work): the cost
+  // that compares models; predicted_cost is in the chosen model's evaluations
+  double predicted_work = 0.0;
+  std::vector<ModelTrial> models; // the cheaper models considered
   std::vector<IntegratorTrial> trials;
   double pilot_duration = 0.0;    // simulated s per trial run (the chosen trial's)
   double pilot_wall_seconds = 0.0;
@@ -130,8 +166,12 @@ double ladderStepAtMost(double h);
 // The integrator's nominal order on smooth problems.
 int nominalOrder(IntegratorKind kind);
 
-// Chooses for s, whose own settings (integrator, dt) are ignored; its
-// models (wheels, tyres, friction) are kept. Throws ScenarioError when no
+// Chooses for s, whose own settings (integrator, dt) are ignored. Its
+// models (wheels, tyres, friction) are kept unless a cheaper one the core
+// offers (model_options.hpp) is admitted: its converged solution bounded
+// within kModelShare of the tolerance of the user's, and its cheapest
+// setting, with that bound added to its predicted error, cheaper in work
+// than the user's model's. Throws ScenarioError when no
 // integrator can run the scene at all, naming each one's reason.
 Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o = {});
 

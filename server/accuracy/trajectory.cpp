@@ -42,7 +42,7 @@ void sample(const Simulator& sim, const scenario::Scene& scene, std::vector<Vec3
 
 }  // namespace
 
-Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order) {
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order, bool with_energy) {
   const scenario::Scene scene = scenario::buildScene(s);
   Simulator sim(scene.built.model, scene.built.initial);
   const double dt = s.options.dt;
@@ -52,6 +52,10 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
   t.duration = static_cast<double>(total) * dt;
   t.positions.emplace_back();
   sample(sim, scene, t.positions.back(), nullptr);
+  auto energy = [&] {
+    if (with_energy) t.energy.push_back(sim.energy().total() - sim.state().drive_work);
+  };
+  energy();
   const auto t0 = std::chrono::steady_clock::now();
   std::unique_ptr<LiveEstimate> live;
   if (watch_order > 0) {
@@ -67,6 +71,7 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
     done += n;
     t.positions.emplace_back();
     sample(sim, scene, t.positions.back(), done == total ? &t.final_velocity : nullptr);
+    energy();
   }
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (live) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "physics/integrators/integrator.hpp"
@@ -60,6 +61,7 @@ TEST(Chooser, StaysInsideTheStabilityLimitAndNamesIt) {
                                                            "vehicle.coupling=\"bearing\""});
   const Choice c = chooseSettings(s, 0.1);
   SCOPED_TRACE(c.report());
+  std::printf("%s\n%s", c.line().c_str(), c.report().c_str());
   const IntegratorTrial* chosen = nullptr;
   for (const IntegratorTrial& t : c.trials)
     if (t.usable && t.kind == c.integrator && t.contact_substeps == c.contact_substeps) chosen = &t;
