@@ -11,6 +11,7 @@
 #include <boost/asio/signal_set.hpp>
 
 #include "bridge/contact_feed.hpp"
+#include "bridge/foxglove_server.hpp"
 #include "bridge/hub.hpp"
 #include "bridge/lcm_link.hpp"
 #include "bridge/web_server.hpp"
@@ -43,6 +44,16 @@ int main(int argc, char** argv) {
   app.add_option("--drive-torque", cfg.scale.drive_torque, "N m per wheel at full throttle")->capture_default_str();
   app.add_option("--brake-torque", cfg.scale.brake_torque, "N m per wheel at full brake")->capture_default_str();
   app.add_option("--steer", cfg.scale.steer, "rad of front-wheel steering at full lock")->capture_default_str();
+  int foxglove_port = -1;
+  foxglove::Options fox;
+  app.add_option("--foxglove-port", foxglove_port,
+                 "TCP port of a Foxglove WebSocket endpoint on --bind (Foxglove/Lichtblick: Open connection, Foxglove "
+                 "WebSocket, ws://127.0.0.1:N; 0: any free one, printed; docs/logging.md); none by default")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--foxglove-outbox", fox.outbox,
+                 "data messages a Foxglove client may fall behind by; the oldest are dropped beyond (counted)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 20));
   app.add_flag("--quiet", quiet, "no connection and refusal log on stderr");
   CLI11_PARSE(app, argc, argv);
   cfg.log = !quiet;
@@ -101,6 +112,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "groundsim-web: cannot listen on %s:%d: %s\n", bind.c_str(), port, e.what());
     return 1;
   }
+  // live sessions for Foxglove and Lichtblick, on a port of their own (foxglove_server.hpp)
+  std::unique_ptr<foxglove::Server> foxglove_server;
+  if (foxglove_port >= 0) {
+    fox.log = !quiet;
+    foxglove_server = std::make_unique<foxglove::Server>(io, &link.bus(), fox,
+                                                         [&](const std::string& c, const std::string& r) {
+                                                           if (forward.bad) forward.bad(c, r);
+                                                         });
+    try {
+      foxglove_server->listen(bind, static_cast<unsigned short>(foxglove_port));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "groundsim-web: cannot listen on %s:%d: %s\n", bind.c_str(), foxglove_port, e.what());
+      return 1;
+    }
+    server.addMetrics([&] { return foxglove_server->metrics(); });
+  }
   link.start();
 
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -110,6 +137,9 @@ int main(int argc, char** argv) {
   });
   std::printf("groundsim-web: open http://%s:%u/ (LCM %s)\n", bind == "0.0.0.0" ? "127.0.0.1" : bind.c_str(),
               server.port(), lcm_url.c_str());
+  if (foxglove_server)
+    std::printf("groundsim-web: foxglove ws://%s:%u/\n", bind == "0.0.0.0" ? "127.0.0.1" : bind.c_str(),
+                foxglove_server->port());
   std::fflush(stdout);
   io.run();
   link.stop();

@@ -190,12 +190,14 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files,
-              std::shared_ptr<WebTraffic> traffic, std::shared_ptr<const Recordings> recordings)
+              std::shared_ptr<WebTraffic> traffic, std::shared_ptr<const Recordings> recordings,
+              std::shared_ptr<std::function<std::string()>> more_metrics)
       : stream_(std::move(socket)),
         hub_(hub),
         files_(std::move(files)),
         traffic_(std::move(traffic)),
-        recordings_(std::move(recordings)) {}
+        recordings_(std::move(recordings)),
+        more_metrics_(std::move(more_metrics)) {}
 
   void read() {
     parser_.emplace();
@@ -234,7 +236,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       res->result(http::status::ok);
       res->set(http::field::content_type, metrics ? net::kMetricsContentType : "application/json");
       res->set(http::field::cache_control, "no-store");
-      if (req.method() == http::verb::get) res->body() = metrics ? bridgeMetrics(hub_, *traffic_) : bridgeHealth(hub_) + "\n";
+      if (req.method() == http::verb::get)
+        res->body() = metrics ? bridgeMetrics(hub_, *traffic_) + (*more_metrics_ ? (*more_metrics_)() : "")
+                              : bridgeHealth(hub_) + "\n";
     } else if (path == "/recordings" || path.rfind("/recordings/", 0) == 0) {
       return serveRecording(path, q == std::string::npos ? "" : target.substr(q + 1), std::move(res));
     } else if (it == files_->end()) {
@@ -297,6 +301,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
   std::shared_ptr<WebTraffic> traffic_;
   std::shared_ptr<const Recordings> recordings_;
+  std::shared_ptr<std::function<std::string()>> more_metrics_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
 
@@ -368,7 +373,7 @@ void WebServer::accept() {
     if (!ec) {
       socket.set_option(tcp::no_delay(true), ec);
       socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
-      std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_, recordings_)->read();
+      std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_, recordings_, more_metrics_)->read();
     }
     if (acceptor_.is_open()) accept();
   });

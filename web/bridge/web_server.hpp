@@ -7,6 +7,7 @@
 // thread runs every socket; nothing here blocks it.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -44,6 +45,8 @@ class WebServer {
   // Throws boost::system::system_error when the address cannot be bound.
   void listen(const std::string& address, unsigned short port);
   unsigned short port() const { return port_; }
+  // More lines for GET /metrics (I/O thread): the Foxglove endpoint's (foxglove_server.hpp).
+  void addMetrics(std::function<std::string()> more) { *more_metrics_ = std::move(more); }
 
  private:
   void accept();
@@ -53,6 +56,7 @@ class WebServer {
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
   std::shared_ptr<WebTraffic> traffic_;
   std::shared_ptr<const Recordings> recordings_;
+  std::shared_ptr<std::function<std::string()>> more_metrics_ = std::make_shared<std::function<std::string()>>();
   boost::asio::ip::tcp::acceptor acceptor_;
   unsigned short port_ = 0;
 };
