@@ -1,0 +1,165 @@
+// Foxglove's WebSocket protocol, live: the bridge's --foxglove-port endpoint
+// against a real groundsim-server over LCM, with the client library
+// Foxglove's own tools used (npm @foxglove/ws-protocol, subprotocol
+// foxglove.websocket.v1) and a raw client asking for foxglove.sdk.v1, the
+// only subprotocol today's Foxglove SDK servers accept.
+//
+// - both handshakes answer with the subprotocol asked for (sdk.v1 when a
+//   client offers both); anything else is refused with 400 and the reason;
+// - a session created with `groundsim create` is advertised: state, events,
+//   applied, and car_state (a road car) with encoding json and a JSON Schema;
+// - subscribed, its states arrive as message-data frames whose JSON
+//   validates against the advertised schema (and declares no field the
+//   schema lacks), seq strictly increasing with no gap, timestamps the
+//   bridge's receive time (ns since the Unix epoch);
+// - unsubscribed, they stop; the session stopped, its channels are
+//   unadvertised;
+// - the bridge's /metrics counts the clients and messages.
+// Figures printed: messages per second to a client and the delay from the
+// bridge's receive timestamp to the client's reading of the frame.
+import * as f from './foxglove_common.mjs';
+
+const { FoxgloveClient } = f.require('@foxglove/ws-protocol');
+const Ajv2020 = f.require('ajv/dist/2020').default;
+const ajv = new Ajv2020({ strict: false, allErrors: true });
+
+// A copy of a schema in which every object declares all its fields: a field
+// the schema does not describe fails validation (schema drift).
+function closed(schema) {
+  if (Array.isArray(schema)) return schema.map(closed);
+  if (!schema || typeof schema !== 'object') return schema;
+  const out = {};
+  for (const [k, v] of Object.entries(schema)) out[k] = closed(v);
+  if (out.type === 'object' && out.properties) out.additionalProperties = false;
+  return out;
+}
+
+const { http, ws } = await f.startServices();
+console.log(`bridge ${http}, foxglove ${ws}`);
+
+// ---- refusals: no subprotocol of ours -------------------------------------------
+for (const protocols of [['foo.bar.v1'], []]) {
+  const c = f.rawClient(ws, protocols);
+  await f.until(`a refusal of ${JSON.stringify(protocols)}`, () => c.refused);
+  if (c.refused.status !== 400 || !c.refused.body.includes('foxglove.sdk.v1'))
+    await f.fail(`subprotocols ${JSON.stringify(protocols)}: ${JSON.stringify(c.refused)}`);
+  console.log(`refused ${JSON.stringify(protocols)}: ${c.refused.status} ${c.refused.body.trim()}`);
+}
+{
+  const both = f.rawClient(ws, ['foxglove.websocket.v1', 'foxglove.sdk.v1']);
+  await both.open();
+  if (both.ws.protocol !== 'foxglove.sdk.v1') await f.fail(`offered both, got ${both.ws.protocol}`);
+  both.ws.close();
+}
+
+// ---- client A: @foxglove/ws-protocol's FoxgloveClient (foxglove.websocket.v1) --------
+const aSocket = new f.WebSocket(ws, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+const a = new FoxgloveClient({ ws: aSocket });
+const aChannels = new Map();
+const aStatus = [];
+let aInfo = null;
+const aData = new Map();  // subscription -> [{ns, at, json}]
+a.on('serverInfo', (i) => { aInfo = i; });
+a.on('status', (s) => aStatus.push(s));
+a.on('error', (e) => f.fail(`client A: ${e}`));
+a.on('advertise', (chs) => { for (const c of chs) aChannels.set(c.id, c); });
+a.on('unadvertise', (ids) => { for (const id of ids) aChannels.delete(id); });
+a.on('message', ({ subscriptionId, timestamp, data }) => {
+  const json = JSON.parse(new TextDecoder().decode(data));
+  if (!aData.has(subscriptionId)) aData.set(subscriptionId, []);
+  aData.get(subscriptionId).push({ ns: timestamp, at: Date.now(), json });
+});
+await f.until('client A to get serverInfo and the first advertise', () => aInfo && aChannels.size > 0);
+if (aSocket.protocol !== 'foxglove.websocket.v1') await f.fail(`client A got subprotocol ${aSocket.protocol}`);
+console.log(`serverInfo: ${JSON.stringify(aInfo)}`);
+if (![...aChannels.values()].some((c) => c.topic === '/events')) await f.fail('no /events channel');
+
+// ---- client B: raw, foxglove.sdk.v1 ---------------------------------------------
+const b = f.rawClient(ws, ['foxglove.sdk.v1']);
+await b.open();
+if (b.ws.protocol !== 'foxglove.sdk.v1') await f.fail(`client B got subprotocol ${b.ws.protocol}`);
+await f.until('client B to get serverInfo and advertise', () => b.texts.length >= 2);
+if (b.texts[0].op !== 'serverInfo' || b.texts[1].op !== 'advertise')
+  await f.fail(`client B's first messages: ${JSON.stringify(b.texts.map((t) => t.op))}`);
+
+// ---- a session comes: its channels are advertised --------------------------------
+const id = f.createSession('sedan.json', '--publish-rate', '100');
+console.log(`groundsim create: ${id}`);
+const topic = (c, t) => [...c.values()].find((ch) => ch.topic === t);
+const wanted = ['state', 'events', 'applied', 'car_state'].map((s) => `/${id}/${s}`);
+await f.until(`channels ${wanted.join(', ')} at client A`, () => wanted.every((t) => topic(aChannels, t)));
+await f.until('the same at client B', () => wanted.every((t) => b.topic(t)));
+const stateCh = topic(aChannels, `/${id}/state`);
+for (const t of wanted) {
+  const ch = topic(aChannels, t);
+  if (ch.encoding !== 'json' || ch.schemaEncoding !== 'jsonschema' || !ch.schemaName.startsWith('groundsim.'))
+    await f.fail(`channel ${t}: ${JSON.stringify({ ...ch, schema: '...' })}`);
+}
+console.log(`advertised: ${wanted.map((t) => `${t} (${topic(aChannels, t).schemaName})`).join(', ')}`);
+const validate = ajv.compile(JSON.parse(stateCh.schema));
+const validateClosed = ajv.compile(closed(JSON.parse(stateCh.schema)));
+const carCh = topic(aChannels, `/${id}/car_state`);
+const validateCar = ajv.compile(closed(JSON.parse(carCh.schema)));
+
+// ---- subscribed: states flow ----------------------------------------------------
+const aState = a.subscribe(stateCh.id);
+const aCar = a.subscribe(carCh.id);
+const bStateCh = b.topic(`/${id}/state`);
+b.send({ op: 'subscribe', subscriptions: [{ id: 7, channelId: bStateCh.id }] });
+await f.until('100 states at client A', () => (aData.get(aState) || []).length >= 100);
+const t0 = Date.now(), n0 = aData.get(aState).length;
+await f.sleep(3000);
+const rate = (aData.get(aState).length - n0) / ((Date.now() - t0) / 1000);
+const states = aData.get(aState);
+for (const [i, m] of states.entries()) {
+  if (!validate(m.json)) await f.fail(`state ${i} does not validate: ${ajv.errorsText(validate.errors)}`);
+  if (!validateClosed(m.json)) await f.fail(`state ${i} has a field its schema lacks: ${ajv.errorsText(validateClosed.errors)}`);
+  if (m.json.session_id !== id) await f.fail(`state ${i} of session ${m.json.session_id}`);
+}
+for (const [i, m] of (aData.get(aCar) || []).entries())
+  if (!validateCar(m.json)) await f.fail(`car state ${i} does not validate: ${ajv.errorsText(validateCar.errors)}`);
+const sq = f.seqCheck(states.map((m) => m.json));
+if (sq.backwards || sq.gaps) await f.fail(`client A's states: ${JSON.stringify(sq)} (seq must increase by 1)`);
+for (let i = 1; i < states.length; ++i)
+  if (states[i].ns < states[i - 1].ns) await f.fail(`timestamps go back at state ${i}`);
+const delays = states.map((m) => m.at - Number(m.ns / 1000000n));
+const wall = Math.abs(Number(states.at(-1).ns / 1000000n) - states.at(-1).at);
+if (wall > 5000) await f.fail(`the timestamp is ${wall} ms from this clock: not the receive time`);
+console.log(`client A: ${states.length} states, seq ${states[0].json.seq}..${states.at(-1).json.seq} with no gap, ` +
+  `${rate.toFixed(1)} states/s, ${(aData.get(aCar) || []).length} car states; receive timestamp to client: ` +
+  `median ${f.percentile(delays, 0.5)} ms, p99 ${f.percentile(delays, 0.99)} ms`);
+
+await f.until('states at client B', () => b.data.length >= 50);
+if (b.data.some((d) => d.sub !== 7)) await f.fail('client B got data for a subscription it did not make');
+const bsq = f.seqCheck(b.data.map((d) => d.json));
+if (bsq.backwards || bsq.gaps) await f.fail(`client B's states: ${JSON.stringify(bsq)}`);
+if (!b.data.every((d) => validate(d.json))) await f.fail('a state at client B does not validate');
+console.log(`client B (foxglove.sdk.v1): ${b.data.length} states, no gap`);
+if (aStatus.length || b.statuses.length) await f.fail(`status messages: ${JSON.stringify([...aStatus, ...b.statuses])}`);
+
+// ---- metrics ----------------------------------------------------------------------
+const m = await f.metrics(http);
+console.log(`metrics: clients ${m.groundsim_web_foxglove_clients}, subscriptions ${m.groundsim_web_foxglove_subscriptions}, ` +
+  `sent ${m.groundsim_web_foxglove_messages_sent_total}, refused handshakes ${m.groundsim_web_foxglove_handshakes_refused_total}`);
+if (m.groundsim_web_foxglove_clients !== 2 || m.groundsim_web_foxglove_subscriptions !== 3 ||
+    m.groundsim_web_foxglove_handshakes_refused_total !== 2 || !(m.groundsim_web_foxglove_messages_sent_total > 150))
+  await f.fail(`metrics: ${JSON.stringify(m)}`);
+
+// ---- unsubscribed: no more -----------------------------------------------------------
+b.send({ op: 'unsubscribe', subscriptionIds: [7] });
+await f.sleep(300);  // frames already on their way
+const bStopped = b.data.length;
+await f.sleep(1000);
+if (b.data.length !== bStopped) await f.fail(`client B got ${b.data.length - bStopped} states after unsubscribing`);
+
+// ---- the session goes: its channels are unadvertised -------------------------------------
+f.cli('stop', id);
+await f.until(`the session's channels unadvertised at A`, () => wanted.every((t) => !topic(aChannels, t)), 15000);
+await f.until('and at B', () => wanted.every((t) => !b.topic(t)), 5000);
+const aStopped = aData.get(aState).length;
+await f.sleep(500);
+if (aData.get(aState).length !== aStopped) await f.fail('states after the channel was unadvertised');
+const m2 = await f.metrics(http);
+if (m2.groundsim_web_foxglove_subscriptions !== 0) await f.fail(`subscriptions left: ${m2.groundsim_web_foxglove_subscriptions}`);
+await f.pass(`${states.length} states to the npm client at ${rate.toFixed(1)}/s, the raw sdk.v1 client too; ` +
+  'channels advertised and unadvertised with the session');
