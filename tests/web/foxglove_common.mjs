@@ -112,7 +112,7 @@ export function rawClient(url, protocols) {
     }
     if (buf[0] !== 1) throw new Error(`binary opcode ${buf[0]}, expected 1 (message data)`);
     c.data.push({ sub: buf.readUInt32LE(1), ns: buf.readBigUInt64LE(5), json: JSON.parse(buf.subarray(13).toString()),
-      at: Date.now() });
+      at: performance.timeOrigin + performance.now() });
   });
   ws.on('close', (code, reason) => { c.closed = { code, reason: reason.toString() }; });
   ws.on('unexpected-response', (req, res) => {
