@@ -14,7 +14,7 @@
 //   bridge's receive time (ns since the Unix epoch);
 // - unsubscribed, they stop; the session stopped, its channels are
 //   unadvertised;
-// - the bridge's /metrics counts the clients and messages.
+// - the bridge's /metrics counts the clients and messages (promtool clean).
 // Figures printed: messages per second to a client and the delay from the
 // bridge's receive timestamp to the client's reading of the frame.
 import * as f from './foxglove_common.mjs';
@@ -67,7 +67,7 @@ a.on('unadvertise', (ids) => { for (const id of ids) aChannels.delete(id); });
 a.on('message', ({ subscriptionId, timestamp, data }) => {
   const json = JSON.parse(new TextDecoder().decode(data));
   if (!aData.has(subscriptionId)) aData.set(subscriptionId, []);
-  aData.get(subscriptionId).push({ ns: timestamp, at: Date.now(), json });
+  aData.get(subscriptionId).push({ ns: timestamp, at: performance.timeOrigin + performance.now(), json });
 });
 await f.until('client A to get serverInfo and the first advertise', () => aInfo && aChannels.size > 0);
 if (aSocket.protocol !== 'foxglove.websocket.v1') await f.fail(`client A got subprotocol ${aSocket.protocol}`);
@@ -122,12 +122,12 @@ const sq = f.seqCheck(states.map((m) => m.json));
 if (sq.backwards || sq.gaps) await f.fail(`client A's states: ${JSON.stringify(sq)} (seq must increase by 1)`);
 for (let i = 1; i < states.length; ++i)
   if (states[i].ns < states[i - 1].ns) await f.fail(`timestamps go back at state ${i}`);
-const delays = states.map((m) => m.at - Number(m.ns / 1000000n));
+const delays = states.map((m) => m.at - Number(m.ns) / 1e6);
 const wall = Math.abs(Number(states.at(-1).ns / 1000000n) - states.at(-1).at);
 if (wall > 5000) await f.fail(`the timestamp is ${wall} ms from this clock: not the receive time`);
 console.log(`client A: ${states.length} states, seq ${states[0].json.seq}..${states.at(-1).json.seq} with no gap, ` +
   `${rate.toFixed(1)} states/s, ${(aData.get(aCar) || []).length} car states; receive timestamp to client: ` +
-  `median ${f.percentile(delays, 0.5)} ms, p99 ${f.percentile(delays, 0.99)} ms`);
+  `median ${f.percentile(delays, 0.5).toFixed(2)} ms, p99 ${f.percentile(delays, 0.99).toFixed(2)} ms`);
 
 await f.until('states at client B', () => b.data.length >= 50);
 if (b.data.some((d) => d.sub !== 7)) await f.fail('client B got data for a subscription it did not make');
@@ -144,6 +144,16 @@ console.log(`metrics: clients ${m.groundsim_web_foxglove_clients}, subscriptions
 if (m.groundsim_web_foxglove_clients !== 2 || m.groundsim_web_foxglove_subscriptions !== 3 ||
     m.groundsim_web_foxglove_handshakes_refused_total !== 2 || !(m.groundsim_web_foxglove_messages_sent_total > 150))
   await f.fail(`metrics: ${JSON.stringify(m)}`);
+
+// promtool (Debian's prometheus), when installed, finds the text clean
+{
+  const { spawnSync } = await import('node:child_process');
+  const text = await (await fetch(`${http}metrics`)).text();
+  const r = spawnSync('promtool', ['check', 'metrics'], { input: text, encoding: 'utf8' });
+  if (r.error) console.log('promtool: not installed, not checked');
+  else if (r.status !== 0) await f.fail(`promtool check metrics: ${r.stdout}${r.stderr}`);
+  else console.log('promtool check metrics: clean');
+}
 
 // ---- unsubscribed: no more -----------------------------------------------------------
 b.send({ op: 'unsubscribe', subscriptionIds: [7] });
