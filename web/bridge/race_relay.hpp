@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "physics/ground/ground.hpp"
 #include "scenario/race_spec.hpp"
 
 namespace groundsim::web {
@@ -35,5 +36,17 @@ class RaceRelay {
 // [left x, left y, right x, right y]) and the track's centre line and half
 // width. A browser joining at any time has it, whatever events it missed.
 nlohmann::json raceLayout(const scenario::RaceSpec& race);
+
+// The track as the page draws it (a ribbon, web/src/track.js), in the joined
+// message's layout (`track`): the centre line resampled every `s` step
+// (1 m, coarser on tracks longer than 1.5 km), each station's position
+// [x, y], unit normal to the left [nx, ny] (the tangent smoothed over 3 m
+// each way, so a polyline's corners do not fold the ribbon's edges) and the
+// ground's height at each lateral offset of `offsets` (every 1.5 m or less
+// across [-half_width, half_width], solved from H(x, y, z) = 0 through the
+// scenario's ground as the terrain's grids are), and the Coulomb mu at the
+// centre (scene_mu where the ground has no say). Null without a centre line
+// or a width.
+nlohmann::json trackRibbon(const Ground& g, const scenario::RaceSpec& race, double scene_mu);
 
 }  // namespace groundsim::web

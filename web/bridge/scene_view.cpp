@@ -186,7 +186,10 @@ std::shared_ptr<SceneView> makeSceneView(const std::string& scenario_json, const
                   {"objects", objectsLayout(m, scene.built.initial)},
                   {"friction", sc.options.contact.friction},
                   {"horizon", horizonGrids(*view->ground, centre.x(), centre.y(), sc.options.contact.friction)}};
-  if (sc.race) view->layout["race"] = raceLayout(*sc.race);
+  if (sc.race) {
+    view->layout["race"] = raceLayout(*sc.race);
+    view->layout["track"] = trackRibbon(*view->ground, *sc.race, sc.options.contact.friction);
+  }
   return view;
 }
 

@@ -23,6 +23,7 @@ export const app = {
   figure: false,  // the report's figure 1 (points and springs) drawn over the bodies (key F)
   replay: null,   // the replay view (replay.js) while one is open
   terrain: null, three: null, skids: null,
+  track: null,      // the race's track as drawn (track.js)
   send: () => {},
 };
 window.groundsim = app;

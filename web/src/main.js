@@ -1,7 +1,8 @@
 // The page: wires the views together and runs the loop that draws at the
 // display's rate (renderer.setAnimationLoop). Each concern is a module:
 // app.js (shared state, window.groundsim), render.js (renderer, sky, sun,
-// fog), terrain.js (ground to the horizon), vehicle.js (cars), objects.js
+// fog), terrain.js (ground to the horizon), track.js (a race's track as a
+// ribbon), vehicle.js (cars), objects.js
 // (obstacles), hits.js (hits), skids.js (tyre marks), camera.js (cameras),
 // hud.js (HUD, events), lobby.js (lobby), replay.js (recordings on a
 // timeline), net.js (WebSocket), interp.js (smoothing), input.js and
@@ -24,6 +25,7 @@ import { Input, RemapScreen } from './input.js';
 import { Driver } from './drive.js';
 import { probeHorizon } from './probe.js';
 import { RaceView } from './race.js';
+import { TrackRibbon } from './track.js';
 import { Prediction } from './predict.js';
 import { LagMeter } from './lag.js';
 
@@ -44,8 +46,9 @@ const input = new Input(window);
 const remap = new RemapScreen(input);  // gamepad / wheel controls (key G)
 const touch = matchMedia('(pointer: coarse)').matches || navigator.maxTouchPoints > 0 ? input.touchControls() : null;
 const race = new RaceView(scene);  // races: HUD, gates, ghost (race.js, ghost.js)
+const track = new TrackRibbon(scene);  // the race's track, drawn from its centre line (track.js)
 const net = new Connection(`${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`);
-Object.assign(app, { race, hits, terrain, skids, three: { scene, camera, renderer: world.renderer, sky: world.sky, world } });
+Object.assign(app, { race, track, hits, terrain, skids, three: { scene, camera, renderer: world.renderer, sky: world.sky, world } });
 app.send = (m) => net.send(m);
 const prediction = new Prediction();
 const lag = new LagMeter(net);
@@ -62,6 +65,7 @@ function clearScene() {
   hits.reset();
   skids.reset();
   race.dispose();
+  track.clear();
   playback.reset();
   prediction.stop('no session');
   terrain.clear();
@@ -100,6 +104,7 @@ net.on('joined', (m) => {
   if (m.note) addEvent(m.note, 'w');
   terrain.setLayout(m.layout);
   race.setLayout(m.layout && m.layout.race);
+  track.set(m.layout && m.layout.track, m.layout && m.layout.race);
   world.sky.visible = true;
   app.objects = new SceneObjects(scene, m.layout && m.layout.objects);
   app.objectMeshes = app.objects.meshes.length;

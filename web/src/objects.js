@@ -4,8 +4,13 @@
 // one as a red and white kerb), a box with mass as a crate, a cone as an
 // orange traffic cone with a white band, other shapes in plain materials.
 // Objects with mass move with the session's contact states (by name).
+// Static objects are baked into one mesh per material (a circuit's 38 walls
+// and kerbs, a stage's 24 cones: 2 draw calls each with the shadow pass
+// instead of 76 or 96); each keeps an invisible mesh of its own for
+// describe() and its name.
 import * as THREE from 'three';
 import { RoundedBoxGeometry } from 'three/examples/jsm/geometries/RoundedBoxGeometry.js';
+import { mergeGeometries } from 'three/examples/jsm/utils/BufferGeometryUtils.js';
 
 function canvasTexture(draw, size = 128) {
   const c = document.createElement('canvas');
@@ -49,6 +54,11 @@ function tiled(tex, length, tile) {
   t.repeat.set(Math.max(1, Math.round(length / tile)), 1);
   return t;
 }
+// the material a static object's part is baked with, by kind; its map's repeat goes into the uvs
+const BAKED = {
+  kerb: () => mat('baked-kerb', () => new THREE.MeshLambertMaterial({ map: kerb() })),
+  concrete: () => mat('baked-concrete', () => new THREE.MeshLambertMaterial({ map: concrete() })),
+};
 
 function boxMesh(o) {
   const [sx, sy, sz] = o.size;
@@ -61,9 +71,11 @@ function boxMesh(o) {
   } else if (sz < 0.35) {
     kind = 'kerb';
     material = new THREE.MeshLambertMaterial({ map: tiled(kerb(), Math.max(sx, sy), 1.0) });
+    material.userData.baked = 'kerb';
   } else {
     kind = sz > 1.6 ? 'wall' : 'barrier';
     material = new THREE.MeshLambertMaterial({ map: tiled(concrete(), Math.max(sx, sy), 2.0) });
+    material.userData.baked = 'concrete';
   }
   const m = new THREE.Mesh(geo, material);
   m.userData.kind = kind;
@@ -117,6 +129,7 @@ export class SceneObjects {
   constructor(scene, list) {
     this.scene = scene;
     this.byName = new Map();
+    const baked = new Map();  // material -> geometries in world coordinates
     this.meshes = (list || []).map((o) => {
       const m = objectMesh(o);
       m.position.set(...o.p);
@@ -124,8 +137,36 @@ export class SceneObjects {
       m.userData.layout = o;
       scene.add(m);
       this.byName.set(o.name, m);
+      if (o.static) {
+        m.updateMatrixWorld(true);
+        m.traverse((c) => {
+          if (!c.isMesh) return;
+          let g = c.geometry.index ? c.geometry.toNonIndexed() : c.geometry.clone();
+          g.applyMatrix4(c.matrixWorld);
+          for (const name of Object.keys(g.attributes)) if (!['position', 'normal', 'uv'].includes(name)) g.deleteAttribute(name);
+          let material = c.material;
+          const kind = material.userData.baked;
+          if (kind) {
+            const r = material.map.repeat, uv = g.attributes.uv;
+            for (let i = 0; i < uv.count; ++i) uv.setXY(i, uv.getX(i) * r.x, uv.getY(i) * r.y);
+            material = BAKED[kind]();
+          }
+          if (!baked.has(material)) baked.set(material, []);
+          baked.get(material).push(g);
+        });
+        m.visible = false;
+      }
       return m;
     });
+    this.baked = [];
+    for (const [material, geos] of baked) {
+      const merged = new THREE.Mesh(mergeGeometries(geos, false), material);
+      merged.name = 'static-objects';
+      merged.castShadow = merged.receiveShadow = true;
+      scene.add(merged);
+      this.baked.push(merged);
+      for (const g of geos) g.dispose();
+    }
   }
   // objects: the interpolated poses of the objects with mass (contact states)
   update(objects) {
@@ -143,7 +184,9 @@ export class SceneObjects {
   }
   dispose() {
     for (const m of this.meshes) this.scene.remove(m);
+    for (const m of this.baked || []) { this.scene.remove(m); m.geometry.dispose(); }
     this.meshes = [];
+    this.baked = [];
     this.byName.clear();
   }
 }

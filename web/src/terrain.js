@@ -24,7 +24,7 @@ export function surfaceOf(mu) {
   if (mu >= 0.17) return 'snow';
   return 'ice';
 }
-const PALETTE = {
+export const PALETTE = {
   asphalt: new THREE.Color(0x54565a), wet: new THREE.Color(0x2c3238), grass: new THREE.Color(0x5d7f38),
   snow: new THREE.Color(0xeef2f6), ice: new THREE.Color(0xb6d4e8),
   earth: new THREE.Color(0x7b6a4c), rock: new THREE.Color(0x7d7a74),
