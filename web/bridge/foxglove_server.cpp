@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdio>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <unordered_set>
 
@@ -53,7 +54,8 @@ class Server::Client : public std::enable_shared_from_this<Server::Client> {
       res.set(http::field::sec_websocket_protocol, p);
       res.set(http::field::server, "groundsim-web");
     }));
-    ws_.read_message_max(server_.opts_.max_frame_bytes);
+    // the limits are read()'s own (a message is read piecewise and dropped past max_message_bytes)
+    ws_.read_message_max(std::numeric_limits<std::size_t>::max());
     ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
       self->open_ = true;
@@ -76,7 +78,6 @@ class Server::Client : public std::enable_shared_from_this<Server::Client> {
       // not from inside the server's loop over its clients: later, on its own
       asio::post(ws_.get_executor(), [self = shared_from_this()] { self->close(); });
       open_ = false;  // nothing more is queued; close() still detaches
-      closing_ = true;
       return;
     }
     control_.push_back(std::move(text));
@@ -123,26 +124,24 @@ class Server::Client : public std::enable_shared_from_this<Server::Client> {
   };
 
   // Piece by piece, so that a message over max_message_bytes is read and
-  // dropped as it comes (never held whole) and answered with a status error;
-  // only a message over max_frame_bytes closes the client.
+  // dropped as it comes (never held whole) and answered with a status error.
+  // One over max_frame_bytes closes the client: the bridge says why in a
+  // close frame (1009) and reads on, dropping what comes, until the client's
+  // close frame (or Beast's close timeout), rather than let Beast's own
+  // limit close the socket at once: Boost 1.74's teardown resets a
+  // connection whose client is still sending, and the client then sees
+  // 1006 instead of the reason.
   void read() {
     ws_.async_read_some(buffer_, kReadChunk, [self = shared_from_this()](beast::error_code ec, std::size_t n) {
-      if (ec) {
-        if (ec == websocket::error::message_too_big) {
-          // Beast sends close code 1009 and closes; Boost 1.74's teardown
-          // does not drain what the client still sends, so the client may
-          // see the reset (1006) instead. Only this client goes.
-          ++self->server_.counters_.clients_closed;
-          ++self->server_.counters_.client_errors;
-          if (self->server_.opts_.log)
-            std::fprintf(stderr, "groundsim-web: foxglove client %s sent a message over %zu bytes: closed\n",
-                         self->name_.c_str(), self->server_.opts_.max_frame_bytes);
-        }
-        return self->close();
+      if (ec) return self->close();
+      if (self->draining_) {
+        self->buffer_.consume(self->buffer_.size());
+        return self->read();
       }
       if (!self->open_) return;
       self->message_bytes_ += n;
       if (self->message_bytes_ > self->server_.opts_.max_message_bytes) self->buffer_.consume(self->buffer_.size());
+      if (self->message_bytes_ > self->server_.opts_.max_frame_bytes) return self->tooBig();
       if (self->ws_.is_message_done()) {
         if (!self->ws_.got_text()) {
           self->server_.refuse(self.get(), "refused binary message: this server takes no client publishing "
@@ -159,6 +158,27 @@ class Server::Client : public std::enable_shared_from_this<Server::Client> {
       }
       if (self->open_) self->read();
     });
+  }
+
+  void tooBig() {
+    ++server_.counters_.clients_closed;
+    ++server_.counters_.client_errors;
+    if (server_.opts_.log)
+      std::fprintf(stderr, "groundsim-web: foxglove client %s sent a message over %zu bytes: closing\n",
+                   name_.c_str(), server_.opts_.max_frame_bytes);
+    // nothing more for it; the server forgets it now (not inside one of its loops: a read handler)
+    open_ = false;
+    draining_ = true;
+    control_.clear();
+    data_.clear();
+    if (attached_) {
+      attached_ = false;
+      server_.detach(this);
+    }
+    const std::string why = "message over " + std::to_string(server_.opts_.max_frame_bytes) + " bytes";
+    ws_.async_close(websocket::close_reason(websocket::close_code::too_big, why),
+                    [self = shared_from_this()](beast::error_code) {});
+    read();
   }
 
   void write() {
@@ -208,7 +228,8 @@ class Server::Client : public std::enable_shared_from_this<Server::Client> {
   std::deque<Data> data_;
   std::shared_ptr<const std::string> text_;  // being written
   Data current_{};                           // being written
-  bool writing_ = false, open_ = false, attached_ = false, closing_ = false;
+  bool writing_ = false, open_ = false, attached_ = false;
+  bool draining_ = false;  // closing for a message too big: what comes is dropped
   std::uint64_t dropped_ = 0, dropped_unreported_ = 0;
   std::size_t message_bytes_ = 0;  // of the message being read
   Clock::time_point last_drop_warning_{};
