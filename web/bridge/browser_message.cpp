@@ -86,6 +86,15 @@ class Fields {
   std::set<std::string> seen_{"op"};
 };
 
+// A player's name: at most 24 bytes of printable text (UTF-8 beyond ASCII
+// allowed), no control characters; "" when absent.
+std::string playerName(Fields& f) {
+  std::string s = f.string("player", 24, std::string());
+  for (unsigned char c : s)
+    if (c < 0x20 || c == 0x7f) refuse("/player", "must be printable text (no control characters)");
+  return s;
+}
+
 BrowserMessage readOp(const std::string& op, Fields& f) {
   if (op == "create") {
     CreateMsg m;
@@ -99,6 +108,7 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
     m.publish_rate = f.number("publish_rate", 0, 1000, 0.0);
     m.vehicles = f.integer("vehicles", 0, kMaxCreateVehicles, 0);
     m.drive = f.boolean("drive", true);
+    m.player = playerName(f);
     return m;
   }
   if (op == "join") {
@@ -109,6 +119,7 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
     if (role != "drive" && role != "spectate") refuse("/role", "must be drive or spectate, got \"" + role + "\"");
     m.role = role == "drive" ? Role::Drive : Role::Spectate;
     m.vehicle = f.integer("vehicle", -1, 31, -1);
+    m.player = playerName(f);
     return m;
   }
   if (op == "controls") {
@@ -130,7 +141,13 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
   if (op == "reset" || op == "pause" || op == "resume" || op == "respawn") return SessionOpMsg{op};
   if (op == "leave") return LeaveMsg{};
   if (op == "ping") return PingMsg{f.number("t", -1e300, 1e300, 0.0)};
-  refuse("/op", "unknown op \"" + op + "\" (create, join, controls, ground, reset, respawn, pause, resume, leave, ping)");
+  if (op == "preview") {
+    PreviewMsg m;
+    m.config = f.string("config", 128, std::nullopt);
+    if (!validConfigId(m.config)) refuse("/config", "must be a shipped scenario's path under the configs folder, got \"" + m.config + "\"");
+    return m;
+  }
+  refuse("/op", "unknown op \"" + op + "\" (create, join, controls, ground, reset, respawn, pause, resume, leave, ping, preview)");
 }
 
 }  // namespace

@@ -27,11 +27,13 @@ struct CreateMsg {
   double publish_rate = 0.0;   // Hz, 0: the scenario's
   int vehicles = 0;            // 0: the scenario's; n > 0 puts n copies of its car side by side
   bool drive = true;           // join it as its first driver
+  std::string player;          // the player's name as others see it ("" : none given); printable, <= 24 bytes
 };
 struct JoinMsg {
   std::string session;
   Role role = Role::Spectate;
   int vehicle = -1;            // -1: the first free one
+  std::string player;          // as in CreateMsg
 };
 struct ControlsMsg {
   Controls controls;
@@ -47,9 +49,12 @@ struct LeaveMsg {};
 struct PingMsg {
   double t = 0;
 };
+struct PreviewMsg {
+  std::string config;          // a shipped scenario: what its lobby card's picture is drawn from
+};
 
 using BrowserMessage =
-    std::variant<CreateMsg, JoinMsg, ControlsMsg, GroundMsg, SessionOpMsg, LeaveMsg, PingMsg>;
+    std::variant<CreateMsg, JoinMsg, ControlsMsg, GroundMsg, SessionOpMsg, LeaveMsg, PingMsg, PreviewMsg>;
 
 struct MessageError {
   std::string field;   // JSON pointer, "" for the text itself

@@ -176,7 +176,9 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
   if (auto* c = std::get_if<ControlsMsg>(&m)) return controls(p, ps, *c);
   if (auto* g = std::get_if<GroundMsg>(&m)) return ground(p, ps, *g);
   if (auto* j = std::get_if<JoinMsg>(&m)) return join(p, *j);
+  if (auto* v = std::get_if<PreviewMsg>(&m)) return preview(p, *v);
   if (auto* c = std::get_if<CreateMsg>(&m)) {
+    if (!c->player.empty()) ps.player = c->player;
     // a listed scenario, with as many cars as it hosts
     auto sc = scenarios_.find(c->config);
     if (sc == scenarios_.end()) return refuse(p, "create", "/config", "no shipped scenario named \"" + c->config + "\"");
@@ -333,6 +335,7 @@ void Hub::join(Peer* p, const JoinMsg& m) {
   SessionEntry& s = sessions_[m.session];
   s.pending.emplace_back(p, m);
   PeerState& ps = peers_[p];
+  if (!m.player.empty()) ps.player = m.player;
   ps.session = m.session;
   ps.role = Role::Spectate;
   ps.vehicle = -1;
@@ -463,8 +466,10 @@ void Hub::leave(Peer* p) {
   }
   const std::string id = ps.session;
   const int logged = ps.logged;
+  std::string player = std::move(ps.player);
   ps = PeerState{};
   ps.logged = logged;
+  ps.player = std::move(player);
   updateWatched(id);
   publishLobby();
 }
@@ -566,6 +571,33 @@ void Hub::sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m) {
     if (!rep) return refuse(p, op, "", "no server answered");
     if (!rep->ok) return refuse(p, op, "", rep->error);
     sendJson(p, json{{"op", "reply"}, {"request", op}, {"ok", true}}.dump());
+  });
+}
+
+void Hub::preview(Peer* p, const PreviewMsg& m) {
+  if (!scenarios_.count(m.config)) return refuse(p, "preview", "/config", "no shipped scenario named \"" + m.config + "\"");
+  if (auto it = previews_.find(m.config); it != previews_.end()) return p->send(it->second);
+  auto& waiting = preview_waiting_[m.config];
+  if (std::find(waiting.begin(), waiting.end(), p) == waiting.end()) waiting.push_back(p);
+  if (waiting.size() > 1) return;  // under way
+  const std::string id = m.config, dir = cfg_.configs_dir;
+  worker_.post([this, id, dir] {
+    json out;
+    try {
+      out = scenarioPreview(dir, id);
+    } catch (const std::exception& e) {
+      out = {{"error", e.what()}};
+    }
+    out["op"] = "preview";
+    out["config"] = id;
+    auto text = shared(out.dump());
+    asio::post(io_, [this, id, text] {
+      previews_[id] = text;
+      auto waiting = std::move(preview_waiting_[id]);
+      preview_waiting_.erase(id);
+      for (Peer* q : waiting)
+        if (peers_.count(q)) q->send(text);
+    });
   });
 }
 
@@ -694,12 +726,27 @@ void Hub::publishLobby() {
     auto it = sessions_.find(id);
     int drivers = 0, free = 0, watchers = 0;
     bool owned = false, unsized = true;
+    // who is in: a name per vehicle (null: free, "": a driver who gave none)
+    // and the spectators' names
+    json players = json::array(), spectators = json::array();
+    auto nameOf = [&](Peer* q) {
+      auto pq = peers_.find(q);
+      return pq == peers_.end() ? std::string() : pq->second.player;
+    };
     if (it != sessions_.end()) {
       unsized = it->second.drivers.empty();
       owned = !it->second.token.empty();
       watchers = static_cast<int>(it->second.watchers.size());
-      for (Peer* d : it->second.drivers) d ? ++drivers : ++free;
+      for (Peer* d : it->second.drivers) {
+        d ? ++drivers : ++free;
+        players.push_back(d ? json(nameOf(d)) : json(nullptr));
+      }
+      for (Peer* w : it->second.watchers)
+        if (std::find(it->second.drivers.begin(), it->second.drivers.end(), w) == it->second.drivers.end())
+          spectators.push_back(nameOf(w));
     }
+    j["players"] = std::move(players);
+    j["spectators"] = std::move(spectators);
     j["drivable"] = owned && (free > 0 || unsized);
     j["free"] = free;
     j["drivers"] = drivers;

@@ -98,6 +98,7 @@ class Hub {
     std::optional<ControlsMsg> held;
     std::chrono::steady_clock::time_point held_rx{};
     std::shared_ptr<boost::asio::steady_timer> hold_timer;
+    std::string player;  // the name the browser gave on create or join ("" : none); kept across sessions
     bool grid_busy = false;
     std::optional<GroundMsg> grid_next;
     int logged = 0;
@@ -136,6 +137,9 @@ class Hub {
   void sendHeld(Peer* p, const std::weak_ptr<boost::asio::steady_timer>& timer);
   void driveNow(PeerState& ps, const ControlsMsg& m, std::chrono::steady_clock::time_point rx);
   void ground(Peer* p, PeerState& ps, const GroundMsg& m);
+  // A shipped scenario's picture data (scenarioPreview), computed once on
+  // the worker and kept: at most one per shipped file for the bridge's life.
+  void preview(Peer* p, const PreviewMsg& m);
   void sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m);
   void refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason);
   void sendJson(Peer* p, const std::string& text);
@@ -164,6 +168,8 @@ class Hub {
   std::map<Peer*, PeerState> peers_;
   std::map<std::string, SessionEntry> sessions_;
   std::map<std::string, std::string> scenario_texts_;  // session -> scenario document seen on the bus
+  std::map<std::string, std::shared_ptr<const std::string>> previews_;  // config -> its preview message
+  std::map<std::string, std::vector<Peer*>> preview_waiting_;          // config -> browsers waiting for it
   std::int64_t next_request_ = 1;
   struct Pending {
     std::function<void(const groundsim::reply_t*)> done;

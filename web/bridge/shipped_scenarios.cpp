@@ -6,7 +6,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "bridge/object_layout.hpp"
 #include "bridge/scene_view.hpp"
+#include "scenario/race_spec.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::web {
@@ -139,6 +141,52 @@ ShippedList listShippedScenarios(const std::string& dir, double margin, int max_
     out.scenarios.push_back(std::move(s));
   }
   return out;
+}
+
+nlohmann::json scenarioPreview(const std::string& dir, const std::string& id, int n) {
+  using nlohmann::json;
+  const fs::path path = fs::path(dir) / id;
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream text;
+  text << f.rdbuf();
+  const std::string doc = text.str();
+  const scenario::FileAccess files = scenario::FileAccess::local(path.parent_path().string());
+  const scenario::Scenario sc = scenario::parseScenario(doc, scenario::Budget{}, files);
+  const scenario::Scene scene = scenario::buildScene(sc);  // the ground and the objects as placed, no horizon
+  const Ground& ground = *scene.built.model->ground;
+  const json placed = objectsLayout(*scene.built.model, scene.built.initial);
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  auto grow = [&](double x, double y, double r) {
+    x0 = std::min(x0, x - r), y0 = std::min(y0, y - r), x1 = std::max(x1, x + r), y1 = std::max(y1, y + r);
+  };
+  json track = nullptr, cars = json::array(), objects = json::array();
+  if (sc.race && sc.race->centerline.size() >= 2) {
+    json line = json::array();
+    for (const auto& q : sc.race->centerline) {
+      grow(q[0], q[1], sc.race->half_width + 12.0);
+      line.push_back({q[0], q[1]});
+    }
+    track = {{"centerline", std::move(line)}, {"half_width", sc.race->half_width}, {"closed", sc.race->circuit}};
+  }
+  for (const auto& v : sc.vehicles) {
+    const Vec3& q = v.placement.position;
+    cars.push_back({q.x(), q.y(), v.placement.yaw});
+    if (track.is_null()) grow(q.x(), q.y(), 30.0);
+  }
+  for (const auto& o : placed) {
+    const double x = o["p"][0].get<double>(), y = o["p"][1].get<double>();
+    double r = 0.5;
+    if (o.contains("size")) r = 0.5 * std::max(o["size"][0].get<double>(), o["size"][1].get<double>());
+    else if (o.contains("radius")) r = o["radius"].get<double>();
+    objects.push_back({x, y, r});
+    if (track.is_null()) grow(x, y, 10.0);
+  }
+  if (!(x1 > x0)) grow(0.0, 0.0, 30.0);
+  const double side = std::max(x1 - x0, y1 - y0);
+  const double step = side / (n - 1);
+  json grid = groundGrid(ground, 0.5 * (x0 + x1), 0.5 * (y0 + y1), n, step);
+  return {{"grid", std::move(grid)}, {"track", std::move(track)}, {"cars", std::move(cars)},
+          {"objects", std::move(objects)}, {"friction", sc.options.contact.friction}};
 }
 
 }  // namespace groundsim::web

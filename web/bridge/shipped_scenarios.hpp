@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace groundsim::web {
 
 struct ShippedScenario {
@@ -37,5 +39,15 @@ ShippedList listShippedScenarios(const std::string& dir, double margin, int max_
 // A create's "config": a relative path of [A-Za-z0-9._-] parts joined by
 // '/', ending in .json, without "." or ".." parts; at most 128 characters.
 bool validConfigId(const std::string& id);
+
+// What the lobby's card of a shipped scenario draws its picture from (the
+// page renders it, web/src/preview.js): the ground's heights and surfaces
+// on an n x n grid (groundGrid, solved through the scenario's ground as the
+// page's terrain is) over a square that holds the race track (its centre
+// line and half width plus 12 m), else the vehicles' start and the objects
+// (plus 30 m); the track {centerline, half_width, closed}, the objects
+// [x, y, radius] and the cars' starts [x, y, yaw] in it. Throws what the
+// scenario layer throws for a file that does not build.
+nlohmann::json scenarioPreview(const std::string& dir, const std::string& id, int n = 48);
 
 }  // namespace groundsim::web

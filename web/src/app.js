@@ -24,6 +24,9 @@ export const app = {
   replay: null,   // the replay view (replay.js) while one is open
   terrain: null, three: null, skids: null,
   track: null,      // the race's track as drawn (track.js)
+  playerNames: [],  // the session's players by car (the lobby's "players": a name, "" unnamed, null free)
+  previews: {},     // the lobby cards' preview messages, by scenario id (preview.js)
+  shared: null,     // the last session link the share button gave
   send: () => {},
 };
 window.groundsim = app;

@@ -1,8 +1,35 @@
-// The lobby: sessions on the bus (drive or spectate), the shipped
-// scenarios to create a session from, and the recordings the bridge serves
-// (replay). Rows are updated in place: a row rebuilt every heartbeat would
-// eat clicks.
+// The lobby: a card per shipped scenario (its picture, drawn by the page
+// from the ground the bridge samples (preview.js), its description, the
+// cars it hosts, and its sessions under way: free cars, who is in, join /
+// spectate / copy link; "race" creates one and drives it), the player's
+// name (kept in localStorage), sessions on the bus (drive or spectate), the
+// scenarios as a table with the create row, and the recordings the bridge
+// serves (replay). Rows and cards are updated in place: one rebuilt every
+// heartbeat would eat clicks.
 import { app, $, STATUS } from './app.js';
+import { drawPreview } from './preview.js';
+
+const NAME_KEY = 'groundsim.player';
+// the player's name as others see it ('' : none given)
+export function playerName() {
+  return ($('player-name') && $('player-name').value.trim()) || '';
+}
+// a session's link to share
+export const shareLink = (id) => `${location.origin}/?session=${id}`;
+
+// Copies text to the clipboard (the async API where the page may, else a
+// selected field and execCommand); true when it went.
+export async function copyText(text, field) {
+  try {
+    await navigator.clipboard.writeText(text);
+    return true;
+  } catch {
+    if (!field) return false;
+    field.value = text;
+    field.select();
+    try { return document.execCommand('copy'); } catch { return false; }
+  }
+}
 
 const carsText = (s) => (s.max_cars > s.min_cars ? `${s.min_cars}-${s.max_cars} cars` : `${s.min_cars} car${s.min_cars === 1 ? '' : 's'}`);
 const scenarioById = (id) => app.scenarios.find((s) => s.id === id);
@@ -35,6 +62,97 @@ export function renderScenarios() {
   }));
   if (scenarioById(keep)) sel.value = keep;
   pickScenario(sel.value);
+  renderCards();
+}
+
+// ---- cards ----------------------------------------------------------------------------
+let handlers = null;
+const previewAsked = new Set();
+const defaultCars = (s) => Math.min(s.max_cars, Math.max(s.vehicles, s.min_cars, 2));
+const esc = (t) => String(t).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
+
+function renderCards() {
+  const box = $('cards');
+  box.replaceChildren(...app.scenarios.map((s) => {
+    const card = document.createElement('div');
+    card.className = 'card';
+    card.dataset.config = s.id;
+    card.innerHTML = `<canvas class="pic" width="240" height="120"></canvas>
+      <div class="title"><b></b> <span class="cid"></span></div>
+      <div class="desc"></div>
+      <div class="cap"></div>
+      <div class="live"></div>
+      <div class="go">cars <input class="ncars" type="number" style="width:3em"> <button data-act="race">race</button></div>`;
+    card.querySelector('.title b').textContent = s.name || s.id;
+    card.querySelector('.cid').textContent = s.id;
+    card.querySelector('.desc').textContent = s.description || '(no description)';
+    card.querySelector('.cap').textContent = carsText(s);
+    const n = card.querySelector('.ncars');
+    Object.assign(n, { min: s.min_cars, max: s.max_cars, value: String(defaultCars(s)) });
+    n.disabled = s.max_cars === s.min_cars;
+    if (app.previews && app.previews[s.id]) drawPreview(card.querySelector('canvas'), app.previews[s.id]);
+    return card;
+  }));
+  // pictures as the cards come into view (the bridge samples each scenario's ground once)
+  const io = new IntersectionObserver((entries) => {
+    for (const e of entries) {
+      if (!e.isIntersecting) continue;
+      const id = e.target.dataset.config;
+      io.unobserve(e.target);
+      if (!previewAsked.has(id) && handlers) { previewAsked.add(id); handlers.preview(id); }
+    }
+  }, { root: $('lobby') });
+  for (const c of box.children) io.observe(c);
+  renderLive();
+}
+
+// {"op":"preview"}: the card's picture
+export function onPreview(m) {
+  app.previews = app.previews || {};
+  app.previews[m.config] = m;
+  const card = $('cards').querySelector(`.card[data-config="${CSS.escape(m.config)}"]`);
+  if (card && !m.error) card.dataset.drawn = String(drawPreview(card.querySelector('canvas'), m));
+}
+
+// a session's line on its scenario's card: id, free cars, who is in, buttons
+function liveLine(x) {
+  const players = x.players || [], names = players.filter((p) => p !== null).map((p) => p || 'anonymous');
+  const free = players.length ? players.filter((p) => p === null).length : null;
+  const watching = (x.spectators || []).length;
+  const who = names.length ? `in: ${names.join(', ')}` : 'no driver';
+  return { text: `${free === null ? '' : `${free} of ${players.length} cars free · `}${who}${watching ? ` · ${watching} watching` : ''}`,
+    acts: `${x.drivable ? 'join ' : ''}spectate link`, names };
+}
+
+function renderLive() {
+  const sessions = (app.lobby && app.lobby.sessions) || [];
+  for (const card of $('cards').children) {
+    const s = scenarioById(card.dataset.config);
+    const mine = s ? sessions.filter((x) => x.source === 'server' && x.name && x.name === s.name && !(x.num_envs > 0)) : [];
+    const box = card.querySelector('.live'), ids = new Set(mine.map((x) => x.id));
+    for (const row of [...box.children]) if (!ids.has(row.dataset.session)) row.remove();
+    for (const x of mine) {
+      let row = box.querySelector(`div[data-session="${x.id}"]`);
+      if (!row) {
+        row = document.createElement('div');
+        row.className = 'session';
+        row.dataset.session = x.id;
+        row.innerHTML = '<code></code> <span class="who"></span> <span class="acts"></span><input class="link" readonly>';
+        box.appendChild(row);
+      }
+      const l = liveLine(x);
+      row.querySelector('code').textContent = x.id;
+      row.querySelector('.who').textContent = l.text;
+      row.dataset.players = JSON.stringify(l.names);
+      row.querySelector('.link').value = shareLink(x.id);
+      const acts = row.querySelector('.acts');
+      if (acts.dataset.acts !== l.acts) {
+        acts.dataset.acts = l.acts;
+        acts.innerHTML = l.acts.split(' ').map((a) => `<button data-act="${a}">${a === 'link' ? 'copy link' : esc(a)}</button>`).join('');
+      }
+    }
+    card.classList.toggle('busy', mine.length > 0);
+  }
 }
 
 function pickScenario(id) {
@@ -52,6 +170,7 @@ function pickScenario(id) {
 
 export function renderLobby() {
   const m = app.lobby;
+  renderLive();
   $('lobby-server').textContent = m.server
     ? `server ${m.server.id}: ${m.server.sessions} sessions, ${m.server.workers} workers, load ${(100 * m.server.load).toFixed(0)} %`
     : 'no server heartbeat on this bus (sessions below are states seen on the bus)';
@@ -72,6 +191,8 @@ export function renderLobby() {
     cells[3].textContent = STATUS[x.status] || x.status;
     cells[4].textContent = x.t.toFixed(1);
     cells[5].textContent = x.vehicles.length || '?';
+    const names = (x.players || []).filter((p) => p !== null).map((p) => p || 'anonymous');
+    cells[5].title = names.length ? `in: ${names.join(', ')}` : '';
     const acts = (x.drivable ? 'drive ' : '') + 'spectate';
     if (cells[6].dataset.acts !== acts) {
       cells[6].dataset.acts = acts;
@@ -106,8 +227,28 @@ export async function refreshRecordings() {
   $('lobby-replays').replaceChildren(...rows);
 }
 
-// handlers: {join(session, role), create(config, vehicles), replay(name, session)}
-export function wireLobby(handlers) {
+// handlers: {join(session, role), create(config, vehicles), replay(name, session), preview(config)}
+export function wireLobby(h) {
+  handlers = h;
+  const name = $('player-name');
+  try { name.value = localStorage.getItem(NAME_KEY) || ''; } catch { /* no storage */ }
+  name.addEventListener('input', () => { try { localStorage.setItem(NAME_KEY, name.value.trim()); } catch { /* no storage */ } });
+  $('cards').addEventListener('click', async (e) => {
+    const act = e.target.dataset && e.target.dataset.act, card = e.target.closest('.card');
+    if (!act || !card) return;
+    const row = e.target.closest('.session');
+    if (act === 'race') {
+      const s = scenarioById(card.dataset.config);
+      const n = Math.max(s.min_cars, Math.min(s.max_cars, parseInt(card.querySelector('.ncars').value, 10) || 1));
+      handlers.create(s.id, n === s.vehicles ? 0 : n);
+    } else if (act === 'join' && row) handlers.join(row.dataset.session, 'drive');
+    else if (act === 'spectate' && row) handlers.join(row.dataset.session, 'spectate');
+    else if (act === 'link' && row) {
+      const field = row.querySelector('.link'), ok = await copyText(shareLink(row.dataset.session), field);
+      field.classList.add('shown');
+      e.target.textContent = ok ? 'copied' : 'copy the link';
+    }
+  });
   $('create-config').addEventListener('change', () => {
     pickScenario($('create-config').value);
     const row = $('lobby-scenarios').querySelector('tr.picked');

@@ -17,7 +17,7 @@ import { HitEffects } from './hits.js';
 import { SkidMarks } from './skids.js';
 import { CameraRig } from './camera.js';
 import { addEvent, clearEvents, updateHud } from './hud.js';
-import { showLobby, renderScenarios, renderLobby, wireLobby } from './lobby.js';
+import { showLobby, renderScenarios, renderLobby, wireLobby, onPreview, playerName, shareLink, copyText } from './lobby.js';
 import { Replay } from './replay.js';
 import { Connection } from './net.js';
 import { Playback } from './interp.js';
@@ -66,6 +66,7 @@ function clearScene() {
   skids.reset();
   race.dispose();
   track.clear();
+  app.playerNames = [];
   playback.reset();
   prediction.stop('no session');
   terrain.clear();
@@ -78,8 +79,9 @@ net.on('open', () => {
   if (app.replay) return;
   if (q.get('replay') && q.get('rsession')) return openReplay(q.get('replay'), q.get('rsession'));
   const want = q.get('session');
-  if (want && !app.session) net.send({ op: 'join', session: want, role: 'spectate' });
-  else if (app.session) net.send({ op: 'join', session: app.session, role: 'spectate' });
+  const who = playerName() ? { player: playerName() } : {};
+  if (want && !app.session) net.send({ op: 'join', session: want, role: 'spectate', ...who });
+  else if (app.session) net.send({ op: 'join', session: app.session, role: 'spectate', ...who });
 });
 net.on('close', () => addEvent('connection to the bridge lost, reconnecting...', 'e'));
 net.on('welcome', (m) => {
@@ -88,7 +90,8 @@ net.on('welcome', (m) => {
   app.scenarios = m.scenarios || m.configs.map((id) => ({ id, name: '', description: '', vehicles: 1, min_cars: 1, max_cars: 1 }));
   renderScenarios();
 });
-net.on('lobby', (m) => { app.lobby = m; renderLobby(); });
+net.on('lobby', (m) => { app.lobby = m; renderLobby(); namePlayers(); });
+net.on('preview', (m) => onPreview(m));
 net.on('created', (m) => addEvent(`created session ${m.session}`, 'i'));
 net.on('joined', (m) => {
   closeReplay(false);
@@ -159,8 +162,9 @@ net.on('reply', (m) => addEvent(`${m.request}: ok`, 'i'));
 // each car in its colour with its name (the own one marked) above it
 function buildVehicles(state, layouts = app.layout ? app.layout.vehicles : []) {
   for (const v of app.vehicles) v.dispose(scene);
+  const players = app.replay ? [] : app.playerNames || [];
   app.vehicles = state.vehicles.map((vs, i) => {
-    const name = `${vs.name}${app.role === 'drive' && i === app.vehicle && !app.replay ? ' (you)' : ''}`;
+    const name = `${players[i] || vs.name}${app.role === 'drive' && i === app.vehicle && !app.replay ? ' (you)' : ''}`;
     const v = new Vehicle(scene, layouts[i] || defaultLayout(vs.name), COLORS[i % COLORS.length], name);
     v.setFigure(app.figure);
     return v;
@@ -172,10 +176,31 @@ function buildVehicles(state, layouts = app.layout ? app.layout.vehicles : []) {
   }
 }
 
+// the players' names of the session shown (the lobby's "players", a name
+// per car): above the cars, on the leaderboard
+function namePlayers() {
+  const x = app.session && app.lobby ? app.lobby.sessions.find((e) => e.id === app.session) : null;
+  const players = (x && x.players) || [];
+  app.playerNames = players;
+  app.vehicles.forEach((v, i) => {
+    const base = players[i] || (app.lastState && app.lastState.vehicles[i] ? app.lastState.vehicles[i].name : v.name);
+    v.setName(`${base}${app.role === 'drive' && i === app.vehicle && !app.replay ? ' (you)' : ''}`);
+  });
+  race.renderBoard();
+}
+
+const named = (m) => (playerName() ? { ...m, player: playerName() } : m);
 wireLobby({
-  join: (session, role) => net.send({ op: 'join', session, role }),
-  create: (config, vehicles) => net.send({ op: 'create', config, vehicles, drive: true }),
+  join: (session, role) => net.send(named({ op: 'join', session, role })),
+  create: (config, vehicles) => net.send(named({ op: 'create', config, vehicles, drive: true })),
   replay: (name, session) => openReplay(name, session),
+  preview: (config) => net.send({ op: 'preview', config }),
+});
+$('btn-share').addEventListener('click', async () => {
+  if (!app.session) return;
+  const link = shareLink(app.session), ok = await copyText(link);
+  app.shared = link;
+  addEvent(`${ok ? 'copied' : 'share'}: ${link}`, 'i');
 });
 $('btn-lobby').addEventListener('click', () => { net.send({ op: 'leave' }); history.replaceState(null, '', '/'); });
 $('btn-camera').addEventListener('click', () => toggleCamera());

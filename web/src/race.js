@@ -234,8 +234,9 @@ export class RaceView {
     const rows = st.cars.map((c) => {
       const you = c.car === app.followed ? ' style="color:#ffd166"' : '';
       const what = c.finished ? fmt(c.race_time) : c.started ? `lap ${Math.min(c.laps_done + 1, st.laps)}` : 'grid';
-      const name = String(c.name).replace(/</g, '&lt;');
-      return `<tr${you}><td>P${c.position}</td><td>${name}</td><td>${what}</td><td>${fmt(c.best_lap)}</td></tr>`;
+      const player = app.playerNames && app.playerNames[c.car];
+      const name = String(player ? `${player}` : c.name).replace(/[&<>]/g, (x) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;' })[x]);
+      return `<tr${you} data-car="${c.car}"><td>P${c.position}</td><td>${name}</td><td>${what}</td><td>${fmt(c.best_lap)}</td></tr>`;
     }).join('');
     this.dom.board.innerHTML = `<div style="font-weight:600;margin-bottom:2px">leaderboard</div><table style="border-collapse:collapse">${rows}</table>`;
   }

@@ -192,6 +192,19 @@ export class Vehicle {
     this.steer = 0;
     this.label = name ? label(name, color) : null;
     if (this.label) scene.add(this.label);
+    this.name = name;
+    this.color = color;
+    this.scene = scene;
+  }
+
+  // The name shown above the car (a player's, once the lobby names them)
+  setName(name) {
+    if (name === this.name) return;
+    const at = this.label ? this.label.position.clone() : null;
+    if (this.label) { this.scene.remove(this.label); this.label.material.map.dispose(); this.label.material.dispose(); }
+    this.name = name;
+    this.label = name ? label(name, this.color) : null;
+    if (this.label) { if (at) this.label.position.copy(at); this.scene.add(this.label); }
   }
 
   // The report's figure 1 over the body (points and springs), the body
