@@ -55,6 +55,7 @@ struct IntegratorTrial {
   double dt0 = 0.0;               // the coarsest step tried that stayed healthy
   double diff_coarse = 0.0;       // error measure between dt0 and dt0/2
   double diff_fine = 0.0;         // between dt0/2 and dt0/4
+  double diff_before = 0.0;       // the pair before those two, when there was one (0: none)
   double order = 0.0;             // observed p (clamped)
   double growth = 0.0;            // error growth exponent over the segment
   double error_constant = 0.0;    // C of E(h) = C h^p, over the whole duration

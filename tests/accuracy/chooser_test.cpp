@@ -20,7 +20,11 @@ double realised(const Choice& c, const Trajectory& ref) {
   return compareRuns(run, ref).value();
 }
 
-// The report's car (20 rim points) rolling down 30 degrees from rest.
+// The report's car (20 rim points) rolling down 30 degrees from rest. At
+// 1% the rims' own model runs one ladder step above the linear limit of
+// their springs (2.8e-4 s): semi-implicit Euler at 3.1e-4 s stayed stable
+// in the pilot's measured check and is within the tolerance over the whole
+// scene; Verlet there gained energy and was refused, saying so.
 TEST(Chooser, MeetsTheToleranceOnTheReportsDownhill) {
   const scenario::Scenario s = test::config("downhill.json");
   const Trajectory ref = test::reference(s, 5e-6);
@@ -29,6 +33,21 @@ TEST(Chooser, MeetsTheToleranceOnTheReportsDownhill) {
     SCOPED_TRACE(c.line());
     EXPECT_TRUE(c.meets);
     EXPECT_LE(realised(c, ref), tol);
+    if (tol != 0.01) continue;
+    EXPECT_EQ(c.model, 0);
+    for (const IntegratorTrial& t : c.trials) {
+      if (!t.usable) continue;
+      SCOPED_TRACE(t.refusal);
+      if (t.kind == IntegratorKind::SemiImplicitEuler) {
+        EXPECT_GT(t.dt0, t.stability_dt);
+        EXPECT_NE(t.refusal.find("ran stable in the pilot"), std::string::npos);
+      }
+      if (t.kind == IntegratorKind::VelocityVerlet) {
+        EXPECT_LT(t.dt0, t.stability_dt);
+        EXPECT_NE(t.refusal.find("taken as unstable"), std::string::npos);
+      }
+    }
+    EXPECT_GT(c.dt, 0.9 * 2.8e-4);  // above the cut, where the linear limit alone would have stopped it
   }
 }
 
@@ -44,13 +63,18 @@ TEST(Chooser, MeetsTheToleranceOnTheSedansSlalom) {
 }
 
 // Contact between bodies: a lone wheel climbing a kerb. The reference
-// refines contact with the step (collisions.min_substeps).
+// refines contact with the step (collisions.min_substeps). At 1% Verlet's
+// refined family stalls (its differences 3.8e-2, 3.8e-2, then 7.8e-3): a
+// fit on the last ratio alone read its error at 1.25 ms as 2.0e-3 and it
+// realised 1.2e-2; the stalled fit is refined before it is trusted.
 TEST(Chooser, MeetsTheToleranceAcrossAnImpact) {
   const scenario::Scenario s = test::config("accuracy/lone_wheel.json");
   const Trajectory ref = test::reference(s, 0.02 / 128, 64);
-  const Choice c = chooseSettings(s, 0.1);
-  SCOPED_TRACE(c.line());
-  EXPECT_LE(realised(c, ref), 0.1);
+  for (double tol : {0.1, 0.01}) {
+    const Choice c = chooseSettings(s, tol);
+    SCOPED_TRACE(c.report());
+    EXPECT_LE(realised(c, ref), tol);
+  }
 }
 
 // A ground 100 times stiffer than the report's: the largest stable step
