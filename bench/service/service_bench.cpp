@@ -6,11 +6,14 @@
 //   service_bench fairness SCENARIO --greedy N     one 50 Hz real time session beside N fast
 //                                                  sessions that want every worker: its states
 //   service_bench ratefactor SCENARIO --rate R     simulated seconds per wall second achieved
+//   service_bench firststate SCENARIO --count N    N real time creates one after another: create
+//                                                  request to the session's first state p50/p99
 // Prints one "figure: value" line per result (docs/performance-service.md).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -294,6 +297,70 @@ int ratefactor(const std::string& url, const std::string& file, double rate, dou
 
 }  // namespace
 
+// Create to first state, as a client sees it: each create is timed from its
+// request to the first state_t heard on the new session's channel (it may
+// come before the reply). In a fleet the create is placed through etcd
+// first (docs/fleet.md). The sessions are stopped at the end.
+class FirstStates {
+ public:
+  explicit FirstStates(const std::string& url) : lcm_(url) {
+    lcm_.subscribe(groundsim::net::kReplyChannel, &FirstStates::onReply, this);
+    lcm_.subscribe(std::string(groundsim::net::kStatePrefix) + ".*", &FirstStates::onState, this);
+  }
+  int run(const std::string& json, int count) {
+    std::vector<double> ms;
+    std::vector<groundsim::reply_t> created;
+    for (int i = 0; i < count; ++i) {
+      request_t req{};
+      req.op = request_t::OP_CREATE;
+      req.scenario_json = json;
+      req.mode = request_t::MODE_REALTIME;
+      req.rate = 1.0;
+      req.duration = -1;
+      req.request_id = ++id_;
+      req.client_id = "bench-first";
+      got_ = false;
+      const auto t0 = Clock::now();
+      lcm_.publish(groundsim::net::kRequestChannel, &req);
+      const auto end = t0 + std::chrono::seconds(10);
+      while (!got_ || !first_.count(reply_.session_id)) {
+        if (Clock::now() > end) throw std::runtime_error("create " + std::to_string(i) + ": no reply or no state in 10 s");
+        lcm_.handleTimeout(50);
+      }
+      if (!reply_.ok) throw std::runtime_error("create refused: " + reply_.error);
+      ms.push_back(std::chrono::duration<double, std::milli>(first_[reply_.session_id] - t0).count());
+      created.push_back(reply_);
+    }
+    std::printf("firststate creates: %d\n", count);
+    std::printf("firststate create to first state p50 ms: %.1f\n", percentile(ms, 0.5));
+    std::printf("firststate create to first state p99 ms: %.1f\n", percentile(ms, 0.99));
+    std::printf("firststate create to first state max ms: %.1f\n", percentile(ms, 1.0));
+    for (const auto& r : created) {
+      request_t req{};
+      req.op = request_t::OP_STOP;
+      req.session_id = r.session_id;
+      req.token = r.token;
+      req.request_id = ++id_;
+      req.client_id = "bench-first";
+      lcm_.publish(groundsim::net::kRequestChannel, &req);
+    }
+    return 0;
+  }
+
+ private:
+  void onReply(const lcm::ReceiveBuffer*, const std::string&, const groundsim::reply_t* r) {
+    if (r->client_id == "bench-first" && r->request_id == id_) reply_ = *r, got_ = true;
+  }
+  void onState(const lcm::ReceiveBuffer*, const std::string& channel, const groundsim::state_t*) {
+    first_.try_emplace(channel.substr(std::strlen(groundsim::net::kStatePrefix)), Clock::now());
+  }
+  lcm::LCM lcm_;
+  std::int64_t id_ = 0;
+  bool got_ = false;
+  groundsim::reply_t reply_;
+  std::map<std::string, Clock::time_point> first_;
+};
+
 int main(int argc, char** argv) {
   CLI::App app{"service_bench: figures of groundsim-server"};
   app.require_subcommand(1);
@@ -319,11 +386,15 @@ int main(int argc, char** argv) {
   rf->add_option("SCENARIO", file)->required();
   rf->add_option("--rate", factor);
   rf->add_option("--seconds", seconds);
+  auto* fst = app.add_subcommand("firststate", "create to first state, real time sessions one after another");
+  fst->add_option("SCENARIO", file)->required();
+  fst->add_option("--count", count);
   CLI11_PARSE(app, argc, argv);
   try {
     if (*rt) return roundtrip(url, file, n);
     if (*fs) return fairness(url, file, greedy, seconds);
     if (*rf) return ratefactor(url, file, factor, seconds);
+    if (*fst) return FirstStates(url).run(readFile(file), count);
     return sessions(url, file, count, seconds, rate);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "service_bench: %s\n", e.what());

@@ -441,3 +441,35 @@ session::SessionInfo fromMessage(const groundsim::session_info_t& m) {
 }
 
 }  // namespace groundsim::net
+
+namespace groundsim::net {
+namespace {
+
+// LCM's encoding: big-endian, the fields in their declared order after the
+// type's 8-byte fingerprint, strings as an int32 length (with the NUL) and
+// their bytes.
+std::int64_t readI64(const std::uint8_t* p) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v = (v << 8) | p[i];
+  return static_cast<std::int64_t>(v);
+}
+
+}  // namespace
+
+std::optional<StateHead> peekState(const void* data, int size) {
+  const auto* b = static_cast<const std::uint8_t*>(data);
+  // fingerprint, utime, seq, the session id's length
+  if (size < 8 + 8 + 8 + 4 || readI64(b) != groundsim::state_t::getHash()) return std::nullopt;
+  StateHead h;
+  h.seq = readI64(b + 16);
+  const std::int64_t len = static_cast<std::int32_t>((std::uint32_t{b[24]} << 24) | (std::uint32_t{b[25]} << 16) |
+                                                     (std::uint32_t{b[26]} << 8) | std::uint32_t{b[27]});
+  const std::int64_t tick_at = 28 + len + 8;  // after the id and t
+  // epoch and error_estimate are the last 16 bytes
+  if (len < 1 || tick_at + 8 > size - 16) return std::nullopt;
+  h.tick = readI64(b + tick_at);
+  h.epoch = readI64(b + size - 16);
+  return h;
+}
+
+}  // namespace groundsim::net

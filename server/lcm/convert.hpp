@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "session/applied.hpp"
 #include "session/types.hpp"
@@ -46,6 +47,14 @@ groundsim::replica_t toMessage(const session::Replica& r);
 session::SessionInfo fromMessage(const groundsim::session_info_t& m);
 
 groundsim::state_t toMessage(const session::Frame& f);
+// The head of an encoded state_t (its seq and tick, and its epoch, the
+// trailing fields), read without decoding the vehicles: a standby reads
+// every state of the sessions it keeps (docs/fleet.md). Nothing for bytes
+// that are not a whole state_t of this protocol.
+struct StateHead {
+  std::int64_t seq = 0, tick = 0, epoch = 0;
+};
+std::optional<StateHead> peekState(const void* data, int size);
 // The frame's road cars (f.cars), published beside its state_t.
 groundsim::car_state_t toCarMessage(const session::Frame& f);
 // The objects and hits of a frame whose scene has contact between bodies.

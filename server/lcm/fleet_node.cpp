@@ -207,20 +207,30 @@ void FleetNode::onReplica(const session::Replica& r, const std::string& server_i
         standby_.size() >= options_.max_standby_sessions)
       return;
     it = standby_.emplace(r.session_id, Standby{}).first;
+    it->second.log = StandbyLog(options_.max_log_entries);
   }
   Standby& s = it->second;
   if (r.epoch < s.epoch) return;  // a fenced old owner's
   if (r.epoch > s.epoch) {  // a new owner: what the old one sent is behind
     s.snapshot.reset();
+    // the new owner's log goes on from where it resumed (a standby made
+    // after a takeover learns it from the first snapshot too)
+    if (s.epoch != 0 || r.epoch > 1) s.log.restart();
     s.epoch = r.epoch;
+    s.heard_seq = s.heard_tick = -1;
   }
   s.owner = server_id;
   if (r.kind == session::Replica::Kind::Scenario) {
     s.scenario = r;
   } else {
     s.snapshot = r;
-    s.log.erase(s.log.begin(), s.log.lower_bound(r.applied_seq));
+    s.log.rebase(r.applied_seq, r.frame_seq);
   }
+}
+
+void FleetNode::setAskAgain(AskAgain ask) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  ask_again_ = std::move(ask);
 }
 
 void FleetNode::onApplied(const session::Applied& a) {
@@ -231,9 +241,15 @@ void FleetNode::onApplied(const session::Applied& a) {
   if (it == standby_.end() || my_epochs_.count(a.session_id)) return;
   Standby& s = it->second;
   if (a.epoch < s.epoch) return;
-  if (s.snapshot && a.seq < s.snapshot->applied_seq) return;
-  if (s.log.size() >= options_.max_log_entries) s.log.erase(s.log.begin());
-  s.log[a.seq] = a;
+  s.log.add(a);
+}
+
+void FleetNode::onState(const std::string& session_id, std::int64_t seq, std::int64_t tick, std::int64_t epoch) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = standby_.find(session_id);
+  if (it == standby_.end() || epoch != it->second.epoch || seq <= it->second.heard_seq) return;
+  it->second.heard_seq = seq;
+  it->second.heard_tick = tick;
 }
 
 void FleetNode::onListing(const std::string& server_id, std::vector<session::SessionInfo> sessions) {
@@ -359,9 +375,16 @@ void FleetNode::scan() {
     owners[kv.key.substr(options_.prefix.size() + 8)] = ownerOf(kv.value);
   std::vector<std::string> lost;  // sessions hosted here that another server owns now
   std::vector<std::pair<std::string, Standby>> orphans;
+  struct Ask {
+    std::string session_id;
+    std::int64_t from_frame, to_frame;
+  };
+  std::vector<Ask> asks;
+  AskAgain ask_again;
   const auto now = Clock::now();
   {
     std::lock_guard<std::mutex> lk(mutex_);
+    ask_again = ask_again_;
     owners_ = owners;
     for (const auto& [sid, epoch] : my_epochs_) {
       auto it = owners.find(sid);
@@ -370,12 +393,23 @@ void FleetNode::scan() {
     for (auto& [sid, s] : standby_) {
       if (owners.count(sid)) {
         s.absent_since = {};
+        // a gap still there a scan after it was found is a loss, not
+        // entries on their way: the owner is asked for it again
+        std::set<std::int64_t> now_seen;
+        for (const StandbyLog::Gap& g : s.log.gaps()) {
+          now_seen.insert(g.first_seq);
+          if (s.gaps_seen.count(g.first_seq) && asks.size() < kMaxAsksPerScan)
+            asks.push_back(Ask{sid, g.from_frame, g.to_frame});
+        }
+        s.gaps_seen = std::move(now_seen);
         continue;
       }
       if (s.absent_since == Clock::time_point{}) s.absent_since = now;
       if (s.scenario && s.snapshot) orphans.emplace_back(sid, s);
     }
   }
+  if (ask_again && !fenced_)
+    for (const Ask& a : asks) ask_again(a.session_id, a.from_frame, a.to_frame);
   for (const std::string& sid : lost) {
     log("session " + sid + " is owned by " + owners[sid] + " now: dropped here");
     {
@@ -413,16 +447,23 @@ void FleetNode::tryTakeOver(const std::string& sid, Standby s) {
     standby_.erase(sid);
     disowned_.erase(sid);
   }
-  std::vector<session::Applied> log_entries;
-  for (auto& [seq, a] : s.log) log_entries.push_back(a);
-  const std::string why = service_.adopt(*s.scenario, *s.snapshot, log_entries, epoch);
+  // the entries after the snapshot up to the first gap: a gap left at the
+  // owner's death is entries it acknowledged that cannot be replayed
+  const std::vector<session::Applied> log_entries = s.log.replayable();
+  const std::vector<StandbyLog::Gap> gaps = s.log.gaps();
+  std::string missing;
+  if (!gaps.empty())
+    missing = "; applied entries " + std::to_string(gaps.front().first_seq) + ".." + std::to_string(gaps.back().last_seq) +
+              " were never heard (" + std::to_string(s.log.size() - log_entries.size()) + " after them not replayed)";
+  const std::string why = service_.adopt(*s.scenario, *s.snapshot, log_entries, s.heard_tick, epoch);
   if (!why.empty()) {
     log("cannot take over session " + sid + ": " + why);
     release(sid);
     return;
   }
   log("took over session " + sid + " from " + s.owner + " at epoch " + std::to_string(epoch) + ": snapshot at tick " +
-      std::to_string(s.snapshot->tick) + ", " + std::to_string(log_entries.size()) + " applied entries replayed");
+      std::to_string(s.snapshot->tick) + ", " + std::to_string(log_entries.size()) + " applied entries replayed, its last state heard at tick " +
+      std::to_string(s.heard_tick) + " (seq " + std::to_string(s.heard_seq) + ")" + missing);
 }
 
 void FleetNode::onRegistered(std::int64_t lease) {

@@ -33,6 +33,7 @@
 #include "fleet/membership.hpp"
 #include "session/ownership.hpp"
 #include "session/service.hpp"
+#include "standby_log.hpp"
 
 namespace groundsim::net {
 
@@ -78,10 +79,19 @@ class FleetNode final : public session::Ownership {
   bool isAnswerer() const;
   void onReplica(const session::Replica& r, const std::string& server_id);
   void onApplied(const session::Applied& a);
+  // The head of another server's state (convert.hpp, peekState): how far
+  // the owner of a kept session has published.
+  void onState(const std::string& session_id, std::int64_t seq, std::int64_t tick, std::int64_t epoch);
   // Another server's heartbeat listing (for OP_LIST and the heartbeat).
   void onListing(const std::string& server_id, std::vector<session::SessionInfo> sessions);
   // Every session of the fleet: this server's and the others' last heartbeats.
   std::vector<session::SessionInfo> fleetSessions(std::vector<session::SessionInfo> own) const;
+
+  // Before the node runs: how a standby asks the owner again for frames
+  // (and the applied entries kept with them) it missed, by seq range; the
+  // answers come back through onApplied.
+  using AskAgain = std::function<void(const std::string& session_id, std::int64_t from_frame, std::int64_t to_frame)>;
+  void setAskAgain(AskAgain ask);
 
   // ---- any thread ----
   // False while fenced (the lease could not be renewed) and for sessions
@@ -104,7 +114,9 @@ class FleetNode final : public session::Ownership {
     std::string owner;
     std::int64_t epoch = 0;
     std::optional<session::Replica> scenario, snapshot;
-    std::map<std::int64_t, session::Applied> log;  // by seq, from the snapshot's applied_seq
+    StandbyLog log;  // from the snapshot's applied_seq on
+    std::set<std::int64_t> gaps_seen;  // first seqs of the gaps found at the last scan
+    std::int64_t heard_seq = -1, heard_tick = -1;  // the owner's newest state heard (this epoch's)
     std::chrono::steady_clock::time_point absent_since{};  // owners/<sid> missing since (zero: present)
   };
   using Clock = std::chrono::steady_clock;
@@ -119,6 +131,7 @@ class FleetNode final : public session::Ownership {
   std::int64_t claimsLease();
 
   FleetOptions options_;
+  AskAgain ask_again_;  // under mutex_ (set while the node's thread runs)
   session::SessionService& service_;
   session::Output& out_;
   fleet::EtcdClient client_;
@@ -135,6 +148,7 @@ class FleetNode final : public session::Ownership {
   };
   static constexpr std::chrono::seconds kCreateRetry{10};
   static constexpr std::size_t kMaxPendingCreates = 4096;
+  static constexpr std::size_t kMaxAsksPerScan = 64;  // gap repair: a flood of made-up gaps stays bounded
   bool retry_ = false;  // under mutex_: the last pass failed on etcd, wait a scan period
   void place(const Pending& p);
   // Sessions per server: owners' keys and recent placements (both count a

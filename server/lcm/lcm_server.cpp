@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -510,6 +511,8 @@ LcmServer::Counters LcmServer::counters() const {
   c.errors = errors_.load();
   c.heartbeats = status_seq_.load();
   c.overrun_events = overruns_.load();
+  c.standby_asks = ask_seq_.load();
+  c.standby_repaired = applied_repaired_.load();
   return c;
 }
 
@@ -527,6 +530,22 @@ void LcmServer::setFleet(FleetNode* fleet) {
   lcm_.subscribe(std::string(kReplicaPrefix) + ".*", &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(std::string(kAppliedPrefix) + ".*", &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
   lcm_.subscribe(kStatusChannel, &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+  lcm_.subscribe(std::string(kStatePrefix) + ".*", &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+  // a standby's gap repair: the owner's resend ring answers as it answers a
+  // recorder, on this server's own channel
+  const std::string client_id = "fleet-" + server_id_;
+  lcm_.subscribe(kResentPrefix + client_id, &LcmServer::onFleet, this)->setQueueCapacity(kDeepQueue);
+  fleet_->setAskAgain([this, client_id](const std::string& session_id, std::int64_t from, std::int64_t to) {
+    groundsim::resend_t r{};
+    r.utime = wallMicros();
+    r.seq = ask_seq_++;
+    r.client_id = client_id;
+    r.stream = groundsim::resend_t::STREAM_SESSION;
+    r.session_id = session_id;
+    r.from_seq = from;
+    r.to_seq = to;
+    publish(kResendChannel, r);
+  });
 }
 
 void LcmServer::onFleet(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
@@ -559,6 +578,16 @@ void LcmServer::handleFleet(const std::string& channel, const void* data, int si
     groundsim::applied_t m;
     if (!decodeMessage(data, size, m, "groundsim.applied_t").ok()) return void(++errors_);
     fleet_->onApplied(fromMessage(m));
+  } else if (channel.rfind(kStatePrefix, 0) == 0) {
+    // only the head: how far the owner got (a standby needs no more)
+    if (const auto h = peekState(data, size)) fleet_->onState(channel.substr(std::strlen(kStatePrefix)), h->seq, h->tick, h->epoch);
+  } else if (channel.rfind(kResentPrefix, 0) == 0) {
+    // what the owner sends again: only the applied entries are of use here
+    groundsim::resent_t m;
+    if (!decodeMessage(data, size, m, "groundsim.resent_t").ok()) return void(++errors_);
+    if (m.status != groundsim::resent_t::STATUS_OK || m.channel.rfind(kAppliedPrefix, 0) != 0) return;
+    ++applied_repaired_;
+    handleFleet(m.channel, m.data.data(), static_cast<int>(m.data.size()));
   }
 }
 

@@ -76,6 +76,7 @@ class LcmServer final : public session::Output {
   struct Counters {
     std::int64_t states_published = 0, requests_handled = 0, errors = 0, heartbeats = 0;
     std::int64_t overrun_events = 0;      // real time overrun warnings (at most one per session per 5 s)
+    std::int64_t standby_asks = 0, standby_repaired = 0;  // a standby's gap repair: frames asked for, entries resent
     bool beat = false;                    // a heartbeat was sent: the figures below are its
     int workers = 0, max_sessions = 0;
     double load = 0.0;                    // busy fraction of the worker pool over the last second
@@ -119,7 +120,7 @@ class LcmServer final : public session::Output {
   FleetNode* fleet_ = nullptr;
   double heartbeat_period_ = 1.0;
   std::atomic<bool> drain_requested_{false};
-  std::atomic<std::int64_t> replica_seq_{0};
+  std::atomic<std::int64_t> replica_seq_{0}, ask_seq_{0}, applied_repaired_{0};
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
       want_seq_{0};
   std::atomic<std::int64_t> frames_{0}, inputs_{0}, errors_{0}, overruns_{0};

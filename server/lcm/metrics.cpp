@@ -205,6 +205,13 @@ std::string serverMetrics(const LcmServer::Counters& c, const ResendRing::Stats&
            "Real time overrun warnings: a real time session fell more than --max-lag behind the wall clock and "
            "skipped ahead (at most one warning per session per 5 s).",
            c.overrun_events);
+  m.single("groundsim_standby_asks_total", "counter",
+           "Fleets: re-requests this server sent, as a standby, for applied-command entries of another server's "
+           "session that it missed (gap repair, docs/fleet.md).",
+           c.standby_asks);
+  m.single("groundsim_standby_entries_repaired_total", "counter",
+           "Fleets: applied-command entries the owners sent this standby again after a re-request.",
+           c.standby_repaired);
   m.single("groundsim_states_published_total", "counter",
            "State messages (state_t) published; the heartbeat's frames_published.", c.states_published);
   m.single("groundsim_requests_handled_total", "counter",

@@ -630,6 +630,7 @@ void SessionService::disown(const std::string& id) {
 }
 
 std::string SessionService::adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
+                                  std::int64_t heard_tick,
                                   std::int64_t epoch) {
   const std::string& id = scenario.session_id;
   try {
@@ -660,7 +661,7 @@ std::string SessionService::adopt(const Replica& scenario, const Replica& snapsh
       session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
                                           clock_);
       session->setEpoch(epoch);
-      if (std::string why = session->resume(snapshot, log); !why.empty()) {
+      if (std::string why = session->resume(snapshot, log, heard_tick); !why.empty()) {
         registry_.cancel();
         return "cannot resume session " + id + ": " + why;
       }

@@ -69,7 +69,7 @@ class SessionService {
   // scenario replica (its files from this server's asset store), resumed at
   // the snapshot with the owner's applied entries after it, under `epoch`.
   // Returns "" or why not (the caller releases its claim then).
-  std::string adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
+  std::string adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log, std::int64_t heard_tick,
                     std::int64_t epoch);
   // Forgets a session another server owns now; nothing is published for it
   // (the transport drops its messages) and its claim is not released.

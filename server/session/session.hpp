@@ -86,8 +86,12 @@ class Session : public HostedSession {
   // snapshot's state, then the owner's applied entries after it (`log`,
   // seq order) replayed at their ticks, as the owner applied them; nothing
   // is published while replaying, frames and entries then continue with the
-  // seqs the owner would have used. Returns "" or why it cannot.
-  std::string resume(const Replica& snapshot, const std::vector<Applied>& log);
+  // seqs the owner would have used; then, without new input, on to
+  // `heard_tick`, the tick of the owner's last state the standby heard, so
+  // that no command taken here changes a state the owner already
+  // published (the frames on the way are published again, re-simulated).
+  // Returns "" or why it cannot.
+  std::string resume(const Replica& snapshot, const std::vector<Applied>& log, std::int64_t heard_tick = -1);
 
 
  protected:
@@ -124,6 +128,7 @@ class Session : public HostedSession {
   bool finished() const;
   void replicate();  // a Snapshot replica now (worker)
   std::string replay(const Applied& a);
+  std::string fastForward(std::int64_t tick);
   // race_glue.cpp: the scenario's race, when it has one (else they return at once)
   void raceBeforeStep();
   void raceAfterStep(double t0);

@@ -108,7 +108,22 @@ std::string Session::replay(const Applied& a) {
   return "";
 }
 
-std::string Session::resume(const Replica& snapshot, const std::vector<Applied>& log) {
+// Steps with no new input up to `tick`, publishing again the frames the
+// owner published on the way, the frame of `tick` itself included: they
+// are re-simulated, equal to their first publication bit for bit (a
+// recorder or logger counts them as such), and a command taken next is the
+// owner's would-be next, after them (the owner applies commands after the
+// frame of their tick went out).
+std::string Session::fastForward(std::int64_t tick) {
+  while (sim_.state().tick < tick && status_ == Status::Running && !finished()) {
+    if (frame_pending_) publishFrame();
+    if (!stepOnce()) return "diverged while stepping to the owner's last state, at tick " + std::to_string(sim_.state().tick);
+  }
+  if (sim_.state().tick == tick && frame_pending_) publishFrame();
+  return "";
+}
+
+std::string Session::resume(const Replica& snapshot, const std::vector<Applied>& log, std::int64_t heard_tick) {
   experiments::EnvSnapshot s;
   try {
     s = experiments::decodeSnapshot(snapshot.data, scenarioHash(setup_.scenario_json));
@@ -139,6 +154,10 @@ std::string Session::resume(const Replica& snapshot, const std::vector<Applied>&
     if (a.kind == AppliedKind::End) break;  // the owner's last word: nothing follows
     if (why = replay(a); !why.empty()) break;
   }
+  // the owner stepped on after its last entry and published what it
+  // stepped: a command taken here must take effect after those states, or
+  // the states published again from here would differ from them
+  if (why.empty() && setup_.mode != Mode::Lockstep) why = fastForward(heard_tick);
   replaying_ = false;
   reanchor(clock_.now());
   updateInfo(clock_.now());

@@ -21,7 +21,9 @@ fleet_lab_begin() {
   if ! command -v etcd >/dev/null; then echo "SKIP: no etcd (apt-get install etcd-server)" >&2; exit 77; fi
   name="$prefix$$"
   tmp=$(mktemp -d "/tmp/groundsim-$prefix-XXXXXX")
-  trap '"$lab" down "$name" || true; rm -rf "$tmp"' EXIT
+  # GROUNDSIM_KEEP_FAILED=DIR keeps a failed test's files (logs, recordings) in DIR
+  trap 'rc=$?; "$lab" down "$name" || true; if [ $rc -ne 0 ] && [ -n "${GROUNDSIM_KEEP_FAILED:-}" ]; then
+    mkdir -p "$GROUNDSIM_KEEP_FAILED" && cp -r "$tmp" "$GROUNDSIM_KEEP_FAILED/"; fi; rm -rf "$tmp"' EXIT
   trap 'exit 130' INT TERM
   local old
   for old in $(ip netns list | awk '{print $1}' | sed -n "s/^gs-$prefix\([0-9]\{1,\}\)-sw\$/\1/p"); do

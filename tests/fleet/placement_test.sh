@@ -8,10 +8,13 @@
 # sessions listed, 60 distinct ids), and
 #   spread: each server holds 20 +- 4;
 #   packed (--max-sessions 25): the servers fill one after another, 25, 25, 10.
-# Prints the create-to-reply times (p50, p99; figures, not verdicts).
-#   tests/fleet/placement_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO spread|packed
+# Prints the create-to-reply times (p50, p99; figures, not verdicts) and,
+# with spread, 60 more creates of real time sessions by service_bench
+# (`firststate`: the create request to the session's first state, p50 and
+# p99; a figure for docs/fleet.md, not a verdict).
+#   tests/fleet/placement_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO spread|packed [SERVICE_BENCH LIGHT_SCENARIO]
 set -euo pipefail
-lab=$1 server=$2 client=$3 scenario=$4 placement=$5
+lab=$1 server=$2 client=$3 scenario=$4 placement=$5 bench=${6:-} light=${7:-}
 . "$(dirname "$0")/fleet_lab_common.sh"
 fleet_lab_begin fp
 fail() {
@@ -52,3 +55,7 @@ else:
     if counts != [25, 25, 10]:
         sys.exit(f"FAIL: packed placed {counts}, not 25, 25, 10")
 PY
+if [ "$placement" = spread ] && [ -n "$bench" ] && [ -x "$bench" ]; then
+  "$lab" exec "$name" 4 "$bench" --lcm-url "$url" firststate "$light" --count 60 | sed 's/^/figure: /' ||
+    fail "service_bench firststate failed"
+fi

@@ -15,6 +15,7 @@
 #include "scenario/scenario.hpp"
 #include "session/clock.hpp"
 #include "session/asset_store.hpp"
+#include "session/applied.hpp"
 #include "session/types.hpp"
 
 namespace groundsim::session::test {
@@ -64,6 +65,14 @@ class RecordingOutput final : public Output {
   void publishEvent(const Event& e) override {
     std::lock_guard<std::mutex> lk(m_);
     events.push_back(e);
+  }
+  void publishApplied(const Applied& a) override {
+    std::lock_guard<std::mutex> lk(m_);
+    applied.push_back(a);
+  }
+  void publishReplica(const Replica& r) override {
+    std::lock_guard<std::mutex> lk(m_);
+    replicas.push_back(r);
   }
   void publishAssetWant(const AssetWant& w) override {
     std::lock_guard<std::mutex> lk(m_);
@@ -115,6 +124,8 @@ class RecordingOutput final : public Output {
   std::vector<VecReply> vec_replies;
   std::vector<AssetWant> asset_wants;
   std::vector<Event> events;
+  std::vector<Applied> applied;
+  std::vector<Replica> replicas;
 
  private:
   mutable std::mutex m_;
