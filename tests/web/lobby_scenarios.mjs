@@ -105,7 +105,8 @@ const pic = await h.until('the circuit card\'s picture', () => page.evaluate(() 
   }
   return { grey: grey / (d.length / 4), green: green / (d.length / 4), colours: colours.size };
 }), 60000, 200);
-console.log(`circuit card picture: ${(100 * pic.grey).toFixed(1)} % asphalt grey, ${(100 * pic.green).toFixed(1)} % green, ${pic.colours} colours`);
+const took = await page.evaluate(() => Object.values(window.groundsim.previews).map((m) => `${m.config} ${m.ms} ms`));
+console.log(`circuit card picture: ${(100 * pic.grey).toFixed(1)} % asphalt grey, ${(100 * pic.green).toFixed(1)} % green, ${pic.colours} colours; previews computed: ${took.join(', ')}`);
 if (!(pic.grey > 0.03 && pic.green > 0.2 && pic.colours > 20)) await h.fail(`the circuit's picture: ${JSON.stringify(pic)}`);
 
 // the name, kept across a reload

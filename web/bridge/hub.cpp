@@ -579,9 +579,18 @@ void Hub::preview(Peer* p, const PreviewMsg& m) {
   if (auto it = previews_.find(m.config); it != previews_.end()) return p->send(it->second);
   auto& waiting = preview_waiting_[m.config];
   if (std::find(waiting.begin(), waiting.end(), p) == waiting.end()) waiting.push_back(p);
-  if (waiting.size() > 1) return;  // under way
-  const std::string id = m.config, dir = cfg_.configs_dir;
+  if (waiting.size() > 1) return;  // queued or under way
+  preview_queue_.push_back(m.config);
+  nextPreview();
+}
+
+void Hub::nextPreview() {
+  if (preview_busy_ || preview_queue_.empty()) return;
+  preview_busy_ = true;
+  const std::string id = preview_queue_.front(), dir = cfg_.configs_dir;
+  preview_queue_.pop_front();
   worker_.post([this, id, dir] {
+    const auto t0 = Clock::now();
     json out;
     try {
       out = scenarioPreview(dir, id);
@@ -590,6 +599,7 @@ void Hub::preview(Peer* p, const PreviewMsg& m) {
     }
     out["op"] = "preview";
     out["config"] = id;
+    out["ms"] = std::round(std::chrono::duration<double, std::milli>(Clock::now() - t0).count() * 10.0) / 10.0;
     auto text = shared(out.dump());
     asio::post(io_, [this, id, text] {
       previews_[id] = text;
@@ -597,6 +607,8 @@ void Hub::preview(Peer* p, const PreviewMsg& m) {
       preview_waiting_.erase(id);
       for (Peer* q : waiting)
         if (peers_.count(q)) q->send(text);
+      preview_busy_ = false;
+      nextPreview();
     });
   });
 }

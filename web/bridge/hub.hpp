@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -170,6 +171,11 @@ class Hub {
   std::map<std::string, std::string> scenario_texts_;  // session -> scenario document seen on the bus
   std::map<std::string, std::shared_ptr<const std::string>> previews_;  // config -> its preview message
   std::map<std::string, std::vector<Peer*>> preview_waiting_;          // config -> browsers waiting for it
+  // one preview at a time on the worker, behind whatever it holds: a
+  // session's scene view or ground grid waits for one preview at most
+  std::deque<std::string> preview_queue_;
+  bool preview_busy_ = false;
+  void nextPreview();
   std::int64_t next_request_ = 1;
   struct Pending {
     std::function<void(const groundsim::reply_t*)> done;
