@@ -82,14 +82,24 @@ groundsim::reply_t NetClient::call(groundsim::request_t req, double timeout_s) {
   waiting_for_ = req.request_id;
   reply_.reset();
   if (lcm_.publish(net::kRequestChannel, &req) != 0) throw NetError("cannot publish on " + url_);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::min(timeout_s, 1e9));
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + std::chrono::duration<double>(std::min(timeout_s, 1e9));
+  // a list changes nothing, so a datagram lost on the way (a request, or
+  // its reply: a snooping switch that has not yet learnt this new process's
+  // group membership drops it) is worth asking again, with the same id
+  const bool idempotent = req.op == groundsim::request_t::OP_LIST;
+  auto next_ask = start + kAskAgain;
   while (!reply_) {
+    if (idempotent && std::chrono::steady_clock::now() >= next_ask) {
+      if (lcm_.publish(net::kRequestChannel, &req) != 0) throw NetError("cannot publish on " + url_);
+      next_ask += kAskAgain;
+    }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0)
       throw NetError("no reply from groundsim-server within " + net::number(timeout_s) + " s on " + url_ +
                      (watch_.heartbeats() > 0 ? " (its heartbeat is there: the server is busy or dropped the request)"
                                               : " (is the server running with the same --lcm-url?)"));
-    pump(static_cast<int>(std::min<long long>(left.count() + 1, 200)));
+    pump(static_cast<int>(std::min<long long>(left.count() + 1, idempotent ? 100 : 200)));
   }
   waiting_for_ = -1;
   groundsim::reply_t r = std::move(*reply_);

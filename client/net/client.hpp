@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,7 @@ class NetClient {
   std::vector<groundsim::event_t> takeEvents();
 
  private:
+  static constexpr std::chrono::milliseconds kAskAgain{1000};  // call(): idempotent requests asked again
   void onReply(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onEvent(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onAssetWant(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
