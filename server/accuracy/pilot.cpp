@@ -384,6 +384,22 @@ void boundModelGap(const ModelPilot& user, const ModelPilot& other, double durat
   m.gap = m.difference + m.user_error + m.own_error;
 }
 
+// The steps of the user's model's pilot with integrator k (the larger of
+// its families'): another model's pilot of k refines no further than that,
+// so screening a model costs at most what piloting the user's did (the
+// crash's stick-slip tyres, kept out at 1%, had refined their automatic
+// substeps down to 2e-5 s: 4x the user's pilot).
+long long pilotSteps(const ModelPilot& m, IntegratorKind k) {
+  long long most = 0;
+  for (const IntegratorTrial& t : m.trials) {
+    if (t.kind != k || !t.usable) continue;
+    long long n = 0;
+    for (double h : t.level_dt) n += std::llround(t.segment / h);
+    most = std::max(most, n);
+  }
+  return most;
+}
+
 }  // namespace
 
 Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
@@ -443,12 +459,18 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
     }
     ModelPilot other;
     const IntegratorKind first = user.trials[static_cast<size_t>(u)].kind;
-    pilotIntegrator(option.scenario, first, tolerance, o, c.pilot_duration, short_segment, whole, top, other);
+    auto capped = [&](IntegratorKind k) {
+      PilotOptions oc = o;
+      oc.max_pilot_steps = std::min(o.max_pilot_steps, std::max(1LL, pilotSteps(user, k)));
+      return oc;
+    };
+    pilotIntegrator(option.scenario, first, tolerance, capped(first), c.pilot_duration, short_segment, whole, top, other);
     boundModelGap(user, other, s.duration, m);
     m.admitted = m.gap <= kModelShare * tolerance;
     if (m.admitted)
       for (IntegratorKind k : o.integrators)
-        if (k != first) pilotIntegrator(option.scenario, k, tolerance, o, c.pilot_duration, short_segment, whole, top, other);
+        if (k != first)
+          pilotIntegrator(option.scenario, k, tolerance, capped(k), c.pilot_duration, short_segment, whole, top, other);
     if (m.admitted) boundModelGap(user, other, s.duration, m);  // the most accurate run may be another's now
     m.admitted = m.gap <= kModelShare * tolerance;
     char buf[256];
@@ -458,6 +480,7 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
                   m.gap, m.difference, m.user_error, m.own_error);
     m.verdict = std::string(m.admitted ? "admitted: " : "kept out: ") + buf +
                 (m.admitted ? "" : ", more than " + fmt(kModelShare) + " of the tolerance");
+    m.trials = other.trials;
     c.models.push_back(m);
     if (!m.admitted) continue;
     const double work = workPerEvaluation(option.scenario);
@@ -560,8 +583,17 @@ std::string Choice::report() const {
                 trials.size(), pilot_duration, pilot_wall_seconds);
   out += buf;
   for (const ModelTrial& m : models) out += "  model " + m.name + " (" + m.what + "): " + m.verdict + "\n";
-  for (const IntegratorTrial& t : trials) {
-    if (t.model > 0) out += "  [" + models[static_cast<size_t>(t.model - 1)].name + "]";
+  // the trials of the choice's candidates, then those of the models kept
+  // out (what their pilot cost)
+  std::vector<std::pair<const IntegratorTrial*, std::string>> all;
+  for (const IntegratorTrial& t : trials)
+    all.emplace_back(&t, t.model > 0 ? models[static_cast<size_t>(t.model - 1)].name : std::string());
+  for (const ModelTrial& m : models)
+    if (!m.admitted)
+      for (const IntegratorTrial& t : m.trials) all.emplace_back(&t, m.name + ", kept out");
+  for (const auto& [tp, label] : all) {
+    const IntegratorTrial& t = *tp;
+    if (!label.empty()) out += "  [" + label + "]";
     if (t.usable)
       std::snprintf(buf, sizeof buf,
                     "  %-20s dt0 %-8.3g contact substeps %d  diffs %.2e %.2e  order %.2f (%.2f)  growth %.2f  "

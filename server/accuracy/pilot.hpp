@@ -102,6 +102,9 @@ struct ModelTrial {
   double user_error = 0.0, own_error = 0.0;  // each of those runs' error
   bool admitted = false;            // gap within kModelShare x tolerance
   std::string verdict;              // one line: why taken, kept out or not piloted
+  // its trials (the first integrator's alone when kept out), for the report;
+  // admitted ones are also among Choice::trials, the choice's candidates
+  std::vector<IntegratorTrial> trials;
 };
 
 // A model may take at most this share of the tolerance: its converged
