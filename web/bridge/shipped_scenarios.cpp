@@ -174,12 +174,14 @@ nlohmann::json scenarioPreview(const std::string& dir, const std::string& id, in
     if (track.is_null()) grow(q.x(), q.y(), 30.0);
   }
   for (const auto& o : placed) {
+    // seen from above: a box as its footprint turned by its yaw, other shapes as a disc (length = width)
     const double x = o["p"][0].get<double>(), y = o["p"][1].get<double>();
-    double r = 0.5;
-    if (o.contains("size")) r = 0.5 * std::max(o["size"][0].get<double>(), o["size"][1].get<double>());
-    else if (o.contains("radius")) r = o["radius"].get<double>();
-    objects.push_back({x, y, r});
-    if (track.is_null()) grow(x, y, 10.0);
+    const double w = o["q"][0].get<double>(), qz = o["q"][3].get<double>();
+    double sx = 1.0, sy = 1.0;
+    if (o.contains("size")) sx = o["size"][0].get<double>(), sy = o["size"][1].get<double>();
+    else if (o.contains("radius")) sx = sy = 2.0 * o["radius"].get<double>();
+    objects.push_back({x, y, sx, sy, 2.0 * std::atan2(qz, w)});
+    if (track.is_null()) grow(x, y, 0.5 * std::max(sx, sy) + 10.0);
   }
   if (!(x1 > x0)) grow(0.0, 0.0, 30.0);
   const double side = std::max(x1 - x0, y1 - y0);

@@ -45,8 +45,9 @@ bool validConfigId(const std::string& id);
 // on an n x n grid (groundGrid, solved through the scenario's ground as the
 // page's terrain is) over a square that holds the race track (its centre
 // line and half width plus 12 m), else the vehicles' start and the objects
-// (plus 30 m); the track {centerline, half_width, closed}, the objects
-// [x, y, radius] and the cars' starts [x, y, yaw] in it. Throws what the
+// (plus 30 m); the track {centerline, half_width, closed}, the objects'
+// footprints [x, y, length, width, yaw] (a box's; a disc's diameter twice
+// for other shapes) and the cars' starts [x, y, yaw] in it. Throws what the
 // scenario layer throws for a file that does not build.
 nlohmann::json scenarioPreview(const std::string& dir, const std::string& id, int n = 48);
 

@@ -5,7 +5,7 @@
 // objects and the cars' starts. Seen from above, north up: each surface in
 // the terrain's colours (natural ground by slope), hill-shaded from the
 // north-west, the track as asphalt with white edges and a chequered start,
-// objects as dark dots and each car as an arrow in its colour. Drawn here
+// objects as their footprints and each car as an arrow in its colour. Drawn here
 // rather than shipped as images: it always shows the file as it is now, and
 // costs the bridge one small grid per scenario (kept).
 import * as THREE from 'three';
@@ -71,11 +71,19 @@ export function drawPreview(canvas, m) {
     g.stroke();
     g.setLineDash([]);
   }
-  g.fillStyle = 'rgba(20,20,20,0.8)';
-  for (const [x, y, r] of m.objects || []) {
+  // objects: footprints (a box turned by its yaw; a disc otherwise), at least 2 px
+  g.fillStyle = 'rgba(225,222,214,0.95)';
+  g.strokeStyle = 'rgba(40,40,40,0.9)';
+  g.lineWidth = 0.5;
+  for (const [x, y, sx, sy, yaw] of m.objects || []) {
+    const a = Math.max(2, sx * scale), b = Math.max(2, sy * scale);
+    g.save();
+    g.translate(px(x), py(y));
+    g.rotate(-yaw);
     g.beginPath();
-    g.arc(px(x), py(y), Math.max(1.2, r * scale), 0, 2 * Math.PI);
-    g.fill();
+    if (sx === sy) g.arc(0, 0, a / 2, 0, 2 * Math.PI); else g.rect(-a / 2, -b / 2, a, b);
+    g.fill(); g.stroke();
+    g.restore();
   }
   (m.cars || []).forEach(([x, y, yaw], k) => {
     const s = 5, X = px(x), Y = py(y), cs = Math.cos(yaw), sn = Math.sin(yaw);

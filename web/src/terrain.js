@@ -101,7 +101,9 @@ function terrainMaterial(grain) {
 
 // A grid {x0, y0, n, step, z: [n*n] (null: no surface), mu?: [n*n]} as a
 // mesh with a skirt `skirt` m deep; defaultMu where mu is absent or null.
-function gridGeometry(grid, defaultMu, natural, skirt) {
+// sink(x, y, step): metres to lower a node by (the horizon's nodes under a
+// race track), or null
+function gridGeometry(grid, defaultMu, natural, skirt, sink = null) {
   const { x0, y0, n, step } = grid;
   const z = new Float32Array(n * n);
   let fallback = 0;
@@ -118,7 +120,7 @@ function gridGeometry(grid, defaultMu, natural, skirt) {
   const put = (k, i, j, dz) => {
     const x = x0 + j * step, y = y0 + i * step;
     v.set(-(at(i, j + 1) - at(i, j - 1)) / (2 * step), -(at(i + 1, j) - at(i - 1, j)) / (2 * step), 1).normalize();
-    pos.set([x, y, z[i * n + j] - dz], 3 * k);
+    pos.set([x, y, z[i * n + j] - dz - (sink ? sink(x, y, step) : 0)], 3 * k);
     nor.set([v.x, v.y, v.z], 3 * k);
     const m = grid.mu && grid.mu[i * n + j] !== null && grid.mu[i * n + j] !== undefined ? grid.mu[i * n + j] : null;
     // a horizon level carries the scene's mu where no patch is: that is the ground's own surface too
@@ -172,10 +174,36 @@ export class Terrain {
     this.natural = false;
     this.levels = [];       // extents [x0, y0, x1, y1] of the horizon levels, finest first
   }
+  // A race track's stations (layout.track): the horizon's nodes within its
+  // half width plus a step of it are lowered by 0.1 m + 5 % of their step,
+  // so a coarse level's straight lines between samples a step apart never
+  // rise through the ribbon drawn on the exact heights (track.js); the near
+  // grid's 0.5 m samples stay as they are (the ribbon is 3 cm above them).
+  setTrack(track) {
+    this.sink = null;
+    if (!track || !track.xy || track.xy.length < 2) return;
+    const cell = 16, buckets = new Map(), hw = track.half_width;
+    const key = (i, j) => `${i},${j}`;
+    for (const [x, y] of track.xy) {
+      const k = key(Math.floor(x / cell), Math.floor(y / cell));
+      if (!buckets.has(k)) buckets.set(k, []);
+      buckets.get(k).push(x, y);
+    }
+    this.sink = (x, y, step) => {
+      const reach = hw + step + 1, r = Math.ceil(reach / cell), ci = Math.floor(x / cell), cj = Math.floor(y / cell);
+      let best = Infinity;
+      for (let i = ci - r; i <= ci + r; ++i) for (let j = cj - r; j <= cj + r; ++j) {
+        const b = buckets.get(key(i, j));
+        if (b) for (let k = 0; k < b.length; k += 2) best = Math.min(best, (b[k] - x) ** 2 + (b[k + 1] - y) ** 2);
+      }
+      return best < reach * reach ? 0.1 + 0.05 * step : 0;
+    };
+  }
   // layout: the session's (friction, ground kind, horizon levels), or null
   setLayout(layout) {
     this.clear();
     if (!layout) return;
+    this.setTrack(layout.track);
     this.defaultMu = typeof layout.friction === 'number' ? layout.friction : 1;
     this.natural = !['plane', 'incline'].includes(layout.ground);
     this.setHorizon(layout.horizon || []);
@@ -186,7 +214,7 @@ export class Terrain {
     this.levels = levels.map(extentOf);
     let edgeZ = 0;
     levels.forEach((g, l) => {
-      const built = gridGeometry(g, this.defaultMu, this.natural, 2 * g.step);
+      const built = gridGeometry(g, this.defaultMu, this.natural, 2 * g.step, this.sink);
       edgeZ = built.edgeZ;
       const m = new THREE.Mesh(built.geo, terrainMaterial(this.grain));
       m.receiveShadow = l === 0;
@@ -255,6 +283,7 @@ export class Terrain {
     return hit ? hit.point.z : 0;
   }
   clear() {
+    this.sink = null;
     this.setHorizon([]);
     if (this.mesh) { this.scene.remove(this.mesh); this.mesh.geometry.dispose(); this.mesh = null; }
     this.center = null;
