@@ -317,3 +317,26 @@ TEST(StateJson, CarriesTheLiveErrorEstimate) {
   s.error_estimate = -1;  // none: the page hides the line
   EXPECT_EQ(json::parse(stateJson(s, 1.0))["error_estimate"], -1);
 }
+
+// A player's name on create and join (printable, at most 24 bytes, kept
+// for the lobby) and the lobby's preview op (a shipped scenario's id).
+TEST(BrowserMessage, PlayerNameAndPreview) {
+  using groundsim::web::parseBrowserMessage;
+  auto ok = parseBrowserMessage(R"({"op":"join","session":"0123ABCD","role":"drive","player":"Ann Åberg"})");
+  ASSERT_TRUE(ok.message.has_value()) << ok.error.field << ": " << ok.error.reason;
+  EXPECT_EQ(std::get<groundsim::web::JoinMsg>(*ok.message).player, "Ann Åberg");
+  ok = parseBrowserMessage(R"({"op":"create","config":"race/circuit.json","vehicles":2,"player":"Bob"})");
+  ASSERT_TRUE(ok.message.has_value());
+  EXPECT_EQ(std::get<groundsim::web::CreateMsg>(*ok.message).player, "Bob");
+  auto bad = parseBrowserMessage(R"({"op":"join","session":"0123ABCD","player":"a\nb"})");
+  EXPECT_EQ(bad.error.field, "/player");
+  bad = parseBrowserMessage(R"({"op":"create","config":"plain.json","player":"0123456789012345678901234"})");
+  EXPECT_EQ(bad.error.field, "/player");
+  bad = parseBrowserMessage(R"({"op":"join","session":"0123ABCD","player":7})");
+  EXPECT_EQ(bad.error.field, "/player");
+  ok = parseBrowserMessage(R"({"op":"preview","config":"race/circuit.json"})");
+  ASSERT_TRUE(ok.message.has_value());
+  EXPECT_EQ(std::get<groundsim::web::PreviewMsg>(*ok.message).config, "race/circuit.json");
+  EXPECT_EQ(parseBrowserMessage(R"({"op":"preview","config":"../etc/passwd"})").error.field, "/config");
+  EXPECT_EQ(parseBrowserMessage(R"({"op":"preview"})").error.field, "/config");
+}
