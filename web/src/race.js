@@ -69,8 +69,9 @@ export class RaceView {
     this.shownLaps = [];    // the lap times the HUD showed, as text, one per lap event
     this.onLap = null;      // (event, mine) once per own lap
     this.onStart = null;    // (event) the own car's lap started (its first, or after a lap)
-    for (const c of [...this.group.children]) { this.group.remove(c); c.geometry?.dispose(); }
+    for (const c of [...this.group.children]) { this.group.remove(c); c.geometry?.dispose(); c.dispose?.(); }
     this.posts = [];
+    this.postMeshes = [];
     this.beam = null;
   }
   show(on) {
@@ -155,22 +156,31 @@ export class RaceView {
     this.ghost.use(name, car);
   }
 
-  // the gates as posts, the next one's beam
+  // the gates as posts (one instanced mesh per colour: 2 draw calls for
+  // any number of gates; each post an Object3D that frame() moves, copied
+  // into its instance), the next one's beam
   build() {
     const gates = this.layout.gates || [];
     const postGeo = new THREE.CylinderGeometry(0.12, 0.12, 2.2, 8);
     postGeo.rotateX(Math.PI / 2);
     const mats = [new THREE.MeshStandardMaterial({ color: 0xffffff, emissive: 0x223344 }),
                   new THREE.MeshStandardMaterial({ color: 0x33d17a, emissive: 0x0d5a2a })];
-    this.posts = gates.map((g, i) => {
-      const pair = [[g[0], g[1]], [g[2], g[3]]].map(([x, y]) => {
-        const m = new THREE.Mesh(postGeo, mats[i === 0 ? 1 : 0]);
-        m.position.set(x, y, 1.1);
-        this.group.add(m);
-        return m;
-      });
-      return pair;
+    const counts = [2 * Math.max(0, gates.length - 1), gates.length ? 2 : 0];
+    this.postMeshes = mats.map((m, k) => {
+      const im = new THREE.InstancedMesh(postGeo, m, Math.max(1, counts[k]));
+      im.count = counts[k];
+      im.name = k ? 'start-posts' : 'gate-posts';
+      im.frustumCulled = false;  // instances spread over the track
+      this.group.add(im);
+      return im;
     });
+    const next = [0, 0];
+    this.posts = gates.map((g, i) => [[g[0], g[1]], [g[2], g[3]]].map(([x, y]) => {
+      const m = new THREE.Object3D();
+      m.position.set(x, y, 1.1);
+      m.userData.instance = [i === 0 ? 1 : 0, next[i === 0 ? 1 : 0]++];
+      return m;
+    }));
     const beamGeo = new THREE.CylinderGeometry(0.6, 0.6, 60, 12, 1, true);
     beamGeo.rotateX(Math.PI / 2);
     this.beam = new THREE.Mesh(beamGeo, new THREE.MeshBasicMaterial({ color: 0x33ff88, transparent: true, opacity: 0.25, depthWrite: false }));
@@ -199,7 +209,11 @@ export class RaceView {
       const h = m.userData.ground;
       m.position.z = (Number.isFinite(h) ? h : z) + 1.1;
       m.scale.setScalar(i === next ? 1.4 : 1);
+      m.updateMatrix();
+      const [k, j] = m.userData.instance;
+      this.postMeshes[k].setMatrixAt(j, m.matrix);
     }));
+    for (const im of this.postMeshes || []) im.instanceMatrix.needsUpdate = true;
     if (this.beam) {
       this.beam.visible = next >= 0 && !!gates[next];
       if (this.beam.visible) {

@@ -101,7 +101,7 @@ function terrainMaterial(grain) {
 
 // A grid {x0, y0, n, step, z: [n*n] (null: no surface), mu?: [n*n]} as a
 // mesh with a skirt `skirt` m deep; defaultMu where mu is absent or null.
-// sink(x, y, step): metres to lower a node by (the horizon's nodes under a
+// sink: metres to lower each node by (n * n: the horizon's nodes under a
 // race track), or null
 function gridGeometry(grid, defaultMu, natural, skirt, sink = null) {
   const { x0, y0, n, step } = grid;
@@ -120,7 +120,7 @@ function gridGeometry(grid, defaultMu, natural, skirt, sink = null) {
   const put = (k, i, j, dz) => {
     const x = x0 + j * step, y = y0 + i * step;
     v.set(-(at(i, j + 1) - at(i, j - 1)) / (2 * step), -(at(i + 1, j) - at(i - 1, j)) / (2 * step), 1).normalize();
-    pos.set([x, y, z[i * n + j] - dz - (sink ? sink(x, y, step) : 0)], 3 * k);
+    pos.set([x, y, z[i * n + j] - dz - (sink ? sink[i * n + j] : 0)], 3 * k);
     nor.set([v.x, v.y, v.z], 3 * k);
     const m = grid.mu && grid.mu[i * n + j] !== null && grid.mu[i * n + j] !== undefined ? grid.mu[i * n + j] : null;
     // a horizon level carries the scene's mu where no patch is: that is the ground's own surface too
@@ -182,21 +182,20 @@ export class Terrain {
   setTrack(track) {
     this.sink = null;
     if (!track || !track.xy || track.xy.length < 2) return;
-    const cell = 16, buckets = new Map(), hw = track.half_width;
-    const key = (i, j) => `${i},${j}`;
-    for (const [x, y] of track.xy) {
-      const k = key(Math.floor(x / cell), Math.floor(y / cell));
-      if (!buckets.has(k)) buckets.set(k, []);
-      buckets.get(k).push(x, y);
-    }
-    this.sink = (x, y, step) => {
-      const reach = hw + step + 1, r = Math.ceil(reach / cell), ci = Math.floor(x / cell), cj = Math.floor(y / cell);
-      let best = Infinity;
-      for (let i = ci - r; i <= ci + r; ++i) for (let j = cj - r; j <= cj + r; ++j) {
-        const b = buckets.get(key(i, j));
-        if (b) for (let k = 0; k < b.length; k += 2) best = Math.min(best, (b[k] - x) ** 2 + (b[k + 1] - y) ** 2);
+    const hw = track.half_width;
+    // per grid: each station marks the nodes within reach of it (a few
+    // per station and level: cheap on a 2 km stage)
+    this.sink = (grid) => {
+      const { x0, y0, n, step } = grid, out = new Float32Array(n * n), reach = hw + step + 1, depth = 0.1 + 0.05 * step;
+      const r = Math.ceil(reach / step);
+      for (const [x, y] of track.xy) {
+        const cj = Math.round((x - x0) / step), ci = Math.round((y - y0) / step);
+        if (ci < -r || cj < -r || ci >= n + r || cj >= n + r) continue;
+        for (let i = Math.max(0, ci - r); i <= Math.min(n - 1, ci + r); ++i)
+          for (let j = Math.max(0, cj - r); j <= Math.min(n - 1, cj + r); ++j)
+            if ((x0 + j * step - x) ** 2 + (y0 + i * step - y) ** 2 < reach * reach) out[i * n + j] = depth;
       }
-      return best < reach * reach ? 0.1 + 0.05 * step : 0;
+      return out;
     };
   }
   // layout: the session's (friction, ground kind, horizon levels), or null
@@ -214,7 +213,7 @@ export class Terrain {
     this.levels = levels.map(extentOf);
     let edgeZ = 0;
     levels.forEach((g, l) => {
-      const built = gridGeometry(g, this.defaultMu, this.natural, 2 * g.step, this.sink);
+      const built = gridGeometry(g, this.defaultMu, this.natural, 2 * g.step, this.sink ? this.sink(g) : null);
       edgeZ = built.edgeZ;
       const m = new THREE.Mesh(built.geo, terrainMaterial(this.grain));
       m.receiveShadow = l === 0;
