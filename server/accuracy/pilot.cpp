@@ -103,7 +103,7 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
 // 3.84e-2, 3.76e-2, then 7.78e-3, a clean-looking order 2.3 that read its
 // error at 1.25 ms 6x low) is refined once more before it is trusted.
 bool stalled(const IntegratorTrial& t) {
-  return t.diff_before > 0.0 && t.diff_coarse > 0.0 && std::log2(t.diff_before / t.diff_coarse) < t.raw_order - 1.0;
+  return t.diff_before > 0.0 && !(t.diff_before > 1.05 * t.diff_coarse);
 }
 bool clean(const IntegratorTrial& t) {
   if (t.diff_coarse < kRoundoff && t.diff_fine < kRoundoff) return true;
