@@ -263,14 +263,18 @@ std::int64_t EtcdClient::put(const std::string& key, const std::string& value, s
   return headerRevision(call("/v3/kv/put", putBody(key, value, lease)));
 }
 
-std::optional<Kv> EtcdClient::get(const std::string& key) {
-  auto kvs = parseKvs(call("/v3/kv/range", rangeBody(key, false)));
+std::optional<Kv> EtcdClient::get(const std::string& key, bool serializable) {
+  json body = rangeBody(key, false);
+  if (serializable) body["serializable"] = true;
+  auto kvs = parseKvs(call("/v3/kv/range", body));
   if (kvs.empty()) return std::nullopt;
   return kvs.front();
 }
 
-std::vector<Kv> EtcdClient::range(const std::string& prefix) {
-  return parseKvs(call("/v3/kv/range", rangeBody(prefix, true)));
+std::vector<Kv> EtcdClient::range(const std::string& prefix, bool serializable) {
+  json body = rangeBody(prefix, true);
+  if (serializable) body["serializable"] = true;
+  return parseKvs(call("/v3/kv/range", body));
 }
 
 std::int64_t EtcdClient::del(const std::string& key) {
@@ -309,6 +313,16 @@ bool EtcdClient::createIfAbsent(const std::string& key, const std::string& value
     return kv.lease == lease && kv.value == value && kv.version == 1;
   }
   return false;
+}
+
+std::string EtcdClient::createOrRead(const std::string& key, const std::string& value, std::int64_t lease) {
+  // a lost answer to our own create, retried, reads what it wrote; a
+  // transaction's compare and read see one revision, so the read is there
+  // when the compare failed
+  auto r = txn({Compare::version(key, Compare::Result::Equal, 0)}, {Op::put(key, value, lease)}, {Op::get(key)});
+  if (r.succeeded) return value;
+  if (r.reads.empty() || r.reads[0].empty()) throw EtcdError("", "txn on " + key + ": the compare failed but the key is absent", false);
+  return r.reads[0][0].value;
 }
 
 bool EtcdClient::compareAndSwap(const std::string& key, std::int64_t expected_mod_revision, const std::string& value,

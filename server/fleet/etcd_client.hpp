@@ -130,15 +130,20 @@ class EtcdClient {
 
   // The revision of the store after the write.
   std::int64_t put(const std::string& key, const std::string& value, std::int64_t lease = 0);
-  std::optional<Kv> get(const std::string& key);
+  // serializable: the member's own copy, with no quorum round (it may lag
+  // the leader by what it has not applied yet); else linearizable.
+  std::optional<Kv> get(const std::string& key, bool serializable = false);
   // Every key starting with prefix, in key order ("" = every key).
-  std::vector<Kv> range(const std::string& prefix);
+  std::vector<Kv> range(const std::string& prefix, bool serializable = false);
   // The number of keys deleted (0 or 1).
   std::int64_t del(const std::string& key);
   std::int64_t delPrefix(const std::string& prefix);
 
   // Creates key only if it does not exist (txn: version == 0). False: it exists.
   bool createIfAbsent(const std::string& key, const std::string& value, std::int64_t lease = 0);
+  // Creates key if it does not exist, in one transaction that reads it
+  // otherwise: the value the store holds after it (value when created).
+  std::string createOrRead(const std::string& key, const std::string& value, std::int64_t lease = 0);
   // Writes key only if its mod_revision is still expected_mod_revision
   // (0: only if absent). False: it changed (or vanished).
   bool compareAndSwap(const std::string& key, std::int64_t expected_mod_revision, const std::string& value,

@@ -135,11 +135,42 @@ std::int64_t FleetNode::claimsLease() {
   return claims_lease_;
 }
 
+// Sessions per server, from what this server knows without asking etcd (a
+// create's path holds no etcd read for it): the owners as last scanned
+// (every 250 ms) and the placements it made or read since (every server
+// hears every create, so it sees every placement). A session placed and
+// already scanned counts twice for a while, as the creates/ keys did when
+// they were read from etcd: a burst of creates is counted before its
+// sessions exist.
 std::map<std::string, int> FleetNode::loads() {
+  const auto now = Clock::now();
   std::map<std::string, int> n;
-  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/")) ++n[ownerOf(kv.value)];
-  for (const fleet::Kv& kv : client_.range(options_.prefix + "/creates/")) ++n[kv.value];
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::erase_if(placed_, [&](const auto& kv) { return now - kv.second.at > kCreateRetry; });
+  for (const auto& [sid, server] : owners_) ++n[server];
+  for (const auto& [k, p] : placed_) ++n[p.server];
   return n;
+}
+
+std::map<std::string, int> FleetNode::loadsFromEtcd() {
+  std::map<std::string, int> n;
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/", true)) ++n[ownerOf(kv.value)];
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/creates/", true)) ++n[kv.value];
+  return n;
+}
+
+// The local view lags etcd by up to a scan period: near a server's limit
+// (the counts hold sessions being built twice, so "full" is 2 x max) it may
+// miss the last placements' claims, and a create placed on a full server is
+// refused. Within a few sessions of it, the counts are read from etcd.
+bool FleetNode::nearFull(const std::map<std::string, int>& loads, const std::string& server) const {
+  for (const fleet::Member& m : membership_->members()) {
+    if (m.id != server || !m.info.is_object()) continue;
+    const double max = m.info.value("capacity", nlohmann::json::object()).value("max_sessions", 0.0);
+    const auto it = loads.find(server);
+    return it != loads.end() && it->second >= 2 * max - 8;
+  }
+  return false;
 }
 
 std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loads) const {
@@ -176,19 +207,32 @@ std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loa
   return out;
 }
 
+// Every server hears a create; the first to write creates/<client>/<request>
+// names the server that takes it. Create to first state is what a player
+// waits for, so the path holds one serializable read (a member's own copy,
+// no quorum round: a stale "absent" only leads to the transaction, which
+// decides) and the transaction; the loads are this server's own view
+// (etcd's only near a server's limit).
 void FleetNode::place(const Pending& p) {
   const std::string k = key("creates", p.client_id + "/" + std::to_string(p.request_id));
-  std::optional<fleet::Kv> placed = client_.get(k);
-  if (!placed) {
-    const std::vector<std::string> order = ranked(loads());
+  std::string named;
+  if (std::optional<fleet::Kv> placed = client_.get(k, true)) {
+    named = placed->value;
+  } else {
+    const std::map<std::string, int> local = loads();
+    std::vector<std::string> order = ranked(local);
+    if (!order.empty() && nearFull(local, order.front())) order = ranked(loadsFromEtcd());
     if (order.empty()) {
       if (isAnswerer()) p.take();  // nobody takes sessions: this one refuses it (full, draining)
       return;
     }
-    client_.createIfAbsent(k, order.front(), claimsLease());
-    placed = client_.get(k);
+    named = client_.createOrRead(k, order.front(), claimsLease());
   }
-  if (placed && placed->value == options_.server_id) p.take();
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (placed_.size() < kMaxPendingCreates) placed_[k] = Placed{named, Clock::now()};
+  }
+  if (named == options_.server_id) p.take();
 }
 
 // ---- standbys -----------------------------------------------------------------

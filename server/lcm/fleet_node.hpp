@@ -154,6 +154,10 @@ class FleetNode final : public session::Ownership {
   // Sessions per server: owners' keys and recent placements (both count a
   // session being built, for every server alike, so the order is fair).
   std::map<std::string, int> loads();
+  // The same counts read from etcd (owners/ and creates/): fresh, but two
+  // round trips; taken when the local view puts a server near full.
+  std::map<std::string, int> loadsFromEtcd();
+  bool nearFull(const std::map<std::string, int>& loads, const std::string& server) const;
   std::vector<Pending> creates_;
   std::vector<std::string> releases_;
   struct Unknown {
@@ -164,6 +168,11 @@ class FleetNode final : public session::Ownership {
   std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
   static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
+  struct Placed {
+    std::string server;
+    Clock::time_point at;
+  };
+  std::map<std::string, Placed> placed_;  // creates/ keys this server wrote or read, for kCreateRetry
   std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs
   std::set<std::string> disowned_;
   std::map<std::string, Standby> standby_;
