@@ -20,6 +20,7 @@
 #include "create.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
+#include "protocol/limits.hpp"
 #include "protocol/text.hpp"
 #include "record/message_json.hpp"
 #include "record/precision_options.hpp"
@@ -127,8 +128,13 @@ void run(const RecordOptions& o) {
     rec.add(id, heard_beat && !listed_first.count(id));
     askScenario(id);
   };
+  // when a recorded session's message was last handled: the server is
+  // alive while they come, even when its heartbeats do not (an overloaded
+  // recorder's socket drops heartbeats as it drops states)
+  auto heard_session = SteadyClock::now();
   auto onBus = [&](const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     const std::string id = sessionOf(channel);
+    if (!id.empty() && rec.has(id)) heard_session = SteadyClock::now();
     if (!id.empty() && !rec.has(id) && wanted(id)) addNew(id);
     if (!rec.onDatagram(channel, static_cast<const std::uint8_t*>(rbuf->data), static_cast<int>(rbuf->data_size)))
       std::fprintf(stderr, "record: %s: a message that cannot be decoded, or with a seq out of range (not written)\n",
@@ -195,8 +201,15 @@ void run(const RecordOptions& o) {
 
   const auto start = SteadyClock::now();
   long long beats_seen = 0;
+  // pump() handles one message: the asks due are looked for every 10 ms,
+  // not after each message (requests() walks every session's gaps: at 100
+  // sessions that per message cost more than the messages themselves)
+  auto asked_at = SteadyClock::now() - std::chrono::seconds(1);
   const auto sendDue = [&] {
-    for (const auto& r : rec.requests(SteadyClock::now())) publish(client.lcm(), net::kResendChannel, r);
+    const auto now = SteadyClock::now();
+    if (now - asked_at < std::chrono::milliseconds(10)) return;
+    asked_at = now;
+    for (const auto& r : rec.requests(now)) publish(client.lcm(), net::kResendChannel, r);
   };
   // rotation and the disk budget
   std::vector<std::pair<std::string, std::uint64_t>> parts;  // closed parts, oldest first
@@ -231,17 +244,21 @@ void run(const RecordOptions& o) {
       parts.erase(parts.begin());
     }
   };
+  bool queued = false;  // the last wait handled a message: more may be queued
   while (!stopRequested() && !server_lost) {
     rotateIfDue();
     if (o.duration > 0 && SteadyClock::now() - start > std::chrono::duration<double>(o.duration)) break;
     if (!everything && rec.allEnded() && !rec.repairing()) break;
     if (create && !o.all && !match && rec.allEnded() && !rec.repairing()) break;
-    try {
-      client.pump(20);
-    } catch (const NetError& e) {
-      server_lost = e.what();
+    // the server is gone when neither its heartbeat nor any recorded
+    // session's message came for the heartbeat timeout, judged only with
+    // nothing queued (after a long chunk write the queue holds both)
+    if (!queued && client.server().lost() &&
+        SteadyClock::now() - heard_session > std::chrono::duration<double>(net::kHeartbeatTimeout)) {
+      server_lost = client.server().lostMessage(client.url());
       break;
     }
+    queued = client.lcm().handleTimeout(20) > 0;
     if (client.server().heartbeats() != beats_seen) {
       beats_seen = client.server().heartbeats();
       for (const auto& info : client.server().sessions()) {
