@@ -165,6 +165,17 @@ void run(const RecordOptions& o) {
     client.lcm()
         .subscribeFunction(ch, +[](const lcm::ReceiveBuffer* b, const std::string& c, Handler* h) { (*h)(b, c); }, &onBus)
         ->setQueueCapacity(net::kDeepQueue);
+  // when the socket read the newest heartbeat (the recorder's wall clock,
+  // set by LCM's receive thread): the stop waits for one read after it
+  std::int64_t beat_received_utime = 0;
+  auto onBeat = [&](const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    beat_received_utime = std::max<std::int64_t>(beat_received_utime, rbuf->recv_utime);
+  };
+  using BeatHandler = decltype(onBeat);
+  client.lcm()
+      .subscribeFunction(net::kStatusChannel, +[](const lcm::ReceiveBuffer* b, const std::string& c, BeatHandler* h) { (*h)(b, c); },
+                         &onBeat)
+      ->setQueueCapacity(net::kDeepQueue);
   using ResentHandler = decltype(onResent);
   client.lcm()
       .subscribeFunction(net::kResentPrefix + client.clientId(),
@@ -244,6 +255,19 @@ void run(const RecordOptions& o) {
       parts.erase(parts.begin());
     }
   };
+  // what the latest heartbeat says: each session's newest seq is owed
+  const auto applyBeats = [&](bool add_new) {
+    if (client.server().heartbeats() == beats_seen) return;
+    beats_seen = client.server().heartbeats();
+    for (const auto& info : client.server().sessions()) {
+      if (!rec.has(info.session_id)) {
+        if (!add_new || !wanted(info.session_id)) continue;
+        addNew(info.session_id);
+      }
+      rec.onHeartbeat(info.session_id, info.seq, info.status >= groundsim::state_t::STATUS_FINISHED,
+                      SteadyClock::now());
+    }
+  };
   bool queued = false;  // the last wait handled a message: more may be queued
   while (!stopRequested() && !server_lost) {
     rotateIfDue();
@@ -259,29 +283,41 @@ void run(const RecordOptions& o) {
       break;
     }
     queued = client.lcm().handleTimeout(20) > 0;
-    if (client.server().heartbeats() != beats_seen) {
-      beats_seen = client.server().heartbeats();
-      for (const auto& info : client.server().sessions()) {
-        if (!rec.has(info.session_id)) {
-          if (!wanted(info.session_id)) continue;
-          addNew(info.session_id);
-        }
-        rec.onHeartbeat(info.session_id, info.seq, info.status >= groundsim::state_t::STATUS_FINISHED,
-                        SteadyClock::now());
-      }
-    }
+    applyBeats(true);
     sendDue();
   }
-  // the tail: what was published after the newest we heard, then the
-  // repairs still outstanding, for up to --repair-wait
+  // What was queued when the recording stopped is handled first, up to a
+  // heartbeat the socket read after the stop: the server's account of
+  // every seq published before it (an overloaded recorder may be seconds
+  // behind the bus, and its queue holds the heartbeats too; stopping at
+  // the newest seq handled left the rest of the queue unaccounted for).
+  // Then the tail (what was published after the newest heard) and the
+  // repairs still outstanding, for up to --repair-wait.
   if (!server_lost) {
-    for (const auto& r : rec.tailRequests(SteadyClock::now())) publish(client.lcm(), net::kResendChannel, r);
-    const auto until = SteadyClock::now() + std::chrono::duration<double>(o.repair_wait);
+    const std::int64_t stop_wall = wallMicros();
+    const auto drain_cap = SteadyClock::now() + std::chrono::seconds(120);  // the queue is bounded (kDeepQueue)
+    auto until = SteadyClock::now() + std::chrono::duration<double>(o.repair_wait);
     auto quiet_since = SteadyClock::now();
-    while (SteadyClock::now() < until) {
+    bool tail_asked = false;
+    while (true) {
+      const auto now = SteadyClock::now();
+      const bool gone = client.server().lost() &&
+                        now - heard_session > std::chrono::duration<double>(net::kHeartbeatTimeout);
+      if (!tail_asked && (beat_received_utime >= stop_wall || gone)) {
+        for (const auto& r : rec.tailRequests(now)) publish(client.lcm(), net::kResendChannel, r);
+        tail_asked = true;
+        until = std::max(until, now + std::chrono::duration<double>(o.repair_wait));
+      }
+      if (!tail_asked && now >= drain_cap) {
+        std::fprintf(stderr, "record: no heartbeat read after the stop within 120 s: seqs after the newest known "
+                             "(listed in the ledger) were not accounted for\n");
+        break;
+      }
+      if (tail_asked && now >= until) break;
       if (client.lcm().handleTimeout(20) > 0) quiet_since = SteadyClock::now();
+      applyBeats(false);
       sendDue();
-      if (!rec.repairing() && SteadyClock::now() - quiet_since > std::chrono::milliseconds(200)) break;
+      if (tail_asked && !rec.repairing() && SteadyClock::now() - quiet_since > std::chrono::milliseconds(200)) break;
     }
   }
   rec.finish();

@@ -76,7 +76,7 @@ echo "flood: $(grep 'states in' "$dir/flood.err" | sed 's/^record_flood: //')"
 echo "flood: $(grep 'resend requests' "$dir/flood.err" | sed 's/^record_flood: //')"
 grep "^record: .* messages received" "$dir/rec.err" || true
 echo "record: $(grep -c 'never came\|no longer held\|holds nothing' "$dir/rec.err") loss lines on stderr; exit $rc"
-set -- $(cat "$dir/rec.time")
+set -- $(tail -1 "$dir/rec.time")
 echo "recorder: $1 s wall, $2 s user, $3 s system CPU, $4 kB max resident"
 echo "file: $(stat -c %s "$dir/all.mcap") bytes"
 recdrops=$(awk -v p=$rec '$1 == p {n += $2} END {print n + 0}' "$dir/drops" 2>/dev/null || echo 0)
