@@ -414,6 +414,17 @@ void FleetNode::run() {
 }
 
 void FleetNode::scan() {
+  // a member that joined (or came back with its id) has no replica of the
+  // sessions already running: they send theirs again, so that it can be
+  // their standby from their next snapshot on
+  std::set<std::string> members;
+  bool joined = false;
+  for (const fleet::Member& m : membership_->members()) {
+    members.insert(m.id);
+    joined |= m.id != options_.server_id && !members_seen_.count(m.id) && !members_seen_.empty();
+  }
+  members_seen_ = std::move(members);
+  if (joined && !fenced_) service_.replicateAgain();
   std::map<std::string, std::string> owners;
   for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/"))
     owners[kv.key.substr(options_.prefix.size() + 8)] = ownerOf(kv.value);

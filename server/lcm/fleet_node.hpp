@@ -98,6 +98,11 @@ class FleetNode final : public session::Ownership {
   // another server took over: their messages must not be published.
   bool mayPublish(const std::string& session_id) const;
   bool fenced() const { return fenced_.load(); }
+  // Other servers' sessions this server keeps a replica of (their standby).
+  std::size_t standbyCount() const {
+    std::lock_guard<std::mutex> lk(mutex_);
+    return standby_.size();
+  }
   // Not disowned: as far as this server knows, the session is still its own.
   bool holds(const std::string& session_id) const;
   // The heartbeat's figures as capacity in the membership.
@@ -168,6 +173,7 @@ class FleetNode final : public session::Ownership {
   std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
   static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
+  std::set<std::string> members_seen_;               // members at the last scan (the node's thread)
   struct Placed {
     std::string server;
     Clock::time_point at;

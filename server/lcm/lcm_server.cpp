@@ -513,6 +513,7 @@ LcmServer::Counters LcmServer::counters() const {
   c.overrun_events = overruns_.load();
   c.standby_asks = ask_seq_.load();
   c.standby_repaired = applied_repaired_.load();
+  if (fleet_) c.standby_sessions = static_cast<std::int64_t>(fleet_->standbyCount());
   return c;
 }
 

@@ -77,6 +77,7 @@ class LcmServer final : public session::Output {
     std::int64_t states_published = 0, requests_handled = 0, errors = 0, heartbeats = 0;
     std::int64_t overrun_events = 0;      // real time overrun warnings (at most one per session per 5 s)
     std::int64_t standby_asks = 0, standby_repaired = 0;  // a standby's gap repair: frames asked for, entries resent
+    std::int64_t standby_sessions = 0;                  // other servers' sessions kept as their standby
     bool beat = false;                    // a heartbeat was sent: the figures below are its
     int workers = 0, max_sessions = 0;
     double load = 0.0;                    // busy fraction of the worker pool over the last second

@@ -205,6 +205,10 @@ std::string serverMetrics(const LcmServer::Counters& c, const ResendRing::Stats&
            "Real time overrun warnings: a real time session fell more than --max-lag behind the wall clock and "
            "skipped ahead (at most one warning per session per 5 s).",
            c.overrun_events);
+  m.single("groundsim_standby_sessions", "gauge",
+           "Fleets: other servers' sessions this server keeps replicas of (their scenario, newest snapshot and "
+           "applied entries), and could take over.",
+           c.standby_sessions);
   m.single("groundsim_standby_asks_total", "counter",
            "Fleets: re-requests this server sent, as a standby, for applied-command entries of another server's "
            "session that it missed (gap repair, docs/fleet.md).",

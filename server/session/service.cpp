@@ -629,6 +629,14 @@ void SessionService::disown(const std::string& id) {
   }
 }
 
+void SessionService::replicateAgain() {
+  for (const std::string& id : registry_.ids())
+    if (auto s = registry_.find<Session>(id)) {
+      s->replicateAgain();
+      pool_.wake(s);
+    }
+}
+
 std::string SessionService::adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
                                   std::int64_t heard_tick,
                                   std::int64_t epoch) {

@@ -71,6 +71,9 @@ class SessionService {
   // Returns "" or why not (the caller releases its claim then).
   std::string adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log, std::int64_t heard_tick,
                     std::int64_t epoch);
+  // A server joined the fleet: every hosted real time, fast or lockstep
+  // session replicates its scenario and a snapshot again (Session::replicateAgain).
+  void replicateAgain();
   // Forgets a session another server owns now; nothing is published for it
   // (the transport drops its messages) and its claim is not released.
   void disown(const std::string& id);

@@ -111,6 +111,12 @@ std::optional<TimePoint> Session::run(TimePoint now) {
       }, c);
     }
     work_.clear();
+    if (replicate_again_.exchange(false) && status_ != Status::Stopped && cfg_.replica_interval > 0) {
+      out_.publishReplica(scenarioReplica());
+      // as the periodic snapshot: once this tick's frame is out
+      if (frame_pending_) replica_due_ = true;
+      else replicate();
+    }
     std::optional<TimePoint> next;
     if (status_ != Status::Stopped) next = advance(now, now + toDuration(cfg_.slice));
     updateInfo(now);

@@ -4,6 +4,7 @@
 // slow or diverging scene never holds the receive loop or another session.
 #pragma once
 
+#include <atomic>
 #include <deque>
 #include <mutex>
 #include <optional>
@@ -82,6 +83,10 @@ class Session : public HostedSession {
   // The settings a standby needs to build this session again (the scenario
   // document and its settings), sent at creation and at a takeover.
   Replica scenarioReplica() const;
+  // Any thread: a server joined the fleet (a standby keeps only sessions
+  // whose scenario replica it heard): the session publishes its scenario
+  // replica and a snapshot again, from its worker, at its next run.
+  void replicateAgain() { replicate_again_ = true; }
   // Continues a session whose owner was lost, before its first run: the
   // snapshot's state, then the owner's applied entries after it (`log`,
   // seq order) replayed at their ticks, as the owner applied them; nothing
@@ -156,6 +161,7 @@ class Session : public HostedSession {
   std::int64_t seq_ = 0;
   bool frame_pending_ = true;         // the initial state is the first frame
   bool replica_due_ = false;          // a snapshot for the standbys once this tick's frame is out
+  std::atomic<bool> replicate_again_{false};  // replicateAgain()
   RealtimeAnchor anchor_;
   PublishBudget budget_;
   std::deque<StepJob> steps_;

@@ -83,13 +83,24 @@ if [ "$mode" = kill ]; then
   # the same id again in the dead host: it joins
   # once its old lease has lapsed, and does not take the session back
   "$lab" exec "$name" "$host" "$server" --lcm-url "$url" --etcd "$endpoints" --server-id "$owner" --workers 1 \
-    --snapshot-interval 1 >"$tmp/$owner.again.log" 2>&1 &
+    --snapshot-interval 1 --metrics-port 9100 >"$tmp/$owner.again.log" 2>&1 &
   for _ in $(seq 100); do grep -qs "^fleet: server $owner joined" "$tmp/$owner.again.log" && break; sleep 0.1; done
   grep -q "^fleet: server $owner joined" "$tmp/$owner.again.log" ||
     fail "server $owner did not join again with its id: $(tail -n 3 "$tmp/$owner.again.log")"
   sleep 1
   read -r now epoch < <(owner_of) || true
   [ "$now" = "$new" ] && [ "$epoch" = 2 ] || fail "after $owner came back the session is listed on '$now' at epoch '$epoch'"
+  # and it is a standby of the session again: the owner sent its scenario
+  # replica once more when it saw the member join (docs/fleet.md)
+  standby=""
+  for _ in $(seq 50); do
+    standby=$("$lab" exec "$name" "$host" curl -s --max-time 2 http://127.0.0.1:9100/metrics |
+      awk '$1 == "groundsim_standby_sessions" { print $2 }' || true)
+    [ "$standby" = 1 ] && break
+    sleep 0.1
+  done
+  [ "$standby" = 1 ] || fail "server $owner, back with its id, keeps no replica of session $sid (groundsim_standby_sessions '$standby')"
+  echo "server $owner, back, is a standby of session $sid again"
 fi
 if [ "$mode" = partition ]; then
   code=$(health "$host")
