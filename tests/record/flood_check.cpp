@@ -11,7 +11,8 @@
 //     exactly received + repaired, none twice;
 //   - every seq the subscriber heard is in the file or listed lost, and the
 //     subscriber's own heard + missed equals what was published;
-//   - the applied log's END entry is in the file, or named missing.
+//   - the applied log's END entry is in the file, or named missing or
+//     lost, or its frame (the last state) is listed lost.
 // Prints the totals; exit 1 with a FAIL line per finding.
 //
 //   record_flood_check FILE.mcap FLOOD.json COUNTER.json
@@ -180,8 +181,11 @@ int main(int argc, char** argv) {
     // the END entry of the applied log (one entry, seq 0, with the last frame)
     const bool end_listed_missing = kv.count("applied_end_missing") > 0;
     const std::string applied_lost = get(kv, "applied_lost");
-    if (applied_in_file[sid] != 1 && !end_listed_missing && applied_lost != "0")
-      fail(sid + ": the applied END entry is neither in the file nor named missing or lost");
+    // (its frame, the last state, listed lost takes it along: the recorder
+    // owes an END entry only for an ending state it heard)
+    const bool end_frame_lost = n > 0 && lost[static_cast<std::size_t>(n - 1)];
+    if (applied_in_file[sid] != 1 && !end_listed_missing && applied_lost != "0" && !end_frame_lost)
+      fail(sid + ": the applied END entry is neither in the file nor named missing or lost, nor its frame lost");
     // the subscriber
     if (!csessions.contains(sid)) {
       fail(sid + ": the subscriber heard nothing of it");
