@@ -22,9 +22,14 @@ fleet_lab_begin() {
   name="$prefix$$"
   tmp=$(mktemp -d "/tmp/groundsim-$prefix-XXXXXX")
   # GROUNDSIM_KEEP_FAILED=DIR keeps a failed test's files (logs, recordings) in DIR
-  trap 'rc=$?; "$lab" down "$name" || true; if [ $rc -ne 0 ] && [ -n "${GROUNDSIM_KEEP_FAILED:-}" ]; then
+  trap 'rc=$?; [ $rc -eq 0 ] || [ $rc -eq 77 ] || echo "exit $rc; the last command that failed: ${last_failed:-none}" >&2
+    "$lab" down "$name" || true; if [ $rc -ne 0 ] && [ -n "${GROUNDSIM_KEEP_FAILED:-}" ]; then
     mkdir -p "$GROUNDSIM_KEEP_FAILED" && cp -r "$tmp" "$GROUNDSIM_KEEP_FAILED/"; fi; rm -rf "$tmp"' EXIT
   trap 'exit 130' INT TERM
+  # under set -e a failing command ends the test with no FAIL line of its
+  # own: the exit names the last one (CI keeps only the output)
+  last_failed=""
+  trap 'last_failed="$(basename "$0") line $LINENO: $BASH_COMMAND"' ERR
   local old
   for old in $(ip netns list | awk '{print $1}' | sed -n "s/^gs-$prefix\([0-9]\{1,\}\)-sw\$/\1/p"); do
     kill -0 "$old" 2>/dev/null || "$lab" down "$prefix$old" || true
