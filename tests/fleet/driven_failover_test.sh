@@ -38,7 +38,19 @@ owner_of() {
 owner=""
 for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" ] && break; sleep 0.2; done
 [ -n "$owner" ] || fail "session $sid is listed by no server"
-sleep 3
+# killed between two snapshots (every 1 s of simulated time), at least
+# 0.35 s after the last, so that the takeover has the driver's entries to
+# replay: a kill a few ticks after a snapshot left none, and the test read
+# that as a replay that did not happen (the listing's T may lag by a
+# heartbeat, 0.25 s, which only moves the kill later)
+sleep 2.5
+for _ in $(seq 40); do
+  t=$("$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
+    awk -v s="$sid" '$1 == s { print $5 }') || true
+  [ -n "$t" ] && python3 -c "import sys; f = float(sys.argv[1]) % 1.0; sys.exit(0 if 0.35 <= f <= 0.7 else 1)" "$t" && break
+  sleep 0.05
+done
+echo "owner $owner killed at simulated time ${t:-?} s"
 "$lab" kill "$name" "${owner#s}"
 new=""
 for _ in $(seq 150); do
