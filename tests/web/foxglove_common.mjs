@@ -5,80 +5,31 @@
 // web/package.json (ws, @foxglove/ws-protocol, ajv) from the build tree.
 // No browser: these clients are what Foxglove and Lichtblick are on the
 // wire. Tests end by calling pass() or fail().
-import { spawn, spawnSync } from 'node:child_process';
+// The services, the CLI and pass/fail/until are the browser tests' harness
+// (harness.mjs); only a browser is not launched.
 import { createRequire } from 'node:module';
-import { mkdtempSync } from 'node:fs';
-import { tmpdir } from 'node:os';
+import * as h from './harness.mjs';
 
 const env = process.env;
-export const LCM_URL = 'udpm://239.255.76.67:7667?ttl=0';
-export const CONFIGS = env.GROUNDSIM_CONFIG_DIR;
+export const { LCM_URL, CONFIGS, pass, fail, cleanup, sleep, cli } = h;
 export const require = createRequire(`${env.GROUNDSIM_WEB_NODE_MODULES}/`);
 export const WebSocket = require('ws');
 
-const children = [];
-
-export async function cleanup() {
-  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
-  await new Promise((r) => setTimeout(r, 300));
-  for (const c of children) if (c.exitCode === null) c.kill('SIGKILL');
-}
-export async function pass(msg = '') {
-  await cleanup();
-  console.log(`PASS ${msg}`);
-  process.exit(0);
-}
-export async function fail(msg) {
-  console.error(`FAIL: ${msg}`);
-  await cleanup();
-  process.exit(1);
-}
-process.on('exit', () => { for (const c of children) if (c.exitCode === null) c.kill('SIGKILL'); });
-process.on('uncaughtException', (e) => fail(e && e.stack ? e.stack : String(e)));
-process.on('unhandledRejection', (e) => fail(e && e.stack ? e.stack : String(e)));
-
-function start(cmd, args, name) {
-  const c = spawn(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-  c.output = '';
-  c.stdout.on('data', (d) => { c.output += d; });
-  c.stderr.on('data', (d) => { process.stderr.write(`[${name}] ${d}`); });
-  children.push(c);
-  return c;
-}
-
-export async function until(what, fn, timeoutMs = 30000, everyMs = 50) {
-  const t0 = Date.now();
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() - t0 > timeoutMs) throw new Error(`timed out after ${timeoutMs} ms waiting for ${what}`);
-    await new Promise((r) => setTimeout(r, everyMs));
-  }
-}
-export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+// these tests poll their clients more often than a page
+export const until = (what, fn, timeoutMs = 30000, everyMs = 50) => h.until(what, fn, timeoutMs, everyMs);
 
 // groundsim-server, then groundsim-web with a Foxglove port; returns the
 // page's http URL and the Foxglove ws URL.
 export async function startServices(bridgeArgs = []) {
-  const server = start(env.GROUNDSIM_SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
-  await until('the server to be ready', () => server.output.includes('groundsim-server ready'));
-  const bridge = start(env.GROUNDSIM_WEB, ['--lcm-url', LCM_URL, '--bind', '127.0.0.1', '--port', '0',
-    '--foxglove-port', '0', ...bridgeArgs], 'bridge');
-  const urls = await until('the bridge to print its URLs', () => {
-    const http = bridge.output.match(/open (http:\/\/127\.0\.0\.1:\d+\/)/);
-    const ws = bridge.output.match(/foxglove (ws:\/\/127\.0\.0\.1:\d+\/)/);
-    return http && ws && { http: http[1], ws: ws[1] };
+  const server = await h.startServer();
+  const { url, bridge } = await h.startBridge(['--foxglove-port', '0', ...bridgeArgs]);
+  const ws = await until('the bridge to print its Foxglove URL', () => {
+    const m = bridge.output.match(/foxglove (ws:\/\/127\.0\.0\.1:\d+\/)/);
+    return m && m[1];
   }, 15000);
-  return { ...urls, server, bridge };
+  return { http: url, ws, server, bridge };
 }
 
-const stateHome = mkdtempSync(`${tmpdir()}/groundsim-foxglove-test-`);
-export function cli(...args) {
-  const r = spawnSync(env.GROUNDSIM_CLI, [...args, '--lcm-url', LCM_URL],
-    { encoding: 'utf8', timeout: 20000, env: { ...process.env, XDG_STATE_HOME: stateHome } });
-  if (r.status !== 0) throw new Error(`groundsim ${args.join(' ')}: exit ${r.status}: ${r.stderr}`);
-  return r.stdout;
-}
 // A session of `config` until stopped; returns its id.
 export function createSession(config, ...more) {
   return cli('create', `${CONFIGS}/${config}`, '--duration', '-1', ...more).trim().split('\n').pop().trim();

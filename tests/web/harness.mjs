@@ -65,6 +65,8 @@ function start(cmd, args, name) {
 
 // Generous: a page under a slow server (the ASan suite) may take many times
 // its usual second; a timeout is only how long a failure takes to report.
+export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
 export async function until(what, fn, timeoutMs = 60000, everyMs = 100) {
   const t0 = Date.now();
   for (;;) {
@@ -77,8 +79,9 @@ export async function until(what, fn, timeoutMs = 60000, everyMs = 100) {
 
 // Resolves once the server listens: a request published before it has
 // subscribed would be lost, and a slow build (the ASan suite) takes seconds.
+// (Without Chromium a test that launches a browser is skipped at launch();
+// the Foxglove tests, with no browser, run.)
 export async function startServer() {
-  if (!existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM} (apt-get install chromium, or scripts/setup-web.sh)`);
   const server = start(SERVER, ['--lcm-url', LCM_URL, '--workers', '1'], 'server');
   await until('the server to be ready', () => server.output.includes('groundsim-server ready'));
   return server;
@@ -102,6 +105,7 @@ export async function startServices({ bridgeArgs = [] } = {}) {
 }
 
 export async function launch() {
+  if (!existsSync(CHROMIUM)) skip(`no Chromium at ${CHROMIUM} (apt-get install chromium, or scripts/setup-web.sh)`);
   const require = createRequire(`${env.GROUNDSIM_WEB_NODE_MODULES}/`);
   const { chromium } = require('playwright-core');
   browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
