@@ -12,6 +12,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "bridge/listen.hpp"
 #include "protocol/metrics_text.hpp"
 #include "record/message_json.hpp"
 
@@ -352,12 +353,7 @@ Server::~Server() {
 }
 
 void Server::listen(const std::string& address, unsigned short port) {
-  const tcp::endpoint ep(asio::ip::make_address(address), port);
-  acceptor_.open(ep.protocol());
-  acceptor_.set_option(asio::socket_base::reuse_address(true));
-  acceptor_.bind(ep);
-  acceptor_.listen();
-  port_ = acceptor_.local_endpoint().port();
+  port_ = listenOn(acceptor_, address, port);
   accept();
 }
 

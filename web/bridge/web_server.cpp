@@ -15,6 +15,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "bridge/listen.hpp"
 #include "lcm/latency_trace.hpp"
 #include "protocol/metrics_text.hpp"
 
@@ -359,12 +360,7 @@ WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, Stati
       acceptor_(io) {}
 
 void WebServer::listen(const std::string& address, unsigned short port) {
-  const tcp::endpoint ep(asio::ip::make_address(address), port);
-  acceptor_.open(ep.protocol());
-  acceptor_.set_option(asio::socket_base::reuse_address(true));
-  acceptor_.bind(ep);
-  acceptor_.listen();
-  port_ = acceptor_.local_endpoint().port();
+  port_ = listenOn(acceptor_, address, port);
   accept();
 }
 
