@@ -159,6 +159,7 @@ void LcmServer::publishReply(const session::Reply& r) {
     groundsim::reply_t m = toMessage(r, reply_seq_++);
     for (auto& s : m.sessions) if (s.server_id.empty()) s.server_id = server_id_;
     publish(kReplyChannel, m);
+    if (r.ok && (r.op == session::Op::Create || r.op == session::Op::Stop)) beat_soon_ = true;
   } catch (const std::exception& e) {
     ++errors_;
     std::fprintf(stderr, "groundsim-server: cannot publish a reply: %s\n", e.what());
@@ -618,7 +619,7 @@ void LcmServer::run(const std::atomic<bool>& stop) {
       std::this_thread::sleep_for(milliseconds(100));
     }
     const auto now = steady_clock::now();
-    if (now >= next_beat) {
+    if (now >= next_beat || beat_soon_.exchange(false)) {
       try {
         if (now >= next_housekeeping) {  // idle reclamation and the like: once a second is enough
           service_->housekeeping();

@@ -121,6 +121,10 @@ class LcmServer final : public session::Output {
   FleetNode* fleet_ = nullptr;
   double heartbeat_period_ = 1.0;
   std::atomic<bool> drain_requested_{false};
+  // a session was created or stopped: the next heartbeat goes out now, not
+  // a period later (in a fleet the answerer lists others' sessions from
+  // their heartbeats, so a list right after a create shows it)
+  std::atomic<bool> beat_soon_{false};
   std::atomic<std::int64_t> replica_seq_{0}, ask_seq_{0}, applied_repaired_{0};
   std::atomic<std::int64_t> reply_seq_{0}, event_seq_{0}, status_seq_{0}, scenario_seq_{0}, vec_seq_{0},
       want_seq_{0};
