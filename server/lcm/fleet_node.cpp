@@ -416,12 +416,15 @@ void FleetNode::run() {
 void FleetNode::scan() {
   // a member that joined (or came back with its id) has no replica of the
   // sessions already running: they send theirs again, so that it can be
-  // their standby from their next snapshot on
-  std::set<std::string> members;
+  // their standby from their next snapshot on. A member that died and came
+  // back between two views is the same id on a new lease.
+  std::map<std::string, std::int64_t> members;
   bool joined = false;
   for (const fleet::Member& m : membership_->members()) {
-    members.insert(m.id);
-    joined |= m.id != options_.server_id && !members_seen_.count(m.id) && !members_seen_.empty();
+    members[m.id] = m.lease;
+    const auto seen = members_seen_.find(m.id);
+    joined |= m.id != options_.server_id && !members_seen_.empty() &&
+              (seen == members_seen_.end() || seen->second != m.lease);
   }
   members_seen_ = std::move(members);
   if (joined && !fenced_) service_.replicateAgain();

@@ -173,7 +173,9 @@ class FleetNode final : public session::Ownership {
   std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
   static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
-  std::set<std::string> members_seen_;               // members at the last scan (the node's thread)
+  // members at the last scan and their leases (the node's thread): a
+  // member back with its id between two views has a new lease
+  std::map<std::string, std::int64_t> members_seen_;
   struct Placed {
     std::string server;
     Clock::time_point at;
