@@ -12,6 +12,7 @@
 
 #include "bridge/recordings.hpp"
 #include "recording/mcap_writer.hpp"
+#include "scenario/assets.hpp"
 
 namespace groundsim::web {
 namespace {
@@ -104,6 +105,95 @@ TEST(Recordings, HostileRequestsNameTheParameter) {
   EXPECT_EQ(j["recordings"].size(), 2u);
   const Recordings off("");
   expect("/recordings", "", 404, "--recordings", &off);
+}
+
+// A recording of one session "S1" as the recorder writes it: the scenario
+// (as the server publishes it: with its asset manifest) attached, the
+// asset files attached only when `with_assets`, 3 states and 3 events.
+std::string recordedScene(const std::string& config, bool with_assets) {
+  const std::string dir = ::testing::TempDir() + "scene_" +
+                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = std::string(GROUNDSIM_CONFIG_DIR) + "/" + config;
+  std::ifstream in(path);
+  nlohmann::json doc = nlohmann::json::parse(in);
+  const auto assets = scenario::attachAssets(doc, std::filesystem::path(path).parent_path().string(), 64u << 20);
+  recording::McapWriter w(dir + "/scene.mcap", recording::WriterOptions{});
+  const auto schema = w.addSchema("groundsim.state", "jsonschema", "{}");
+  const auto st = w.addChannel(schema, "/S1/state", "json");
+  const auto ev = w.addChannel(schema, "/S1/events", "json");
+  w.attach("scenario/S1.json", "application/json", 0, doc.dump());
+  if (with_assets)
+    for (const auto& a : assets) w.attach("assets/S1/" + a.ref.name, "application/octet-stream", 0, *a.bytes);
+  for (int k = 0; k < 3; ++k) {
+    const std::uint64_t t = static_cast<std::uint64_t>(k) * 1'000'000'000u;
+    w.write(st, k, t, t, "{\"seq\":" + std::to_string(k) + ",\"t\":" + std::to_string(k) + "}", 0);
+    w.write(ev, k, t, t, "{\"seq\":" + std::to_string(k) + ",\"reason\":\"race: {\\\"type\\\":\\\"lap\\\",\\\"lap\\\":" +
+                              std::to_string(k + 1) + "}\"}", 0);
+  }
+  w.close();
+  return dir;
+}
+
+TEST(Recordings, ASessionsSceneAndGroundAreBuiltFromItsRecordedScenario) {
+  // the incline of configs/downhill.json: 30 degrees down along +x through the origin
+  const Recordings r(recordedScene("downhill.json", true));
+  auto j = body(r.answer("/recordings/scene.mcap/scene", "session=S1"));
+  ASSERT_TRUE(j.contains("layout")) << j.dump();
+  EXPECT_EQ(j["layout"]["ground"], "incline");
+  ASSERT_EQ(j["layout"]["vehicles"].size(), 1u);
+  EXPECT_EQ(j["layout"]["vehicles"][0]["wheels"].size(), 4u);  // the report's car
+  j = body(r.answer("/recordings/scene.mcap/ground", "session=S1&cx=10&cy=-3"));
+  ASSERT_EQ(j["op"], "ground");
+  const int n = j["n"];
+  const double x0 = j["x0"], step = j["step"];
+  int checked = 0;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      const auto& z = j["z"][i * n + k];
+      if (z.is_null()) continue;
+      EXPECT_NEAR(z.get<double>(), -(x0 + k * step) * std::tan(M_PI / 6), 0.5e-3 + 1e-9);  // sent to the millimetre
+      ++checked;
+    }
+  EXPECT_EQ(checked, n * n);
+  EXPECT_NEAR(x0 + (n / 2) * step, 10.0, step);
+  // its events, in order
+  j = body(r.answer("/recordings/scene.mcap/events", "session=S1"));
+  ASSERT_EQ(j["events"].size(), 3u);
+  EXPECT_EQ(j["events"][2]["seq"], 2);
+  EXPECT_FALSE(j["more"].get<bool>());
+}
+
+TEST(Recordings, FilesTheRecordingDoesNotHoldAreFoundAmongTheConfigsByHash) {
+  // the circuit's heightfield (circuit.png) not attached: found in configs/
+  const std::string dir = recordedScene("race/circuit.json", false);
+  const Recordings found(dir, GROUNDSIM_CONFIG_DIR);
+  auto j = body(found.answer("/recordings/scene.mcap/scene", "session=S1"));
+  ASSERT_TRUE(j.contains("layout")) << j.dump();
+  EXPECT_EQ(j["layout"]["ground"], "heightfield");
+  EXPECT_TRUE(j["layout"].contains("track"));  // the race's ribbon
+  // without the configs: a clear refusal naming the file
+  const Recordings lost(dir);
+  const HttpAnswer a = lost.answer("/recordings/scene.mcap/scene", "session=S1");
+  EXPECT_EQ(a.status, 422) << a.body;
+  EXPECT_NE(a.body.find("circuit.png"), std::string::npos) << a.body;
+}
+
+TEST(Recordings, SceneRequestsNameTheParameter) {
+  const Recordings r(recordedScene("downhill.json", true));
+  const auto expect = [&](const std::string& path, const std::string& query, int status, const std::string& word) {
+    const HttpAnswer a = r.answer(path, query);
+    EXPECT_EQ(a.status, status) << path << "?" << query << ": " << a.body;
+    EXPECT_NE(a.body.find(word), std::string::npos) << a.body;
+    EXPECT_NO_THROW(body(a));
+  };
+  expect("/recordings/scene.mcap/ground", "session=S1", 400, "cx");
+  expect("/recordings/scene.mcap/ground", "session=S1&cx=1&cy=nan", 400, "cy");
+  expect("/recordings/scene.mcap/ground", "session=S1&cx=1e300&cy=0", 400, "cx");
+  expect("/recordings/scene.mcap/scene", "session=NOPE", 404, "NOPE");
+  expect("/recordings/scene.mcap/events", "session=NOPE", 404, "NOPE");
+  expect("/recordings/scene.mcap/scene", "", 400, "session");
 }
 
 }  // namespace

@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
                                           if (forward.bad) forward.bad(c, r);
                                         }});
 
-  WebServer server(io, *hub, std::move(files), recordings_dir);
+  WebServer server(io, *hub, std::move(files), recordings_dir, cfg.configs_dir);
   try {
     server.listen(bind, static_cast<unsigned short>(port));
   } catch (const std::exception& e) {

@@ -6,13 +6,18 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
 #include <vector>
 
+#include "bridge/scene_view.hpp"
 #include "bridge/state_json.hpp"
 #include "recording/mcap_reader.hpp"
+#include "scenario/assets.hpp"
+#include "scenario/file_access.hpp"
 
 namespace groundsim::web {
 namespace {
@@ -21,6 +26,7 @@ constexpr int kMaxListed = 200;         // files in a listing
 constexpr int kDefaultStates = 1000;
 constexpr int kMaxStates = 5000;
 constexpr std::size_t kMaxBody = 16u << 20;
+constexpr int kMaxEvents = 5000;
 
 HttpAnswer error(int status, const std::string& why) {
   return {status, "application/json", "{\"error\":" + web::quoted(why) + "}\n"};
@@ -72,6 +78,39 @@ std::optional<double> seconds(const std::map<std::string, std::string>& q, const
     return std::nullopt;
   }
   return v;
+}
+
+// A coordinate in metres: finite and within the scenario layer's world.
+std::optional<double> metres(const std::map<std::string, std::string>& q, const char* key, std::string& why) {
+  auto it = q.find(key);
+  if (it == q.end()) {
+    why = std::string(key) + ": required, a coordinate in metres";
+    return std::nullopt;
+  }
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end || !std::isfinite(v) || std::abs(v) > 1e7) {
+    why = std::string(key) + ": must be a number of metres in [-1e7, 1e7], got " + web::quoted(it->second.substr(0, 40));
+    return std::nullopt;
+  }
+  return v;
+}
+
+// The file named `ref` in configs_dir or below whose bytes have its sha256
+// (at most 2000 entries looked at, files up to 64 MiB read); null if none.
+std::shared_ptr<const std::string> findByHash(const std::string& configs_dir, const scenario::AssetRef& ref) {
+  namespace fs = std::filesystem;
+  if (configs_dir.empty() || ref.size > (64u << 20)) return nullptr;
+  const std::string base = fs::path(ref.name).filename().string();
+  std::error_code ec;
+  int seen = 0;
+  for (fs::recursive_directory_iterator it(configs_dir, ec), end; !ec && it != end && seen < 2000; it.increment(ec), ++seen) {
+    if (it->path().filename() != base || !it->is_regular_file(ec) || it->file_size(ec) != ref.size) continue;
+    std::ifstream in(it->path(), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (scenario::sha256Hex(bytes) == ref.sha256) return std::make_shared<const std::string>(std::move(bytes));
+  }
+  return nullptr;
 }
 
 std::uint64_t ns(double s) { return static_cast<std::uint64_t>(std::llround(s * 1e9)); }
@@ -145,12 +184,53 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
     const std::string file = dir_ + "/" + rest;
     if (!std::filesystem::is_regular_file(file)) return error(404, "name: no recording " + web::quoted(rest));
     if (what.empty()) return {200, "application/json", fileJson(rest, file) + "\n"};
-    if (what != "states") return error(404, "no such view: " + web::quoted(what.substr(0, 40)) + " (states)");
+    if (what != "states" && what != "scene" && what != "ground" && what != "events")
+      return error(404, "no such view: " + web::quoted(what.substr(0, 40)) + " (states, scene, ground, events)");
 
     const auto q = parseQuery(query);
     auto sit = q.find("session");
     if (sit == q.end() || sit->second.empty() || sit->second.size() > 64)
       return error(400, "session: required, the session id (at most 64 characters)");
+    const std::string& session = sit->second;
+    if (what == "scene" || what == "ground") {
+      std::string why;
+      std::optional<double> cx, cy;
+      if (what == "ground" && (!(cx = metres(q, "cx", why)) || !(cy = metres(q, "cy", why)))) return error(400, why);
+      const auto sc = scene(file, rest, session);
+      if (!sc->view) return error(sc->error.rfind("session:", 0) == 0 ? 404 : 422, sc->error);
+      if (what == "scene")
+        return {200, "application/json",
+                "{\"session\":" + web::quoted(session) + ",\"layout\":" + sc->view->layout.dump() + "}\n"};
+      nlohmann::json grid;
+      {
+        std::lock_guard<std::mutex> lk(sc->ground_mutex);
+        grid = groundGrid(*sc->view->ground, *cx, *cy, grid_n_, grid_step_);
+      }
+      grid["op"] = "ground";
+      grid["session"] = session;
+      return {200, "application/json", grid.dump() + "\n"};
+    }
+    if (what == "events") {
+      recording::McapReader r(file);
+      std::optional<std::uint16_t> channel;
+      for (const auto& [id, c] : r.channels())
+        if (c.topic == "/" + session + "/events") channel = id;
+      if (!channel) return error(404, "session: " + web::quoted(session) + " has no events in " + web::quoted(rest));
+      std::string out = "{\"session\":" + web::quoted(session) + ",\"events\":[";
+      int n = 0;
+      bool more = false;
+      r.readMessages(
+          [&](const recording::McapMessage& m) {
+            if (n >= kMaxEvents || out.size() + m.data.size() > kMaxBody) {
+              more = true;
+              return;
+            }
+            out += (n++ ? "," : "") + m.data;
+          },
+          {*channel});
+      return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
+    }
+
     std::string why;
     const auto at = seconds(q, "at", why);
     const auto from = seconds(q, "from", why);
@@ -169,8 +249,8 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
     recording::McapReader r(file);
     std::optional<std::uint16_t> channel;
     for (const auto& [id, c] : r.channels())
-      if (c.topic == "/" + sit->second + "/state") channel = id;
-    if (!channel) return error(404, "session: " + web::quoted(sit->second) + " is not in " + web::quoted(rest));
+      if (c.topic == "/" + session + "/state") channel = id;
+    if (!channel) return error(404, "session: " + web::quoted(session) + " is not in " + web::quoted(rest));
     std::vector<std::string> states;
     std::size_t bytes = 0;
     bool more = false;
@@ -196,12 +276,55 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
           },
           {*channel}, ns(*from), ns(*to));
     }
-    std::string out = "{\"session\":" + web::quoted(sit->second) + ",\"states\":[";
+    std::string out = "{\"session\":" + web::quoted(session) + ",\"states\":[";
     for (std::size_t i = 0; i < states.size(); ++i) out += (i ? "," : "") + states[i];
     return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
   } catch (const std::exception& e) {
     return error(500, std::string("cannot read the recording: ") + e.what());
   }
+}
+
+std::shared_ptr<Recordings::Scene> Recordings::scene(const std::string& file, const std::string& name,
+                                                    const std::string& session) const {
+  const std::string key = name + "\n" + session;
+  {
+    std::lock_guard<std::mutex> lk(scenes_mutex_);
+    for (auto it = scenes_.begin(); it != scenes_.end(); ++it)
+      if ((*it)->key == key) {
+        scenes_.splice(scenes_.end(), scenes_, it);
+        return scenes_.back();
+      }
+  }
+  // built outside the lock: a large ground takes a while, other replays go on
+  auto sc = std::make_shared<Scene>();
+  sc->key = key;
+  try {
+    recording::McapReader r(file);
+    std::string scenario;
+    auto assets = std::make_shared<scenario::AssetBytes>();
+    const std::string prefix = "assets/" + session + "/";
+    for (auto& [n, data] : r.attachments()) {
+      if (n == "scenario/" + session + ".json") scenario = std::move(data);
+      else if (n.rfind(prefix, 0) == 0)
+        (*assets)[n.substr(prefix.size())] = std::make_shared<const std::string>(std::move(data));
+    }
+    if (scenario.empty()) {
+      sc->error = "session: " + web::quoted(session) + " has no scenario in " + web::quoted(name) +
+                  " (scenario/" + session + ".json is not attached): its scene cannot be drawn";
+    } else {
+      // files the recording does not hold: the shipped ones, by name and hash
+      for (const scenario::AssetRef& ref : scenario::assetManifest(nlohmann::json::parse(scenario)))
+        if (!assets->count(ref.name))
+          if (auto bytes = findByHash(configs_dir_, ref)) (*assets)[ref.name] = std::move(bytes);
+      sc->view = makeSceneView(scenario, scenario::FileAccess::fromAssets(assets));
+    }
+  } catch (const std::exception& e) {
+    sc->error = "the recorded scenario of session " + session + " cannot be built: " + e.what();
+  }
+  std::lock_guard<std::mutex> lk(scenes_mutex_);
+  scenes_.push_back(sc);
+  while (scenes_.size() > kScenes) scenes_.pop_front();
+  return sc;
 }
 
 }  // namespace groundsim::web

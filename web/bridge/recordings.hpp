@@ -9,14 +9,28 @@
 //                                       [T0, T1] s of simulation time (at most N, 1000 by default, 5000 at most)
 //   GET /recordings/NAME/states?session=ID&at=T
 //                                       the newest state at or before T (a scrub)
+//   GET /recordings/NAME/scene?session=ID
+//                                       {"session","layout"}: the scene as a live session's "joined"
+//                                       carries it (scene_view.hpp), built from the scenario and the
+//                                       assets attached to the file
+//   GET /recordings/NAME/ground?session=ID&cx=X&cy=Y
+//                                       the ground around (X, Y) as a live "ground" message (groundGrid)
+//   GET /recordings/NAME/events?session=ID
+//                                       {"session","events":[...],"more":bool}: the session's events
+//                                       (laps, gates, hits, warnings), at most 5000
 // Only the chunks that hold that session and overlap the window are read
 // (the file's chunk indexes). Names are plain file names in the folder;
 // anything else is a 400 or 404 naming the parameter and the reason.
 #pragma once
 
+#include <list>
+#include <memory>
+#include <mutex>
 #include <string>
 
 namespace groundsim::web {
+
+struct SceneView;
 
 struct HttpAnswer {
   int status = 200;
@@ -26,14 +40,36 @@ struct HttpAnswer {
 
 class Recordings {
  public:
-  // dir "" : no recordings served (every request a 404 saying so)
-  explicit Recordings(std::string dir) : dir_(std::move(dir)) {}
+  // dir "" : no recordings served (every request a 404 saying so).
+  // configs_dir: a file the recorded scenario names that the recording does
+  // not hold (a session the recorder did not create: its assets are not
+  // attached) is looked for there, by its name and the sha256 of the
+  // scenario's manifest. A ground grid has grid_n x grid_n nodes grid_step
+  // m apart (the live sessions' own).
+  explicit Recordings(std::string dir, std::string configs_dir = "", int grid_n = 81, double grid_step = 0.5)
+      : dir_(std::move(dir)), configs_dir_(std::move(configs_dir)), grid_n_(grid_n), grid_step_(grid_step) {}
   bool enabled() const { return !dir_.empty(); }
-  // path starts with "/recordings"; query without the '?'
+  // path starts with "/recordings"; query without the '?'. Safe to call
+  // from several threads at once.
   HttpAnswer answer(const std::string& path, const std::string& query) const;
 
  private:
-  std::string dir_;
+  // A recorded session's scene, built once: a replay asks for its ground
+  // every few metres. At most kScenes kept (the newest used last).
+  struct Scene {
+    std::string key;          // file name, its size and time, session
+    std::shared_ptr<SceneView> view;
+    std::string error;        // why it cannot be built
+    std::mutex ground_mutex;  // a view's ground is used by one thread at a time
+  };
+  static constexpr std::size_t kScenes = 4;
+  std::shared_ptr<Scene> scene(const std::string& file, const std::string& name, const std::string& session) const;
+
+  std::string dir_, configs_dir_;
+  int grid_n_;
+  double grid_step_;
+  mutable std::mutex scenes_mutex_;
+  mutable std::list<std::shared_ptr<Scene>> scenes_;
 };
 
 }  // namespace groundsim::web

@@ -351,12 +351,12 @@ std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir) {
 }
 
 WebServer::WebServer(asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files,
-                     std::string recordings_dir)
+                     std::string recordings_dir, std::string configs_dir)
     : io_(io),
       hub_(hub),
       files_(std::make_shared<const std::map<std::string, StaticFile>>(std::move(files))),
       traffic_(std::make_shared<WebTraffic>()),
-      recordings_(std::make_shared<const Recordings>(std::move(recordings_dir))),
+      recordings_(std::make_shared<const Recordings>(std::move(recordings_dir), std::move(configs_dir))),
       acceptor_(io) {}
 
 void WebServer::listen(const std::string& address, unsigned short port) {

@@ -40,8 +40,11 @@ std::map<std::string, StaticFile> loadStaticFiles(const std::string& dir);
 
 class WebServer {
  public:
+  // recordings_dir: MCAP files served at /recordings; configs_dir: where a
+  // recording's scene finds the files its scenario names that the file does
+  // not hold (recordings.hpp)
   WebServer(boost::asio::io_context& io, Hub& hub, std::map<std::string, StaticFile> files,
-            std::string recordings_dir = "");
+            std::string recordings_dir = "", std::string configs_dir = "");
   // Throws boost::system::system_error when the address cannot be bound.
   void listen(const std::string& address, unsigned short port);
   unsigned short port() const { return port_; }

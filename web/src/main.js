@@ -254,14 +254,40 @@ async function openReplay(name, session) {
   if (app.replay !== r) return;
   const first = r.frame(0);
   if (!first) return addEvent(`replay ${name}: no states`, 'e');
-  // the recordings view serves states, not the scenario: road cars (four
-  // wheels, "sedan" in the name) are drawn as sedans, others as the report's car,
-  // on flat ground at the first state's height below the first car
-  const layouts = first.vehicles.map((v) => (v.spin.length === 4 && /sedan/i.test(v.name) ? sedanLayout(v.name) : defaultLayout(v.name)));
-  buildVehicles(first, layouts);
-  const v0 = first.vehicles[0], drop = layouts[0].road_car ? 0.55 : 1;
-  terrain.flat(v0.p[0], v0.p[1], v0.p[2] - drop);
+  // the scene as the session had it (its scenario, attached to the file):
+  // ground, track, objects and the cars' layouts; else, where the file holds
+  // no scenario, road cars (four wheels, "sedan" in the name) are drawn as
+  // sedans and others as the report's car, on flat ground below the first car
+  const layout = await r.scene();
+  if (app.replay !== r) return;
+  if (layout) {
+    app.replayLayout = layout;
+    terrain.setLayout(layout);
+    track.set(layout.track, layout.race);
+    app.objects = new SceneObjects(scene, layout.objects);
+    app.objectMeshes = app.objects.meshes.length;
+    buildVehicles(first, layout.vehicles || []);
+  } else {
+    addEvent(`replay ${name}: ${r.sceneError}; drawn on flat ground`, 'w');
+    const layouts = first.vehicles.map((v) => (v.spin.length === 4 && /sedan/i.test(v.name) ? sedanLayout(v.name) : defaultLayout(v.name)));
+    buildVehicles(first, layouts);
+    const v0 = first.vehicles[0], drop = layouts[0].road_car ? 0.55 : 1;
+    terrain.flat(v0.p[0], v0.p[1], v0.p[2] - drop);
+  }
   world.sky.visible = true;
+  // laps (the race's events): a jump to each lap's start
+  const laps = await r.laps();
+  if (app.replay !== r) return;
+  const lapSelect = $('tl-laps');
+  lapSelect.replaceChildren(...[{ label: laps.length ? 'jump to lap' : 'no laps', t: null }, ...laps.map((l) => ({
+    label: `car ${l.car + 1} lap ${l.lap}  ${l.lap_time.toFixed(3)} s${l.best ? ' (best)' : ''}`, t: l.start,
+  }))].map((l) => {
+    const o = document.createElement('option');
+    o.value = l.t === null ? '' : String(l.t);
+    o.textContent = l.label;
+    return o;
+  }));
+  lapSelect.classList.toggle('hidden', !laps.length);
   $('tl-follow').replaceChildren(...first.vehicles.map((v, i) => {
     const o = document.createElement('option');
     o.value = String(i);
@@ -273,6 +299,7 @@ async function openReplay(name, session) {
 function closeReplay(toLobby = true) {
   if (!app.replay) return;
   app.replay = null;
+  app.replayLayout = null;
   $('timeline').classList.add('hidden');
   if (toLobby) {
     clearScene();
@@ -290,6 +317,11 @@ $('tl-scrub').addEventListener('input', (e) => {
 });
 $('tl-speed').addEventListener('change', (e) => { if (app.replay) app.replay.speed = parseFloat(e.target.value); });
 $('tl-follow').addEventListener('change', (e) => { app.followed = parseInt(e.target.value, 10) || 0; });
+$('tl-laps').addEventListener('change', (e) => {
+  const r = app.replay, t = parseFloat(e.target.value);
+  if (r && Number.isFinite(t)) r.seek(t);
+  e.target.value = '';
+});
 $('tl-camera').addEventListener('click', () => toggleCamera());
 $('tl-close').addEventListener('click', () => closeReplay(true));
 window.addEventListener('keydown', (e) => {
@@ -331,6 +363,15 @@ function drawState(s, wallDt) {
       app.groundPending = true;
       setTimeout(() => { app.groundPending = false; }, 500);
       net.send({ op: 'ground', cx: mine.p[0], cy: mine.p[1] });
+    }
+    // a replay's ground comes from the recording's scene (GET .../ground)
+    if (app.replayLayout && app.replay && terrain.needsRefresh(mine.p[0], mine.p[1]) && !app.groundPending) {
+      const r = app.replay;
+      app.groundPending = true;
+      r.ground(mine.p[0], mine.p[1]).then((g) => {
+        app.groundPending = false;
+        if (g && app.replay === r) { terrain.show(g); app.groundGrids++; }
+      });
     }
     const followed = app.vehicles[app.followed];
     rig.place(mine, followed ? followed.size : 3, wallDt);

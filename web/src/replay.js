@@ -59,6 +59,51 @@ export class Replay {
     if (this.error) throw new Error(this.error);
     return this;
   }
+  base() { return `/recordings/${encodeURIComponent(this.name)}`; }
+  q() { return `session=${encodeURIComponent(this.session)}`; }
+  // The session's scene (GET .../scene: the layout a live "joined" carries),
+  // or null with sceneError saying why (a file without the scenario).
+  async scene() {
+    try {
+      const r = await this.fetch(`${this.base()}/scene?${this.q()}`);
+      const body = await r.json();
+      if (!r.ok) throw new Error(body.error || `HTTP ${r.status}`);
+      return body.layout;
+    } catch (e) {
+      this.sceneError = String(e.message || e);
+      return null;
+    }
+  }
+  // The ground around (x, y) as a live "ground" message, or null.
+  async ground(x, y) {
+    try {
+      const r = await this.fetch(`${this.base()}/ground?${this.q()}&cx=${x.toFixed(3)}&cy=${y.toFixed(3)}`);
+      return r.ok ? await r.json() : null;
+    } catch {
+      return null;
+    }
+  }
+  // The laps the server timed (its race events), each with its start time
+  // (the lap event's t less its lap_time), in time order; [] without a race.
+  async laps() {
+    try {
+      const r = await this.fetch(`${this.base()}/events?${this.q()}`);
+      if (!r.ok) return [];
+      const body = await r.json();
+      const out = [];
+      for (const m of body.events || []) {
+        if (typeof m.reason !== 'string' || !m.reason.startsWith('race: ')) continue;
+        let e;
+        try { e = JSON.parse(m.reason.slice(6)); } catch { continue; }
+        if (e.type === 'lap' && Number.isFinite(e.t) && Number.isFinite(e.lap_time))
+          out.push({ car: e.car | 0, lap: e.lap, lap_time: e.lap_time, best: !!e.best, start: e.t - e.lap_time, end: e.t });
+      }
+      this.lapList = out.sort((a, b) => a.start - b.start);
+      return this.lapList;
+    } catch {
+      return [];
+    }
+  }
   index(t) { return Math.floor((t - this.t0) / this.chunk); }
   load(k) {
     const have = this.windows.get(k);
