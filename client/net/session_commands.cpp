@@ -194,6 +194,27 @@ void addStep(CLI::App& app) {
   });
 }
 
+// A race's respawn: OP_RESET with steps = -1 - vehicle (docs/protocol.md).
+void addRespawn(CLI::App& app) {
+  struct Opts {
+    NetOptions net;
+    std::string session;
+    int vehicle = 0;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("respawn", "put a race's car back at its last gate, upright and at rest");
+  cmd->add_option("SESSION", o->session, "session id")->required();
+  cmd->add_option("--vehicle", o->vehicle, "vehicle index in the scenario")->capture_default_str()
+      ->check(CLI::Range(0, 1 << 20));
+  addNetOptions(cmd, o->net, true);
+  cmd->callback([o] {
+    guarded([&] {
+      ownerCall(o->net, o->session, request_t::OP_RESET, [&](request_t& req) { req.steps = -1 - o->vehicle; });
+      std::printf("respawn %s vehicle %d: ok\n", net::printable(o->session).c_str(), o->vehicle);
+    });
+  });
+}
+
 }  // namespace
 
 void registerSessionCommands(CLI::App& app) {
@@ -203,6 +224,7 @@ void registerSessionCommands(CLI::App& app) {
   addSimple(app, "reset", "restart a session from its initial state", request_t::OP_RESET);
   addSimple(app, "pause", "pause a real time or fast session", request_t::OP_PAUSE);
   addSimple(app, "resume", "resume a paused session", request_t::OP_RESUME);
+  addRespawn(app);
   addMode(app);
   addStep(app);
 }

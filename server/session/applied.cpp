@@ -1,5 +1,7 @@
 #include "applied.hpp"
 
+#include "race_glue.hpp"
+
 namespace groundsim::session {
 
 const char* appliedKindName(AppliedKind k) {
@@ -15,6 +17,7 @@ const char* appliedKindName(AppliedKind k) {
     case AppliedKind::SetMode: return "set_mode";
     case AppliedKind::Stop: return "stop";
     case AppliedKind::End: return "end";
+    case AppliedKind::Respawn: return "respawn";
   }
   return "?";
 }
@@ -60,7 +63,7 @@ void resetTo(Simulator& sim, DrivenCars& cars, const State& initial) {
 }
 
 std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<VehicleWheels>& vehicles,
-                       const State& initial, const Applied& a) {
+                       const State& initial, const Applied& a, RaceGlue* race) {
   const VehicleWheels* v =
       a.vehicle >= 0 && a.vehicle < static_cast<int>(vehicles.size()) ? &vehicles[a.vehicle] : nullptr;
   switch (a.kind) {
@@ -75,7 +78,16 @@ std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<Vehic
       break;
     case AppliedKind::DriveTimeout: releaseDrive(sim); break;
     case AppliedKind::ControlsTimeout: releasePedals(sim); break;
-    case AppliedKind::Reset: resetTo(sim, cars, initial); break;
+    case AppliedKind::Reset:
+      resetTo(sim, cars, initial);
+      if (race) raceRestart(*race, sim);
+      break;
+    case AppliedKind::Respawn:
+      if (!race) return "respawn of vehicle " + std::to_string(a.vehicle) + " in a scenario without a race";
+      if (a.vehicle < 0 || a.vehicle >= race->race.cars())
+        return "respawn of vehicle " + std::to_string(a.vehicle) + ", which the race does not have";
+      raceRespawnCar(*race, sim, initial, a.vehicle);
+      break;
     // no effect on the simulation: the states they publish come with their ticks
     case AppliedKind::Pause:
     case AppliedKind::Resume:

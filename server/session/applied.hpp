@@ -19,7 +19,7 @@ namespace groundsim::session {
 
 // Numbered as applied_t.KIND_*.
 enum class AppliedKind : int { Drive = 1, Controls = 2, DriveTimeout = 3, ControlsTimeout = 4, Reset = 5,
-                               Pause = 6, Resume = 7, Step = 8, SetMode = 9, Stop = 10, End = 11 };
+                               Pause = 6, Resume = 7, Step = 8, SetMode = 9, Stop = 10, End = 11, Respawn = 12 };
 const char* appliedKindName(AppliedKind k);
 
 struct Applied {
@@ -56,8 +56,11 @@ void resetTo(Simulator& sim, DrivenCars& cars, const State& initial);
 // on the simulation, through the functions above; entries without one
 // (pause, step, stop ...) do nothing here. Returns "" or why it cannot (a
 // vehicle the scenario lacks).
+// race: the session's race (race_glue.hpp), null without one: a reset
+// restarts it, a respawn needs it.
+struct RaceGlue;
 std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<VehicleWheels>& vehicles,
-                       const State& initial, const Applied& a);
+                       const State& initial, const Applied& a, RaceGlue* race = nullptr);
 // Before each step: the scenario's control-table rows due to cars no client drives.
 void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vector<scenario::ControlTable>& tables);
 

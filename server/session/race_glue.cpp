@@ -118,6 +118,113 @@ void placeVehicle(Simulator& sim, const State& initial, int v, double x, double 
   sim.restore(s);
 }
 
+// ---- a race's effect on the simulation --------------------------------------
+
+void raceHold(RaceGlue& g, Simulator& sim) {
+  const int n = g.race.cars();
+  g.before.resize(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) g.before[static_cast<std::size_t>(v)] = centre(sim, v);
+  if (!g.race.held(sim.state().t)) return;
+  // the countdown: no throttle, brakes on, whatever a driver sends
+  for (int v = 0; v < n; ++v) {
+    const int c = sim.roadCarIndex(v);
+    if (c >= 0) {
+      CarControls cc = sim.carControls(c);
+      cc.throttle = 0.0;
+      cc.brake = 1.0;
+      sim.setCarControls(c, cc);
+    }
+  }
+  const Model& m = sim.model();
+  for (std::size_t w = 0; w < m.wheels.size(); ++w) {
+    if (m.vehicle_of_wheel[w] < 0) continue;
+    sim.controls()[w].drive_torque = 0.0;
+    sim.controls()[w].brake_torque = kHoldBrakeTorque;
+  }
+}
+
+void raceGhosts(RaceGlue& g, Simulator& sim) {
+  const double t = sim.state().t;
+  std::vector<bool> ghost(g.ghost_until.size(), false);
+  bool any = false;
+  for (std::size_t v = 0; v < ghost.size(); ++v) any |= ghost[v] = t < g.ghost_until[v];
+  if (!any && !g.ghosted) return;
+  State s = sim.state();
+  sim = Simulator(any ? ghostModel(*g.model, ghost) : g.model, std::move(s));
+  g.ghosted = any;
+}
+
+std::vector<race::RaceEvent> raceStepped(RaceGlue& g, Simulator& sim, double t0) {
+  if (g.ghosted) {  // a protection over
+    bool over = false;
+    for (double until : g.ghost_until) over |= until > 0.0 && until <= sim.state().t && until > t0;
+    if (over) raceGhosts(g, sim);
+  }
+  const bool was_held = g.race.held(t0);
+  const int n = g.race.cars();
+  g.after.resize(static_cast<std::size_t>(n));
+  for (int v = 0; v < n; ++v) g.after[static_cast<std::size_t>(v)] = centre(sim, v);
+  std::vector<race::RaceEvent> happened = g.race.step(t0, sim.state().t, g.before, g.after);
+  if (was_held && !g.race.held(sim.state().t)) {
+    // go: the brakes the countdown held come off (a driver's next controls set them)
+    releasePedals(sim);
+    releaseDrive(sim);
+  }
+  return happened;
+}
+
+void raceRestart(RaceGlue& g, Simulator& sim) {
+  g.race.reset();
+  g.announced = false;
+  std::fill(g.ghost_until.begin(), g.ghost_until.end(), 0.0);
+  raceGhosts(g, sim);
+}
+
+std::vector<race::RaceEvent> raceRespawnCar(RaceGlue& g, Simulator& sim, const State& initial, int car) {
+  race::Pose pose;
+  if (auto p = g.race.respawnPose(car)) {
+    pose = *p;
+  } else {  // no gate passed and no grid: where it started
+    const int body = sim.model().vehicle_body.at(static_cast<std::size_t>(car));
+    const Vec3 p0 = bodyPos(initial.y, body);
+    pose.position = {p0.x(), p0.y()};
+    pose.yaw = yawOf(Quat(bodyRot(initial.y, body)).normalized());
+  }
+  // a spot clear of the other cars: the gate's centre, else along the gate line
+  const double lx = -std::sin(pose.yaw), ly = std::cos(pose.yaw);
+  race::Vec2 spot = pose.position;
+  for (int i = 0; i < 9; ++i) {
+    const double off = kRespawnLateralStep * ((i + 1) / 2) * (i % 2 ? 1.0 : -1.0);
+    const race::Vec2 cand{pose.position[0] + off * lx, pose.position[1] + off * ly};
+    bool clear = true;
+    for (int o = 0; o < g.race.cars() && clear; ++o)
+      if (o != car) {
+        const race::Vec2 c = centre(sim, o);
+        clear = std::hypot(c[0] - cand[0], c[1] - cand[1]) >= kRespawnClearance;
+      }
+    if (clear) {
+      spot = cand;
+      break;
+    }
+  }
+  placeVehicle(sim, initial, car, spot[0], spot[1], pose.yaw);
+  const int c = sim.roadCarIndex(car);
+  if (c >= 0) {
+    CarControls cc = sim.carControls(c);
+    cc.throttle = 0.0;
+    cc.brake = 0.0;
+    sim.setCarControls(c, cc);
+  }
+  pose.position = spot;
+  std::vector<race::RaceEvent> happened = g.race.respawned(car, pose, sim.state().t);
+  // protected: it passes through the others until then (contact between bodies only)
+  if (sim.model().collisions && g.race.spec().respawn_protection > 0.0) {
+    g.ghost_until[static_cast<std::size_t>(car)] = sim.state().t + g.race.spec().respawn_protection;
+    raceGhosts(g, sim);
+  }
+  return happened;
+}
+
 // ---- Session's race hooks ----------------------------------------------------
 
 void Session::raceBeforeStep() {
@@ -128,75 +235,23 @@ void Session::raceBeforeStep() {
     event(Severity::Info, ErrorCode::None, g.race.layoutReason(setup_.vehicle_names));
     event(Severity::Info, ErrorCode::None, g.race.standingsReason(sim_.state().t, setup_.vehicle_names));
   }
-  const int n = g.race.cars();
-  g.before.resize(static_cast<std::size_t>(n));
-  for (int v = 0; v < n; ++v) g.before[static_cast<std::size_t>(v)] = centre(sim_, v);
-  if (!g.race.held(sim_.state().t)) return;
-  // the countdown: no throttle, brakes on, whatever a driver sends
-  for (int v = 0; v < n; ++v) {
-    const int c = sim_.roadCarIndex(v);
-    if (c >= 0) {
-      CarControls cc = sim_.carControls(c);
-      cc.throttle = 0.0;
-      cc.brake = 1.0;
-      sim_.setCarControls(c, cc);
-    }
-  }
-  const Model& m = sim_.model();
-  for (std::size_t w = 0; w < m.wheels.size(); ++w) {
-    if (m.vehicle_of_wheel[w] < 0) continue;
-    sim_.controls()[w].drive_torque = 0.0;
-    sim_.controls()[w].brake_torque = kHoldBrakeTorque;
-  }
-}
-
-// Steps the scenario's model, or a ghost copy while respawned cars are
-// protected; a new Simulator on the same state (hits under way are dropped).
-void Session::raceGhosts() {
-  RaceGlue& g = *race_;
-  const double t = sim_.state().t;
-  std::vector<bool> ghost(g.ghost_until.size(), false);
-  bool any = false;
-  for (std::size_t v = 0; v < ghost.size(); ++v) any |= ghost[v] = t < g.ghost_until[v];
-  if (!any && !g.ghosted) return;
-  State s = sim_.state();
-  sim_ = Simulator(any ? ghostModel(*g.model, ghost) : g.model, std::move(s));
-  g.ghosted = any;
+  raceHold(g, sim_);
 }
 
 void Session::raceAfterStep(double t0) {
   if (!race_) return;
   RaceGlue& g = *race_;
-  if (g.ghosted) {  // a protection over
-    bool over = false;
-    for (double until : g.ghost_until) over |= until > 0.0 && until <= sim_.state().t && until > t0;
-    if (over) raceGhosts();
-  }
-  const bool was_held = g.race.held(t0);
-  const int n = g.race.cars();
-  g.after.resize(static_cast<std::size_t>(n));
-  for (int v = 0; v < n; ++v) g.after[static_cast<std::size_t>(v)] = centre(sim_, v);
-  const std::vector<race::RaceEvent> happened = g.race.step(t0, sim_.state().t, g.before, g.after);
   bool standings = false;
-  for (const race::RaceEvent& e : happened) {
+  for (const race::RaceEvent& e : raceStepped(g, sim_, t0)) {
     event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
     standings = standings || e.kind == race::EventKind::Start || e.kind == race::EventKind::Gate ||
                 e.kind == race::EventKind::Lap || e.kind == race::EventKind::Finish;
   }
   if (standings) event(Severity::Info, ErrorCode::None, g.race.standingsReason(sim_.state().t, setup_.vehicle_names));
-  if (was_held && !g.race.held(sim_.state().t)) {
-    // go: the brakes the countdown held come off (a driver's next controls set them)
-    releasePedals(sim_);
-    releaseDrive(sim_);
-  }
 }
 
 void Session::raceReset() {
-  if (!race_) return;
-  race_->race.reset();
-  race_->announced = false;
-  std::fill(race_->ghost_until.begin(), race_->ghost_until.end(), 0.0);
-  raceGhosts();
+  if (race_) raceRestart(*race_, sim_);
 }
 
 void Session::raceRespawn(const Request& r) {
@@ -209,48 +264,12 @@ void Session::raceRespawn(const Request& r) {
                      std::to_string(race_->race.cars()) + ")");
   if (status_ == Status::Diverged)
     return reply(to, false, ErrorCode::Diverged, "respawn: session diverged: " + reason_ + " (reset it)");
-  const int car = static_cast<int>(v);
-  race::Pose pose;
-  if (auto p = race_->race.respawnPose(car)) {
-    pose = *p;
-  } else {  // no gate passed and no grid: where it started
-    const Vec3 p0 = bodyPos(initial_.y, sim_.model().vehicle_body.at(static_cast<std::size_t>(car)));
-    pose.position = {p0.x(), p0.y()};
-    pose.yaw = yawOf(Quat(bodyRot(initial_.y, sim_.model().vehicle_body.at(static_cast<std::size_t>(car)))).normalized());
-  }
-  // a spot clear of the other cars: the gate's centre, else along the gate line
-  const double lx = -std::sin(pose.yaw), ly = std::cos(pose.yaw);
-  race::Vec2 spot = pose.position;
-  for (int i = 0; i < 9; ++i) {
-    const double off = kRespawnLateralStep * ((i + 1) / 2) * (i % 2 ? 1.0 : -1.0);
-    const race::Vec2 cand{pose.position[0] + off * lx, pose.position[1] + off * ly};
-    bool clear = true;
-    for (int o = 0; o < race_->race.cars() && clear; ++o)
-      if (o != car) {
-        const race::Vec2 c = centre(sim_, o);
-        clear = std::hypot(c[0] - cand[0], c[1] - cand[1]) >= kRespawnClearance;
-      }
-    if (clear) {
-      spot = cand;
-      break;
-    }
-  }
-  placeVehicle(sim_, initial_, car, spot[0], spot[1], pose.yaw);
-  const int c = sim_.roadCarIndex(car);
-  if (c >= 0) {
-    CarControls cc = sim_.carControls(c);
-    cc.throttle = 0.0;
-    cc.brake = 0.0;
-    sim_.setCarControls(c, cc);
-  }
-  pose.position = spot;
-  for (const race::RaceEvent& e : race_->race.respawned(car, pose, sim_.state().t))
+  Applied a;
+  a.kind = AppliedKind::Respawn;
+  a.vehicle = static_cast<int>(v);
+  logApplied(std::move(a));
+  for (const race::RaceEvent& e : raceRespawnCar(*race_, sim_, initial_, static_cast<int>(v)))
     event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
-  // protected: it passes through the others until then (contact between bodies only)
-  if (sim_.model().collisions && race_->race.spec().respawn_protection > 0.0) {
-    race_->ghost_until[static_cast<std::size_t>(car)] = sim_.state().t + race_->race.spec().respawn_protection;
-    raceGhosts();
-  }
   frame_pending_ = true;
   reply(to, true, ErrorCode::None, "");
 }

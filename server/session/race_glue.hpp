@@ -1,7 +1,10 @@
-// A session's race (server/race): what Session keeps of it. The glue's
-// functions are Session members defined in race_glue.cpp, so session.cpp
-// only calls them at its hooks (start of a step, end of a step, reset,
-// respawn request).
+// A session's race (server/race): what Session keeps of it, and what a
+// race does to the simulation at its hooks (start of a step, end of a step,
+// reset, respawn). The free functions below are that effect, used alike by
+// the session (its members in race_glue.cpp add the events) and by the
+// re-simulator (resimulate.hpp), so that a recorded race re-simulates bit
+// for bit: the countdown's hold, the brakes off at go, respawns (an applied
+// entry, placed again by the same rule) and their protection.
 #pragma once
 
 #include <memory>
@@ -40,5 +43,22 @@ std::shared_ptr<const Model> ghostModel(const Model& m, const std::vector<bool>&
 // car as it stood on its grid slot, turned and carried there. The energy
 // check's reference moves with it (a car put higher is no divergence).
 void placeVehicle(Simulator& sim, const State& initial, int v, double x, double y, double yaw);
+
+// Before a step: the cars' centres; during the countdown no throttle and
+// the brakes on, whatever a driver sent.
+void raceHold(RaceGlue& g, Simulator& sim);
+// After the step from t0: protections that ended, the race's happenings
+// (gates, laps, ...), and at go the brakes the countdown held come off.
+std::vector<race::RaceEvent> raceStepped(RaceGlue& g, Simulator& sim, double t0);
+// A reset: the race from its start, no car protected.
+void raceRestart(RaceGlue& g, Simulator& sim);
+// Car `car` put back upright at rest at its last gate (else its grid slot,
+// else where it started), on the first spot along the gate line clear of
+// the other cars, its pedals released; its protection begins. Returns the
+// race's happenings (the respawn event).
+std::vector<race::RaceEvent> raceRespawnCar(RaceGlue& g, Simulator& sim, const State& initial, int car);
+// The model stepped: the scenario's, or a copy with protected cars as
+// ghosts (a new Simulator on the same state: hits under way are dropped).
+void raceGhosts(RaceGlue& g, Simulator& sim);
 
 }  // namespace groundsim::session

@@ -27,14 +27,18 @@ Resimulator::Resimulator(const std::string& scenario_json, const scenario::FileA
         return s;
       }()) {
   vehicles_ = vehicleWheels(sim_.model());
+  race_ = makeRaceGlue(scenario_json, sim_.modelPtr());
 }
 
 bool Resimulator::stepOnce() {
   if (!tables_.empty()) followControlTables(sim_, cars_, tables_);
+  if (race_) raceHold(*race_, sim_);
+  const double t0 = sim_.state().t;
   if (!sim_.step()) {
     diverged_ = true;
     return false;
   }
+  if (race_) raceStepped(*race_, sim_, t0);
   if (sim_.model().collisions) sim_.takeEndedHits();
   return true;
 }
@@ -53,7 +57,7 @@ std::string Resimulator::stepTo(std::int64_t tick) {
 
 std::string Resimulator::apply(const Applied& a) {
   if (std::string why = stepTo(a.tick); !why.empty()) return why;
-  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a); !why.empty()) return why;
+  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a, race_.get()); !why.empty()) return why;
   if (a.kind == AppliedKind::Reset) diverged_ = false;
   return "";
 }

@@ -1,7 +1,8 @@
 // Re-simulation of a recorded session (docs/logging.md, Re-simulation): the
 // scenario built as the server builds it, then the applied-command log
 // (applied.hpp) replayed at the ticks the session applied it, through the
-// same functions, stepping as Session::stepOnce does. On the same machine
+// same functions, stepping as Session::stepOnce does (a race's countdown,
+// go and respawns included: race_glue.hpp). On the same machine
 // and build this reaches the same states bit for bit; `groundsim replay
 // --resimulate` compares them with the recorded ones.
 #pragma once
@@ -13,6 +14,7 @@
 
 #include "applied.hpp"
 #include "frame_build.hpp"
+#include "race_glue.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/scenario.hpp"
 #include "types.hpp"
@@ -47,6 +49,7 @@ class Resimulator {
   Simulator sim_;
   std::vector<VehicleWheels> vehicles_;
   DrivenCars cars_;
+  std::unique_ptr<RaceGlue> race_;  // the scenario's race, stepped as the session steps it; null: none
   bool diverged_ = false;
 };
 

@@ -139,7 +139,6 @@ class Session : public HostedSession {
   void raceAfterStep(double t0);
   void raceReset();
   void raceRespawn(const Request& r);  // OP_RESET with steps = -1 - vehicle
-  void raceGhosts();                   // the model stepped: the scenario's, or with protected cars as ghosts
 
   SessionSetup setup_;
   const ServiceConfig& cfg_;

@@ -80,7 +80,7 @@ std::string Session::replay(const Applied& a) {
   // also where its publish budget deferred a frame)
   if (frame_pending_ && a.frame_seq > seq_) frame_pending_ = false;
   seq_ = a.frame_seq;
-  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a); !why.empty()) return why;
+  if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a, race_.get()); !why.empty()) return why;
   // and its effect on the session's own settings
   switch (a.kind) {
     case AppliedKind::Drive: drive_held_ = false; break;  // its timeout restarts from the resumption
