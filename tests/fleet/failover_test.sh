@@ -14,7 +14,8 @@
 # cannot be made.
 #
 # MODE kill: the owner's host is killed (above). drain: the owner gets
-# SIGTERM and hands the session over before it exits. partition: the
+# SIGTERM and hands the session over before it exits (its /health answers
+# 503 "stopping" meanwhile). partition: the
 # owner's host is cut off the switch for 5 s, then plugged back: the old
 # owner must drop the session (it was taken over) and stay silent.
 #   tests/fleet/failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO [MODE]
@@ -56,7 +57,19 @@ sleep 3
 t_kill=$(date +%s.%N)
 case "$mode" in
   kill) "$lab" kill "$name" "$host" ;;
-  drain) kill -TERM "${pid[$host]}" ;;
+  drain)
+    kill -TERM "${pid[$host]}"
+    # while it hands its session over, its /health says so (503 "stopping"):
+    # a balancer stops sending it players (docs/metrics.md)
+    seen=""
+    for _ in $(seq 40); do
+      seen=$("$lab" exec "$name" "$host" curl -s -w ' HTTP %{http_code}' --max-time 1 http://127.0.0.1:9100/health || true)
+      case "$seen" in *'"stopping"'*|*'HTTP 000') break ;; esac
+      sleep 0.05
+    done
+    case "$seen" in *'"stopping"'*' HTTP 503') echo "draining: /health $seen" ;;
+      *) fail "the draining server's /health did not say stopping: '$seen'" ;; esac
+    ;;
   partition) "$lab" partition "$name" "$host" ;;
   *) fail "unknown mode $mode" ;;
 esac
