@@ -123,12 +123,15 @@ std::string recordedScene(const std::string& config, bool with_assets) {
   const auto schema = w.addSchema("groundsim.state", "jsonschema", "{}");
   const auto st = w.addChannel(schema, "/S1/state", "json");
   const auto ev = w.addChannel(schema, "/S1/events", "json");
+  const auto co = w.addChannel(schema, "/S1/contact", "json");
   w.attach("scenario/S1.json", "application/json", 0, doc.dump());
   if (with_assets)
     for (const auto& a : assets) w.attach("assets/S1/" + a.ref.name, "application/octet-stream", 0, *a.bytes);
   for (int k = 0; k < 3; ++k) {
     const std::uint64_t t = static_cast<std::uint64_t>(k) * 1'000'000'000u;
     w.write(st, k, t, t, "{\"seq\":" + std::to_string(k) + ",\"t\":" + std::to_string(k) + "}", 0);
+    w.write(co, k, t, t, "{\"seq\":" + std::to_string(k) + ",\"objects\":[{\"name\":\"cone\",\"position\":[" +
+                              std::to_string(k) + ",0,0]}]}", 0);
     w.write(ev, k, t, t, "{\"seq\":" + std::to_string(k) + ",\"reason\":\"race: {\\\"type\\\":\\\"lap\\\",\\\"lap\\\":" +
                               std::to_string(k + 1) + "}\"}", 0);
   }
@@ -163,6 +166,19 @@ TEST(Recordings, ASessionsSceneAndGroundAreBuiltFromItsRecordedScenario) {
   ASSERT_EQ(j["events"].size(), 3u);
   EXPECT_EQ(j["events"][2]["seq"], 2);
   EXPECT_FALSE(j["more"].get<bool>());
+  // a window's contact states beside its states (the objects a replay moves)
+  j = body(r.answer("/recordings/scene.mcap/states", "session=S1&from=0&to=5&contacts=1"));
+  ASSERT_EQ(j["states"].size(), 3u);
+  ASSERT_EQ(j["contacts"].size(), 3u);
+  EXPECT_EQ(j["contacts"][1]["objects"][0]["position"][0], 1);
+  // cut at 2 states: the contacts stop at the last state's time
+  j = body(r.answer("/recordings/scene.mcap/states", "session=S1&from=0&to=5&contacts=1&max=2"));
+  EXPECT_EQ(j["states"].size(), 2u);
+  EXPECT_EQ(j["contacts"].size(), 2u);
+  EXPECT_TRUE(j["more"].get<bool>());
+  // without contacts=1: none
+  j = body(r.answer("/recordings/scene.mcap/states", "session=S1&from=0&to=5"));
+  EXPECT_FALSE(j.contains("contacts"));
 }
 
 TEST(Recordings, FilesTheRecordingDoesNotHoldAreFoundAmongTheConfigsByHash) {
@@ -194,6 +210,7 @@ TEST(Recordings, SceneRequestsNameTheParameter) {
   expect("/recordings/scene.mcap/scene", "session=NOPE", 404, "NOPE");
   expect("/recordings/scene.mcap/events", "session=NOPE", 404, "NOPE");
   expect("/recordings/scene.mcap/scene", "", 400, "session");
+  expect("/recordings/scene.mcap/states", "session=S1&from=0&to=1&contacts=yes", 400, "contacts");
 }
 
 }  // namespace

@@ -246,12 +246,19 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
         return error(400, "max: must be an integer in [1, " + std::to_string(kMaxStates) + "], got " + web::quoted(m->second.substr(0, 40)));
       max = static_cast<int>(v);
     }
+    bool with_contacts = false;
+    if (auto c = q.find("contacts"); c != q.end()) {
+      if (c->second != "0" && c->second != "1") return error(400, "contacts: must be 0 or 1, got " + web::quoted(c->second.substr(0, 40)));
+      with_contacts = c->second == "1";
+    }
     recording::McapReader r(file);
-    std::optional<std::uint16_t> channel;
-    for (const auto& [id, c] : r.channels())
+    std::optional<std::uint16_t> channel, contact_channel;
+    for (const auto& [id, c] : r.channels()) {
       if (c.topic == "/" + session + "/state") channel = id;
+      if (c.topic == "/" + session + "/contact") contact_channel = id;
+    }
     if (!channel) return error(404, "session: " + web::quoted(session) + " is not in " + web::quoted(rest));
-    std::vector<std::string> states;
+    std::vector<std::string> states, contacts;
     std::size_t bytes = 0;
     bool more = false;
     if (at) {
@@ -265,19 +272,32 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
       }
       if (!last.empty()) states.push_back(std::move(last));
     } else {
+      // states and (contacts=1) the contact states beside them (objects
+      // with mass, hits), in one pass; a window cut at `max` states is cut
+      // for both at the last state's time
+      std::set<std::uint16_t> wanted{*channel};
+      if (with_contacts && contact_channel) wanted.insert(*contact_channel);
+      std::uint64_t cut_at = 0;
       r.readMessages(
           [&](const recording::McapMessage& m) {
-            if (static_cast<int>(states.size()) >= max || bytes + m.data.size() > kMaxBody) {
+            if (more && m.log_time > cut_at) return;
+            const bool state = m.channel == *channel;
+            if (bytes + m.data.size() > kMaxBody || (state && static_cast<int>(states.size()) >= max)) {
+              if (!more) cut_at = m.log_time > 0 ? m.log_time - 1 : 0;
               more = true;
               return;
             }
             bytes += m.data.size();
-            states.push_back(m.data);
+            (state ? states : contacts).push_back(m.data);
           },
-          {*channel}, ns(*from), ns(*to));
+          wanted, ns(*from), ns(*to));
     }
     std::string out = "{\"session\":" + web::quoted(session) + ",\"states\":[";
     for (std::size_t i = 0; i < states.size(); ++i) out += (i ? "," : "") + states[i];
+    if (with_contacts) {
+      out += "],\"contacts\":[";
+      for (std::size_t i = 0; i < contacts.size(); ++i) out += (i ? "," : "") + contacts[i];
+    }
     return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
   } catch (const std::exception& e) {
     return error(500, std::string("cannot read the recording: ") + e.what());

@@ -4,9 +4,11 @@
 // of a session without downloading the file:
 //   GET /recordings                     {"recordings":[{name, bytes, complete, end, sessions:[{id, states, t0, t1}]}]}
 //   GET /recordings/NAME                one of those
-//   GET /recordings/NAME/states?session=ID&from=T0&to=T1[&max=N]
+//   GET /recordings/NAME/states?session=ID&from=T0&to=T1[&max=N][&contacts=1]
 //                                       {"session","from","to","states":[...],"more":bool}: the states in
-//                                       [T0, T1] s of simulation time (at most N, 1000 by default, 5000 at most)
+//                                       [T0, T1] s of simulation time (at most N, 1000 by default, 5000 at most);
+//                                       contacts=1: "contacts":[...] too, the contact states (objects
+//                                       with mass, hits) of the same span
 //   GET /recordings/NAME/states?session=ID&at=T
 //                                       the newest state at or before T (a scrub)
 //   GET /recordings/NAME/scene?session=ID

@@ -218,7 +218,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const std::string path = target.substr(0, q);
     if (path == "/ws" && websocket::is_upgrade(req)) {
       stream_.expires_never();
-      std::make_shared<WsSession>(stream_.release_socket(), hub_, traffic_)->start(std::move(req));
+      // the small send buffer is for the state stream only: an HTTP answer
+      // (a recording's window of 1.6 MB) would leave 64 KiB per ACK round
+      tcp::socket socket = stream_.release_socket();
+      beast::error_code ec;
+      socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
+      std::make_shared<WsSession>(std::move(socket), hub_, traffic_)->start(std::move(req));
       return;
     }
     auto res = std::make_shared<http::response<http::string_body>>();
@@ -258,7 +263,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   // Reading a recording may take a while (a window of a large file): on a
   // thread of its own, at most kRecordingReaders at once (503 beyond), the
   // answer posted back to this socket's I/O thread.
-  static constexpr int kRecordingReaders = 2;
+  static constexpr int kRecordingReaders = 4;  // a replay's seek, its window, the next one, a listing
   void serveRecording(std::string path, std::string query,
                       std::shared_ptr<http::response<http::string_body>> res) {
     static std::atomic<int> readers{0};
@@ -267,7 +272,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       res->result(http::status::service_unavailable);
       res->set(http::field::content_type, "application/json");
       res->set(http::field::retry_after, "1");
-      res->body() = "{\"error\":\"two recordings are being read: try again\"}\n";
+      res->body() = "{\"error\":\"4 recordings are being read: try again\"}\n";
       return write(std::move(res));
     }
     std::thread([self = shared_from_this(), path = std::move(path), query = std::move(query), res]() mutable {
@@ -368,7 +373,6 @@ void WebServer::accept() {
   acceptor_.async_accept([this](beast::error_code ec, tcp::socket socket) {
     if (!ec) {
       socket.set_option(tcp::no_delay(true), ec);
-      socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
       std::make_shared<HttpSession>(std::move(socket), hub_, files_, traffic_, recordings_, more_metrics_)->read();
     }
     if (acceptor_.is_open()) accept();

@@ -3,7 +3,7 @@
 // system), GET /ws upgrades to the WebSocket the page talks on, GET /metrics
 // (Prometheus text format, docs/metrics.md) and GET /health answer from the
 // hub's and the sockets' counters, GET /recordings... reads recordings
-// (recordings.hpp) on a thread of its own, at most two at a time. One I/O
+// (recordings.hpp) on a thread of its own, at most four at a time. One I/O
 // thread runs every socket; nothing here blocks it.
 #pragma once
 

@@ -116,7 +116,13 @@ net.on('joined', (m) => {
   if (m.role === 'drive') prediction.start(m.session, m.vehicle, m.scenario, m.scale);
   else prediction.stop('spectating');
 });
-net.on('left', () => { app.session = null; clearScene(); showLobby(true); });
+net.on('left', () => { app.session = null; clearScene(); showLobby(true);
+// a replay's link opens it at once: it reads the recording over HTTP and
+// needs no WebSocket (the 'open' handler leaves it be)
+{
+  const q = new URLSearchParams(location.search);
+  if (q.get('replay') && q.get('rsession')) openReplay(q.get('replay'), q.get('rsession'));
+} });
 net.on('ground', (m) => {
   if (m.session !== app.session) return;
   terrain.show(m);
@@ -245,6 +251,8 @@ async function openReplay(name, session) {
   const q = new URLSearchParams({ replay: name, rsession: session });
   history.replaceState(null, '', `?${q}`);
   rig.set('chase');
+  // the scene and the laps are asked for beside the span and first window
+  const sceneAsked = r.scene(), lapsAsked = r.laps();
   try {
     await r.open();
   } catch (e) {
@@ -258,7 +266,7 @@ async function openReplay(name, session) {
   // ground, track, objects and the cars' layouts; else, where the file holds
   // no scenario, road cars (four wheels, "sedan" in the name) are drawn as
   // sedans and others as the report's car, on flat ground below the first car
-  const layout = await r.scene();
+  const layout = await sceneAsked;
   if (app.replay !== r) return;
   if (layout) {
     app.replayLayout = layout;
@@ -276,7 +284,7 @@ async function openReplay(name, session) {
   }
   world.sky.visible = true;
   // laps (the race's events): a jump to each lap's start
-  const laps = await r.laps();
+  const laps = await lapsAsked;
   if (app.replay !== r) return;
   const lapSelect = $('tl-laps');
   lapSelect.replaceChildren(...[{ label: laps.length ? 'jump to lap' : 'no laps', t: null }, ...laps.map((l) => ({

@@ -4,10 +4,11 @@
 // States are fetched in windows of CHUNK s of simulation time around the
 // playhead (the next one ahead of time), at most KEEP windows kept; a
 // frame interpolates the two states around the playhead as a live session's
-// frames do (interp.js).
-import { interpolateVehicle } from './interp.js';
+// frames do (interp.js), the objects with mass (cones, barriers) too.
+import { interpolateObjects, interpolateVehicle } from './interp.js';
 
 const KEEP = 12;
+const PEEK = 0.25;  // s each side of a seek's instant fetched first
 
 // a recorder's state message (client/record/message_json.cpp) as the
 // bridge's live "state" message
@@ -44,7 +45,7 @@ export class Replay {
     this.error = null;
   }
   url(from, to) {
-    return `/recordings/${encodeURIComponent(this.name)}/states?session=${encodeURIComponent(this.session)}&from=${from.toFixed(6)}&to=${to.toFixed(6)}&max=5000`;
+    return `/recordings/${encodeURIComponent(this.name)}/states?session=${encodeURIComponent(this.session)}&from=${from.toFixed(6)}&to=${to.toFixed(6)}&max=5000&contacts=1`;
   }
   // reads the recording's span and its first window
   async open() {
@@ -120,16 +121,37 @@ export class Replay {
         this.windows.clear();
         return this.load(this.index(from));
       }
-      w.states = body.states.map((m) => fromRecorded(m, this.session));
+      w.states = this.decode(body);
       return w.states;
     })().catch((e) => { this.error = String(e.message || e); this.windows.delete(k); });
     this.windows.set(k, w);
     while (this.windows.size > KEEP) this.windows.delete(this.windows.keys().next().value);
     return w.promise;
   }
+  // A window's answer as states, each with the objects with mass of its
+  // contact state (cones knocked over move in the replay too).
+  decode(body) {
+    const objects = new Map((body.contacts || []).map((c) => [c.seq, (c.objects || []).map((o) => ({ name: o.name, p: o.position, q: o.orientation }))]));
+    return body.states.map((m) => ({ ...fromRecorded(m, this.session), objects: objects.get(m.seq) || null }));
+  }
   seek(t) {
     this.t = Math.max(this.t0, Math.min(this.t1, t));
-    this.load(this.index(this.t));
+    const k = this.index(this.t), w = this.windows.get(k);
+    if (!(w && w.states)) this.peek(this.t);
+    this.load(k);
+  }
+  // A short span around t (PEEK s each side, a few states), drawn while
+  // the whole window behind it loads: a seek shows its frame after a small
+  // request, not after CHUNK s of states.
+  peek(t) {
+    const from = Math.max(this.t0, t - PEEK), to = Math.min(this.t1, t + PEEK);
+    const p = { from, to, states: null };
+    this.quick = p;
+    (async () => {
+      const r = await this.fetch(this.url(from, to));
+      const body = await r.json();
+      if (r.ok && this.quick === p) p.states = this.decode(body);
+    })().catch(() => {});
   }
   jump(dt) { this.seek(this.t + dt); }
   toggle() {
@@ -147,8 +169,10 @@ export class Replay {
     const k = this.index(this.t);
     this.load(k);
     if (this.playing && this.t + 2 > this.t0 + (k + 1) * this.chunk) this.load(k + 1);  // ahead of time
-    const w = this.windows.get(k);
-    const states = w && w.states;
+    const w = this.windows.get(k), q = this.quick;
+    let states = w && w.states;
+    if (states) this.quick = null;
+    else if (q && q.states && this.t >= q.from && this.t <= q.to) states = q.states;
     if (!states || !states.length) return this.shown;
     let i = 0;
     while (i + 1 < states.length && states[i + 1].t <= this.t) ++i;
@@ -167,7 +191,7 @@ export class Replay {
         v.braking = dv < -2.5 && Math.abs(forward(va)) > 0.5;
         return v;
       }),
-      objects: null,
+      objects: interpolateObjects(a.objects, b.objects, u),
     };
     return this.shown;
   }
