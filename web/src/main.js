@@ -35,6 +35,17 @@ const DRAW = new URLSearchParams(location.search).get('render') !== '0';
 // ?res=fixed keeps the full resolution (screenshots); else it adapts (below)
 const ADAPT = new URLSearchParams(location.search).get('res') !== 'fixed';
 
+// A replay's link: its recording is asked for now, before the renderer is
+// made (a WebGL context takes a second in software), and drawn once the
+// page is up (openReplay below takes it over).
+const early = (() => {
+  const q = new URLSearchParams(location.search), name = q.get('replay'), session = q.get('rsession');
+  if (!name || !session) return null;
+  const r = new Replay(name, session);
+  return { r, opened: r.open(), scene: r.scene(), laps: r.laps() };
+})();
+if (early) early.opened.catch(() => {});  // reported by openReplay
+
 const world = new World($('view'));
 const { scene, camera } = world;
 const terrain = new Terrain(scene);
@@ -238,7 +249,10 @@ async function openReplay(name, session) {
   app.session = null; app.role = null; app.layout = null; app.vehicle = -1; app.car = null;
   clearScene();
   clearEvents();
-  const r = new Replay(name, session);
+  // the link's replay, asked for at load, or a new one
+  const pre = early && early.r.name === name && early.r.session === session && !early.used ? early : null;
+  if (pre) pre.used = true;
+  const r = pre ? pre.r : new Replay(name, session);
   app.replay = r;
   app.followed = 0;
   showLobby(false);
@@ -252,9 +266,9 @@ async function openReplay(name, session) {
   history.replaceState(null, '', `?${q}`);
   rig.set('chase');
   // the scene and the laps are asked for beside the span and first window
-  const sceneAsked = r.scene(), lapsAsked = r.laps();
+  const sceneAsked = pre ? pre.scene : r.scene(), lapsAsked = pre ? pre.laps : r.laps();
   try {
-    await r.open();
+    await (pre ? pre.opened : r.open());
   } catch (e) {
     addEvent(`replay ${name}: ${e.message || e}`, 'e');
     return;

@@ -55,7 +55,11 @@ export class Replay {
     const s = (f.sessions || []).find((x) => x.id === this.session);
     if (!s) throw new Error(`session ${this.session} is not in ${this.name}`);
     this.t0 = s.t0; this.t1 = s.t1; this.t = s.t0;
-    await this.load(this.index(this.t));
+    // the first frame from a peek (a few states); its window behind it
+    const first = this.peek(this.t);
+    this.load(this.index(this.t));
+    await first;
+    if (!(this.quick && this.quick.states && this.quick.states.length)) await this.load(this.index(this.t));
     this.loaded = !this.error;
     if (this.error) throw new Error(this.error);
     return this;
@@ -147,7 +151,7 @@ export class Replay {
     const from = Math.max(this.t0, t - PEEK), to = Math.min(this.t1, t + PEEK);
     const p = { from, to, states: null };
     this.quick = p;
-    (async () => {
+    return (async () => {
       const r = await this.fetch(this.url(from, to));
       const body = await r.json();
       if (r.ok && this.quick === p) p.states = this.decode(body);
