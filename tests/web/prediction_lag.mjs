@@ -201,8 +201,10 @@ if (!(jumps.worst.ratio <= 1)) await h.fail(`the spectated car jumped ${jumps.wo
 // --- the lag notice ---
 const notice = () => a.page.evaluate(() => ({ shown: !document.getElementById('lag-notice').classList.contains('hidden'),
   text: document.getElementById('lag-notice').textContent, rtt: window.groundsim.net.rtt }));
-const calm = await notice();
-if (calm.shown) await h.fail(`lag notice shown at a ${calm.rtt} ms round trip: "${calm.text}"`);
+// at 120 ms it is hidden (a loaded machine may add a moment's queueing to
+// the measured round trip past the 200 ms mark: it must clear again)
+await h.until('no lag notice at 120 ms', async () => !(await notice()).shown, 15000)
+  .catch(async () => h.fail(`lag notice shown at 120 ms: ${JSON.stringify(await notice())}`));
 relay.delayMs = 150;
 const lagging = await h.until('the lag notice', async () => { const n = await notice(); return n.shown && n; }, 15000)
   .catch(async () => h.fail(`no lag notice at 300 ms: ${JSON.stringify(await notice())}`));
