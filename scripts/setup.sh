@@ -15,6 +15,7 @@ build=(
   nlohmann-json3-dev                             # scenario files
   libmuparser-dev                                # ground given as an expression H(x,y,z)
   libpng-dev                                     # heightfields and friction maps as grayscale PNG
+  zlib1g-dev                                     # gzip of groundsim-web's large HTTP answers
   libssl-dev                                     # SHA-256 (OpenSSL libcrypto): files sent with a scenario are content-addressed
   libcli11-dev                                   # command lines
   libboost-dev                                   # Boost.Beast + Asio (header-only): groundsim-web's HTTP and WebSocket

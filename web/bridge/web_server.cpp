@@ -15,6 +15,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include "bridge/gzip.hpp"
 #include "bridge/listen.hpp"
 #include "lcm/latency_trace.hpp"
 #include "protocol/metrics_text.hpp"
@@ -39,6 +40,8 @@ constexpr std::size_t kMaxQueued = 1024;
 // runs that far behind. 32 KiB (Linux books twice that) still carries 60
 // states/s of 32 cars (1.2 MB/s) to a browser 20 ms away.
 constexpr int kSendBufferBytes = 32 * 1024;
+// recording answers larger than this go in gzip to browsers that take it
+constexpr std::size_t kGzipFromBytes = 8 * 1024;
 // frames larger than this close the connection (Beast refuses them while
 // reading); smaller ones above kMaxMessageBytes are answered with an error
 constexpr std::size_t kMaxFrameBytes = 64 * 1024;
@@ -246,7 +249,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
         res->body() = metrics ? bridgeMetrics(hub_, *traffic_) + (*more_metrics_ ? (*more_metrics_)() : "")
                               : bridgeHealth(hub_) + "\n";
     } else if (path == "/recordings" || path.rfind("/recordings/", 0) == 0) {
-      return serveRecording(path, q == std::string::npos ? "" : target.substr(q + 1), std::move(res));
+      return serveRecording(path, q == std::string::npos ? "" : target.substr(q + 1),
+                            acceptsGzip(std::string(req[http::field::accept_encoding])), std::move(res));
     } else if (it == files_->end()) {
       res->result(http::status::not_found);
       res->set(http::field::content_type, "text/plain");
@@ -264,7 +268,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   // thread of its own, at most kRecordingReaders at once (503 beyond), the
   // answer posted back to this socket's I/O thread.
   static constexpr int kRecordingReaders = 4;  // a replay's seek, its window, the next one, a listing
-  void serveRecording(std::string path, std::string query,
+  void serveRecording(std::string path, std::string query, bool gzip_ok,
                       std::shared_ptr<http::response<http::string_body>> res) {
     static std::atomic<int> readers{0};
     if (readers.fetch_add(1) >= kRecordingReaders) {
@@ -275,12 +279,21 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       res->body() = "{\"error\":\"4 recordings are being read: try again\"}\n";
       return write(std::move(res));
     }
-    std::thread([self = shared_from_this(), path = std::move(path), query = std::move(query), res]() mutable {
-      const HttpAnswer a = self->recordings_->answer(path, query);
+    std::thread([self = shared_from_this(), path = std::move(path), query = std::move(query), gzip_ok, res]() mutable {
+      HttpAnswer a = self->recordings_->answer(path, query);
+      // large answers (windows of states) in gzip where the browser takes it
+      bool zipped = false;
+      if (gzip_ok && a.body.size() > kGzipFromBytes)
+        if (auto z = gzip(a.body)) {
+          a.body = std::move(*z);
+          zipped = true;
+        }
       readers.fetch_sub(1);
-      asio::post(self->stream_.get_executor(), [self, res, a] {
+      asio::post(self->stream_.get_executor(), [self, res, a, zipped] {
         res->result(static_cast<http::status>(a.status));
         res->set(http::field::content_type, a.content_type);
+        res->set(http::field::vary, "Accept-Encoding");
+        if (zipped) res->set(http::field::content_encoding, "gzip");
         res->set(http::field::cache_control, "no-store");
         res->body() = a.body;
         self->write(res);
