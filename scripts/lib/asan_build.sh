@@ -14,7 +14,7 @@ asan_build_dir=build-asan
 # in-process suites and the groundsim binary the CLI tests run
 asan_test_targets="physics_tests physics_shared_model_tests vehicle_tests scenario_tests accuracy_tests terrain_tests
   experiments_tests experiments_alloc_tests session_tests contact_tests kernel_tests record_tests recording_tests
-  mcap_sample groundsim"
+  race_tests race_session_tests mcap_sample groundsim"
 # scripts/fuzz.sh's: the libFuzzer targets and their seed corpora
 asan_fuzz_targets="scenario_fuzz datagram_fuzz fuzz_seeds"
 
@@ -34,11 +34,12 @@ asan_build() {
 # asan_check_built: fails when a GoogleTest executable that is not built
 # here would hold tests (ctest lists it as <target>_NOT_BUILT, without
 # labels, so -L would leave its tests out silently): a new in-process suite
-# belongs in asan_test_targets. web_bridge_tests runs in the plain build only.
+# belongs in asan_test_targets. web_bridge_tests and web_foxglove_tests (the
+# bridge's) run in the plain build only.
 asan_check_built() {
   local missing
   missing=$(ctest --test-dir "$asan_build_dir" -N 2>/dev/null |
-    sed -n 's/^ *Test *#[0-9]*: \(.*\)_NOT_BUILT$/\1/p' | grep -vx 'web_bridge_tests' || true)
+    sed -n 's/^ *Test *#[0-9]*: \(.*\)_NOT_BUILT$/\1/p' | grep -vx -e 'web_bridge_tests' -e 'web_foxglove_tests' || true)
   if [ -n "$missing" ]; then
     echo "asan_build: not built in $asan_build_dir, so not run under ASan: $(tr "\n" " " <<<"$missing")" >&2
     echo "asan_build: add it to asan_test_targets (scripts/lib/asan_build.sh), or to the exceptions in asan_check_built" >&2
