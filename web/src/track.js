@@ -71,6 +71,29 @@ function heightAt(offsets, row, o) {
   return a + u * (b - a);
 }
 
+const CELL = 4;  // m, the triangle index's cells (heightAt)
+const cellKey = (i, j) => i * 1000003 + j;
+// triangle numbers by the xy cells their bounding boxes touch
+function indexTriangles(geo, cell) {
+  const p = geo.attributes.position.array, ix = geo.index ? geo.index.array : null;
+  const n = ix ? ix.length / 3 : p.length / 9, cells = new Map();
+  for (let t = 0; t < n; ++t) {
+    let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (let k = 0; k < 3; ++k) {
+      const v = ix ? ix[3 * t + k] : 3 * t + k, x = p[3 * v], y = p[3 * v + 1];
+      x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y);
+    }
+    for (let i = Math.floor(x0 / cell); i <= Math.floor(x1 / cell); ++i)
+      for (let j = Math.floor(y0 / cell); j <= Math.floor(y1 / cell); ++j) {
+        const key = cellKey(i, j);
+        let list = cells.get(key);
+        if (!list) cells.set(key, list = []);
+        list.push(t);
+      }
+  }
+  return cells;
+}
+
 export class TrackRibbon {
   constructor(scene) {
     this.scene = scene;
@@ -202,11 +225,28 @@ export class TrackRibbon {
   }
 
   // The ribbon's height at (x, y) (a ray from above), or null off it (tests)
+  // The ribbon's top height at (x, y), or null off it (tests ask this at
+  // thousands of ground-grid nodes: the triangles are indexed once on a
+  // 4 m grid in xy, not raycast one by one; the mesh is in world
+  // coordinates, untransformed).
   heightAt(x, y) {
     if (!this.mesh) return null;
-    const ray = new THREE.Raycaster(new THREE.Vector3(x, y, 1e5), new THREE.Vector3(0, 0, -1));
-    const hit = ray.intersectObject(this.mesh, false)[0];
-    return hit ? hit.point.z : null;
+    const cells = this.cells || (this.cells = indexTriangles(this.mesh.geometry, CELL));
+    const list = cells.get(cellKey(Math.floor(x / CELL), Math.floor(y / CELL)));
+    if (!list) return null;
+    const p = this.mesh.geometry.attributes.position.array, ix = this.mesh.geometry.index ? this.mesh.geometry.index.array : null;
+    let best = null;
+    for (const t of list) {
+      const [a, b, c] = ix ? [ix[3 * t], ix[3 * t + 1], ix[3 * t + 2]] : [3 * t, 3 * t + 1, 3 * t + 2];
+      const ax = p[3 * a], ay = p[3 * a + 1], bx = p[3 * b], by = p[3 * b + 1], cx = p[3 * c], cy = p[3 * c + 1];
+      const d = (by - cy) * (ax - cx) + (cx - bx) * (ay - cy);
+      if (d === 0) continue;
+      const u = ((by - cy) * (x - cx) + (cx - bx) * (y - cy)) / d, v = ((cy - ay) * (x - cx) + (ax - cx) * (y - cy)) / d, w = 1 - u - v;
+      if (u < -1e-9 || v < -1e-9 || w < -1e-9) continue;
+      const z = u * p[3 * a + 2] + v * p[3 * b + 2] + w * p[3 * c + 2];
+      if (best === null || z > best) best = z;
+    }
+    return best;
   }
   clear() {
     if (this.mesh) {
@@ -216,5 +256,6 @@ export class TrackRibbon {
     }
     this.mesh = null;
     this.track = null;
+    this.cells = null;
   }
 }
