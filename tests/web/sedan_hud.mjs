@@ -17,8 +17,14 @@ const server0 = h.serverSpeeds(session)[0];
 
 await page.keyboard.down('w');
 await page.waitForTimeout(2000);
-const gear = await page.evaluate(() => document.getElementById('hud-gear').textContent);
-const rpm = await page.evaluate(() => parseFloat(document.getElementById('hud-rpm').textContent));
+// the HUD at a moment the car is in gear above idle: a page whose frames
+// stall under load can miss the command timeout (0.5 s), and a car state
+// from that instant shows idle; it must come back within 3 s of W held
+const hud = () => page.evaluate(() => ({ gear: document.getElementById('hud-gear').textContent,
+  rpm: parseFloat(document.getElementById('hud-rpm').textContent) }));
+const shown = await h.until('the HUD in gear above idle', async () => { const x = await hud(); return /^[1-6]$/.test(x.gear) && x.rpm > 900 && x; }, 3000, 50)
+  .catch(() => hud());
+const { gear, rpm } = shown;
 const applied = await page.evaluate(() => window.groundsim.car.cars[0].throttle);
 const serverPressed = h.serverSpeeds(session)[0];
 await page.keyboard.up('w');
