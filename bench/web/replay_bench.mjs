@@ -17,7 +17,7 @@
 //    over the whole recording, timing the input event -> the first frame
 //    drawn at that time, and checks the drawn car against the recorded
 //    states around that time (from the bridge, interpolated).
-// Run: bench/web/replay_bench.sh [SEEKS] [OPENS] [--mcap FILE] [--render0] (NOSNDBUF=1: see there)
+// Run: bench/web/replay_bench.sh [SEEKS] [OPENS] [--mcap FILE] [--render0]
 import { spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, statSync, writeFileSync } from 'node:fs';
 import { SourceMap } from 'node:module';

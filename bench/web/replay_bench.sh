@@ -4,8 +4,6 @@
 # Usage: bench/web/replay_bench.sh [SEEKS=20] [OPENS=5] [--mcap FILE] [--render0]
 #   --mcap FILE: serve this recording instead of recording one (the session's first)
 #   --render0: the page with ?render=0 (no drawing: the software renderer's frame time out)
-#   NOSNDBUF=1: groundsim-web with bench/web/nosndbuf.c preloaded (its 32 KiB
-#   SO_SNDBUF on accepted sockets left to the kernel): what that limit costs
 # from the source tree, after building groundsim-server, groundsim,
 # groundsim-web and the page (groundsim_web_page) in $BUILD (default build/).
 # Writes bench/results/<date>-replay-bench.txt (RESULTS=FILE to change it).
@@ -15,11 +13,4 @@ B=${BUILD:-build}
 OUT=${RESULTS:-$PWD/bench/results/$(date -u +%F)-replay-bench.txt}
 export GROUNDSIM_SERVER=$PWD/$B/server/lcm/groundsim-server GROUNDSIM_WEB=$PWD/$B/web/bridge/groundsim-web \
        GROUNDSIM_CLI=$PWD/$B/client/groundsim GROUNDSIM_CONFIG_DIR=$PWD/configs GROUNDSIM_WEB_NODE_MODULES=$PWD/$B/web/node_modules
-if [ "${NOSNDBUF:-0}" = 1 ]; then
-  T=$(mktemp -d)
-  cc -shared -fPIC -O2 -o "$T/nosndbuf.so" bench/web/nosndbuf.c -ldl
-  printf '#!/bin/sh\nLD_PRELOAD=%s exec %s "$@"\n' "$T/nosndbuf.so" "$GROUNDSIM_WEB" > "$T/groundsim-web"
-  chmod +x "$T/groundsim-web"
-  export GROUNDSIM_WEB=$T/groundsim-web GROUNDSIM_BENCH_NOTE="groundsim-web with nosndbuf.so preloaded (no SO_SNDBUF limit)"
-fi
 exec tests/integration/netns_run.sh node bench/web/replay_bench.mjs "$@" --out "$OUT"

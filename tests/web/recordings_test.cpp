@@ -42,6 +42,15 @@ std::string folder() {
 
 nlohmann::json body(const HttpAnswer& a) { return nlohmann::json::parse(a.body); }
 
+// A refused request: its status, a JSON body naming `word` (the parameter).
+void expectRefused(const Recordings& r, const std::string& path, const std::string& query, int status,
+                   const std::string& word) {
+  const HttpAnswer a = r.answer(path, query);
+  EXPECT_EQ(a.status, status) << path << "?" << query << ": " << a.body;
+  EXPECT_NE(a.body.find(word), std::string::npos) << a.body;
+  EXPECT_NO_THROW(body(a));
+}
+
 TEST(Recordings, ListedWithTheirSessionsAndSpans) {
   const Recordings r(folder());
   const HttpAnswer a = r.answer("/recordings", "");
@@ -79,12 +88,7 @@ TEST(Recordings, AWindowAndAnInstantAreReadWithSeeking) {
 TEST(Recordings, HostileRequestsNameTheParameter) {
   const Recordings r(folder());
   const auto expect = [&](const std::string& path, const std::string& query, int status, const std::string& word,
-                          const Recordings* from = nullptr) {
-    const HttpAnswer a = (from ? *from : r).answer(path, query);
-    EXPECT_EQ(a.status, status) << path << "?" << query << ": " << a.body;
-    EXPECT_NE(a.body.find(word), std::string::npos) << a.body;
-    EXPECT_NO_THROW(body(a));
-  };
+                          const Recordings* from = nullptr) { expectRefused(from ? *from : r, path, query, status, word); };
   expect("/recordings/..%2F..%2Fetc%2Fpasswd", "", 400, "name");
   expect("/recordings/../two.mcap", "", 400, "name");
   expect("/recordings/nope.mcap", "", 404, "no recording");
@@ -199,10 +203,7 @@ TEST(Recordings, FilesTheRecordingDoesNotHoldAreFoundAmongTheConfigsByHash) {
 TEST(Recordings, SceneRequestsNameTheParameter) {
   const Recordings r(recordedScene("downhill.json", true));
   const auto expect = [&](const std::string& path, const std::string& query, int status, const std::string& word) {
-    const HttpAnswer a = r.answer(path, query);
-    EXPECT_EQ(a.status, status) << path << "?" << query << ": " << a.body;
-    EXPECT_NE(a.body.find(word), std::string::npos) << a.body;
-    EXPECT_NO_THROW(body(a));
+    expectRefused(r, path, query, status, word);
   };
   expect("/recordings/scene.mcap/ground", "session=S1", 400, "cx");
   expect("/recordings/scene.mcap/ground", "session=S1&cx=1&cy=nan", 400, "cy");

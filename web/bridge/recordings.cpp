@@ -197,7 +197,7 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
       std::optional<double> cx, cy;
       if (what == "ground" && (!(cx = metres(q, "cx", why)) || !(cy = metres(q, "cy", why)))) return error(400, why);
       const auto sc = scene(file, rest, session);
-      if (!sc->view) return error(sc->error.rfind("session:", 0) == 0 ? 404 : 422, sc->error);
+      if (!sc->view) return error(sc->status, sc->error);
       if (what == "scene")
         return {200, "application/json",
                 "{\"session\":" + web::quoted(session) + ",\"layout\":" + sc->view->layout.dump() + "}\n"};
@@ -329,6 +329,7 @@ std::shared_ptr<Recordings::Scene> Recordings::scene(const std::string& file, co
         (*assets)[n.substr(prefix.size())] = std::make_shared<const std::string>(std::move(data));
     }
     if (scenario.empty()) {
+      sc->status = 404;
       sc->error = "session: " + web::quoted(session) + " has no scenario in " + web::quoted(name) +
                   " (scenario/" + session + ".json is not attached): its scene cannot be drawn";
     } else {
@@ -339,6 +340,7 @@ std::shared_ptr<Recordings::Scene> Recordings::scene(const std::string& file, co
       sc->view = makeSceneView(scenario, scenario::FileAccess::fromAssets(assets));
     }
   } catch (const std::exception& e) {
+    sc->status = 422;
     sc->error = "the recorded scenario of session " + session + " cannot be built: " + e.what();
   }
   std::lock_guard<std::mutex> lk(scenes_mutex_);

@@ -62,6 +62,7 @@ class Recordings {
     std::string key;          // file name, its size and time, session
     std::shared_ptr<SceneView> view;
     std::string error;        // why it cannot be built
+    int status = 0;           // and the answer that says so: 404 (no scenario), 422 (it does not build)
     std::mutex ground_mutex;  // a view's ground is used by one thread at a time
   };
   static constexpr std::size_t kScenes = 4;

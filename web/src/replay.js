@@ -45,7 +45,7 @@ export class Replay {
     this.error = null;
   }
   url(from, to) {
-    return `/recordings/${encodeURIComponent(this.name)}/states?session=${encodeURIComponent(this.session)}&from=${from.toFixed(6)}&to=${to.toFixed(6)}&max=5000&contacts=1`;
+    return `${this.base()}/states?${this.q()}&from=${from.toFixed(6)}&to=${to.toFixed(6)}&max=5000&contacts=1`;
   }
   // reads the recording's span and its first window
   async open() {
