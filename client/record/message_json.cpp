@@ -441,11 +441,11 @@ const char* appliedSchema() {
          "\"tick\":{\"type\":\"integer\",\"description\":\"the step from tick to tick + 1 is the first to feel it\"},"
          "\"t\":{\"type\":\"number\",\"description\":\"simulation time, s\"},"
          "\"kind\":{\"type\":\"integer\",\"description\":\"1 drive, 2 controls, 3 drive timeout, 4 controls timeout, "
-         "5 reset, 6 pause, 7 resume, 8 step, 9 set mode, 10 stop, 11 end\"},"
+         "5 reset, 6 pause, 7 resume, 8 step, 9 set mode, 10 stop, 11 end, 12 respawn, 13 refine\"},"
          "\"vehicle\":{\"type\":\"integer\"},\"drive_torque\":" GS_VEC(127, "N m") ",\"brake_torque\":" GS_VEC(127, "N m") ","
          "\"steer\":" GS_VEC(127, "rad, as applied") ",\"throttle\":{\"type\":\"number\"},\"brake\":{\"type\":\"number\"},"
          "\"car_steer\":{\"type\":\"number\"},\"handbrake\":{\"type\":\"boolean\"},\"gear\":{\"type\":\"integer\"},"
-         "\"wheel_torque\":" GS_VEC(4, "N m") ",\"steps\":{\"type\":\"integer\"},\"mode\":{\"type\":\"integer\"},"
+         "\"wheel_torque\":" GS_VEC(4, "N m") ",\"steps\":{\"type\":\"integer\",\"description\":\"step: steps asked; refine: integrator substeps per step from here on\"},\"mode\":{\"type\":\"integer\"},"
          "\"rate\":{\"type\":\"number\"},\"publish_rate\":{\"type\":\"number\"},\"reason\":{\"type\":\"string\"},"
          "\"epoch\":{\"type\":\"integer\",\"description\":\"state_t.epoch of the owner that applied it\"}}}";
 }

@@ -30,6 +30,7 @@
 #include "physics/simulator.hpp"
 #include "physics/checks/telemetry.hpp"
 #include "accuracy/live_estimate.hpp"
+#include "accuracy/refinement.hpp"
 #include "accuracy/pilot.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
@@ -130,13 +131,19 @@ struct RunResult {
   std::vector<VehicleSample> final_samples;
   std::vector<Hit> hits;  // contact between bodies: ended ones, then those still under way
   std::size_t hits_dropped = 0;
+  struct Refinement {
+    double t;
+    int substeps;
+  };
+  std::vector<Refinement> refinements;  // at a safe point, when the live estimate asked
 };
 
 // The frame loop: step to each frame's tick, sample every vehicle, write.
 // live: the live error estimate, stepped around every step (then one step
-// at a time); tolerance: warn once when its estimate passes it.
+// at a time); refinement: what is done when it passes the tolerance (a
+// finer step at a safe point between chunks of steps, or one warning).
 RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* csv, bool progress,
-                   accuracy::LiveEstimate* live = nullptr, double tolerance = 0.0) {
+                   accuracy::LiveEstimate* live = nullptr, accuracy::RefinementPolicy refinement = {}) {
   const double dt = sim.model().opt.dt;
   const long long last_frame = toCount(std::floor(scene.duration * scene.output_rate + 1e-9));
   const long long end_tick = toCount(scene.duration / dt);
@@ -152,16 +159,21 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
     for (Hit& h : sim.takeEndedHits()) r.hits.push_back(h);
   };
 
-  bool warned = false;
-  // n steps, with the live estimate around each when there is one
+  accuracy::Refiner refiner(refinement);
+  // n steps, with the live estimate around each when there is one; a
+  // refinement at the end of a chunk (a frame, or a chunk's last step)
   auto advance = [&](long long n) {
     if (!accuracy::stepWatched(scene, sim, n, live)) return false;
     if (!live) return true;
-    if (!warned && tolerance > 0.0 && live->estimate() > tolerance) {
-      warned = true;
-      std::fprintf(stderr, "%swarning: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s\n",
-                   progress ? "\n" : "", live->estimate(), tolerance, sim.state().t);
+    const accuracy::Refiner::Decision d = refiner.check(sim, *live, accuracy::safeToRefine(sim));
+    if (d.substeps > 0) {
+      sim.refine(d.substeps);
+      live->refine(d.substeps, sim.state().t);
+      refiner.refined();
+      r.refinements.push_back({sim.state().t, d.substeps});
     }
+    if (!d.message.empty())
+      std::fprintf(stderr, "%s%s%s\n", progress ? "\n" : "", d.warning ? "warning: " : "", d.message.c_str());
     return true;
   };
   auto writeFrame = [&]() {
@@ -373,8 +385,9 @@ int run(const RunOptions& o) {
       live->setWindowScale(choice->window_scale);
     }
   }
-  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(),
-                               s.accuracy ? s.accuracy->tolerance : 0.0);
+  accuracy::RefinementPolicy refinement;
+  if (s.accuracy) refinement = {s.accuracy->tolerance, s.accuracy->refine, s.accuracy->max_refinements};
+  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(), refinement);
   int code = 0;
   if (csv.is_open()) {
     csv.close();
@@ -397,6 +410,8 @@ int run(const RunOptions& o) {
                   live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),
                   100.0 * static_cast<double>(live->shadowSteps()) / std::max(1.0, static_cast<double>(r.steps)),
                   live->estimate() > choice->tolerance ? "  ABOVE THE TOLERANCE" : "");
+    for (const RunResult::Refinement& f : r.refinements)
+      std::printf("refined    to %d integrator substeps per step at t = %.4g s\n", f.substeps, f.t);
   }
   if (!o.plot_path.empty() && code == 0) {
     const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,

@@ -12,6 +12,7 @@ LiveEstimate::LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateO
   dt_ = s.options.dt;
   const double p2 = std::pow(2.0, order);
   factor_ = p2 / (p2 - 1.0);
+  order_factor_ = 1.0 / p2;
   const double window = o.duration > 0.0 ? std::min(o.window, o.duration / (4.0 * o.every)) : o.window;
   window_steps_ = std::max(8LL, std::llround(window / dt_));
   every_ = std::max(2, o.every);
@@ -24,6 +25,7 @@ LiveEstimate::LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateO
   for (const CarHandle& car : scene_->cars) vehicles_.push_back(car.vehicle);
   sum_p_.assign(vehicles_.size(), 0.0);
   sum_v_.assign(vehicles_.size(), 0.0);
+  base_p_.assign(vehicles_.size(), 0.0);
   distance_.assign(vehicles_.size(), 0.0);
   speed_now_.assign(vehicles_.size(), 0.0);
 }
@@ -34,7 +36,14 @@ void LiveEstimate::beforeStep(const Simulator& main) {
   const long long tick = main.state().tick;
   if (tick % window_steps_ != 0) return;
   update(main);  // distance travelled, at every window boundary
-  if (!active_ && !failed_ && (tick / window_steps_) % every_ == 0) startWindow(main);
+  if (active_ || failed_) return;
+  if (force_window_) {
+    startWindow(main);
+    skip_next_ = true;  // in place of the next scheduled one: the cost stays 2 / every
+  } else if ((tick / window_steps_) % every_ == 0) {
+    if (skip_next_) skip_next_ = false;
+    else startWindow(main);
+  }
 }
 
 void LiveEstimate::startWindow(const Simulator& main) {
@@ -42,6 +51,7 @@ void LiveEstimate::startWindow(const Simulator& main) {
   s.tick *= 2;  // the same time at half the step
   shadow_->restore(s);
   active_ = true;
+  force_window_ = false;
   window_end_ = main.state().tick + window_steps_;
 }
 
@@ -75,6 +85,7 @@ void LiveEstimate::endWindow(const Simulator& main) {
   }
   sampled_time_ += static_cast<double>(window_steps_) * dt_;
   ++windows_;
+  ++windows_total_;
   update(main);
 }
 
@@ -82,12 +93,40 @@ void LiveEstimate::reset() {
   active_ = failed_ = false;
   std::fill(sum_p_.begin(), sum_p_.end(), 0.0);
   std::fill(sum_v_.begin(), sum_v_.end(), 0.0);
+  std::fill(base_p_.begin(), base_p_.end(), 0.0);
   std::fill(distance_.begin(), distance_.end(), 0.0);
   std::fill(speed_now_.begin(), speed_now_.end(), 0.0);
   last_pos_.clear();
   sampled_time_ = 0.0;
-  windows_ = 0;
+  windows_ = windows_total_ = 0;
   estimate_ = path_ = speed_ = 0.0;
+  level_ = refinements_ > 0 ? -1.0 : 0.0;
+  // the run starts again at its current (refined) setting
+  segment_t0_ = speed_before_ = 0.0;
+  force_window_ = skip_next_ = false;
+  prediction_base_ = prediction_t0_ = 0.0;
+}
+
+void LiveEstimate::refine(int substeps, double t) {
+  // the path error made so far, at the rate the windows measured
+  if (sampled_time_ > 0.0)
+    for (size_t i = 0; i < vehicles_.size(); ++i) base_p_[i] += sum_p_[i] / sampled_time_ * (t - segment_t0_);
+  speed_before_ = speed_;
+  std::fill(sum_p_.begin(), sum_p_.end(), 0.0);
+  std::fill(sum_v_.begin(), sum_v_.end(), 0.0);
+  sampled_time_ = 0.0;
+  windows_ = 0;
+  segment_t0_ = t;
+  prediction_base_ = predicted(t);
+  prediction_t0_ = t;
+  prediction_scale_ *= order_factor_;
+  ++refinements_;
+  level_ = -1.0;
+  // a window under way compared the coarser main run: dropped, and the
+  // finer setting measured from the next boundary on
+  active_ = false;
+  force_window_ = !failed_;
+  shadow_->refine(substeps);
 }
 
 void LiveEstimate::setPrediction(double error, double duration, double growth) {
@@ -96,9 +135,14 @@ void LiveEstimate::setPrediction(double error, double duration, double growth) {
   prediction_growth_ = growth;
 }
 
-double LiveEstimate::predicted(double t) const {
+double LiveEstimate::predictedRaw(double t) const {
   if (!(prediction_ > 0.0) || !(prediction_duration_ > 0.0) || !(t > 0.0)) return 0.0;
   return prediction_ * std::pow(std::min(t / prediction_duration_, 1e6), prediction_growth_);
+}
+
+double LiveEstimate::predicted(double t) const {
+  if (refinements_ == 0) return predictedRaw(t);
+  return prediction_base_ + prediction_scale_ * std::max(0.0, predictedRaw(t) - predictedRaw(prediction_t0_));
 }
 
 void LiveEstimate::update(const Simulator& main) {
@@ -112,18 +156,28 @@ void LiveEstimate::update(const Simulator& main) {
   }
   const double t = main.state().t;
   if (sampled_time_ <= 0.0) {
-    estimate_ = predicted(t);
+    // before the first window of this setting: what was made before it
+    path_ = 0.0;
+    for (size_t i = 0; i < vehicles_.size(); ++i)
+      path_ = std::max(path_, base_p_[i] / std::max(distance_[i], kMinDistance));
+    speed_ = speed_before_ * order_factor_;
+    estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
+    if (refinements_ == 0) level_ = estimate_;
     return;
   }
   path_ = speed_ = 0.0;
+  double level_path = 0.0;
   for (size_t i = 0; i < vehicles_.size(); ++i) {
     const double rate_p = sum_p_[i] / sampled_time_;
-    path_ = std::max(path_, rate_p * t / std::max(distance_[i], kMinDistance));
+    const double d = std::max(distance_[i], kMinDistance);
+    path_ = std::max(path_, (base_p_[i] + rate_p * (t - segment_t0_)) / d);
+    level_path = std::max(level_path, rate_p * t / d);
     // a speed error does not pile up window on window (grip, drive and
     // brakes pull the speed back): the mean made in one window
     speed_ = std::max(speed_, sum_v_[i] / windows_ / std::max(speed_now_[i], kMinSpeed));
   }
   estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
+  level_ = std::max({window_scale_ * level_path, window_scale_ * speed_, prediction_scale_ * predictedRaw(t)});
 }
 
 bool stepWatched(const scenario::Scene& scene, Simulator& sim, long long n, LiveEstimate* live) {

@@ -49,6 +49,14 @@ class LiveEstimate {
   // Forgets what it measured: the run starts again (a session's reset).
   void reset();
 
+  // The main run was refined to `substeps` integrator steps per step at
+  // its time t (Simulator::refine; refinement.hpp). The error made so far
+  // stays in the estimate; from here on the windows measure the finer
+  // setting (the shadow refines with it, to half its step), the first at
+  // the next window boundary, and the pilot's prediction grows 2^-p as
+  // fast. The estimate of the finer setting alone is level().
+  void refine(int substeps, double t);
+
   // The pilot's prediction for the whole run (error at `duration`, growing
   // as t^growth): a floor of the estimate (0: none).
   void setPrediction(double error, double duration, double growth);
@@ -62,9 +70,14 @@ class LiveEstimate {
   double estimate() const { return estimate_; }
   double pathEstimate() const { return path_; }
   double speedEstimate() const { return speed_; }
+  // The error the current setting would make over the run (as estimate()
+  // if the whole run had taken it): what a refinement is decided on. Below
+  // 0 while it is unknown (no window has ended since the last refinement).
+  double level() const { return level_; }
+  int refinements() const { return refinements_; }
   // Shadow steps taken (each half a main step's cost).
   long long shadowSteps() const { return shadow_steps_; }
-  int windowsMeasured() const { return windows_; }
+  int windowsMeasured() const { return windows_total_; }
   // The shadow diverged at half the step while the main did not: the
   // estimate stops there (the last value holds).
   bool shadowFailed() const { return failed_; }
@@ -73,7 +86,8 @@ class LiveEstimate {
   void startWindow(const Simulator& main);
   void endWindow(const Simulator& main);
   void update(const Simulator& main);
-  double predicted(double t) const;
+  double predicted(double t) const;       // the pilot's figure at t, refinements included
+  double predictedRaw(double t) const;    // at the pilot's setting
 
   std::unique_ptr<scenario::Scene> scene_;  // the shadow's (dt / 2)
   std::unique_ptr<Simulator> shadow_;
@@ -84,12 +98,25 @@ class LiveEstimate {
   bool active_ = false, failed_ = false;
   long long window_end_ = 0;
   std::vector<int> vehicles_;
-  std::vector<double> sum_p_, sum_v_;   // per vehicle, over sampled windows
+  // per vehicle, over the windows sampled since the last refinement (the
+  // current setting's); base_p_: the path error made before it (m)
+  std::vector<double> sum_p_, sum_v_, base_p_;
+  double segment_t0_ = 0.0;     // s: when the current setting began
+  double speed_before_ = 0.0;   // the speed error's reading before the last refinement
+  bool force_window_ = false;   // a window at the next boundary (after a refinement)
+  bool skip_next_ = false;      // ... in place of the next scheduled window
+  int refinements_ = 0;
+  double level_ = 0.0;
+  double order_factor_ = 0.5;   // 2^-p: a refinement's effect on the error rate
+  // the pilot's prediction after refinements: its value at the last one
+  // plus what it grows since, times order_factor_^refinements_
+  double prediction_base_ = 0.0, prediction_t0_ = 0.0, prediction_scale_ = 1.0;
   std::vector<Vec3> last_pos_;
   std::vector<double> distance_, speed_now_;
   double sampled_time_ = 0.0;
   long long shadow_steps_ = 0;
-  int windows_ = 0;
+  int windows_ = 0;        // since the last refinement
+  int windows_total_ = 0;
   double estimate_ = 0.0, path_ = 0.0, speed_ = 0.0;
   double prediction_ = 0.0, prediction_duration_ = 0.0, prediction_growth_ = 0.0;
   double window_scale_ = 1.0;

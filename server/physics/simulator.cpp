@@ -124,6 +124,25 @@ void Simulator::restore(const State& s) {
   if (state_.tick == 0) state_.initial_energy = energy().total();
 }
 
+void Simulator::refine(int substeps) {
+  if (substeps < 1 || substeps > kMaxSubsteps)
+    throw std::invalid_argument("substeps: 1 to " + std::to_string(kMaxSubsteps) + ", got " + std::to_string(substeps));
+  if (substeps == model_->opt.substeps) return;
+  (void)workspace();  // a specialised step's figures, exported before its kernel goes
+  auto refined = std::make_shared<Model>(*model_);
+  refined->opt.substeps = substeps;
+  model_ = std::move(refined);
+  const long long evaluations = integrator_->evaluations;
+  integrator_ = makeIntegrator(model_->opt.integrator);
+  integrator_->evaluations = evaluations;
+  // the specialised kernels are built for a model: built again for this one
+  // (which of them applies does not depend on the substeps)
+  fast_.reset();
+  ring_.reset();
+  if (fastCarUnsupported(*model_) == nullptr) fast_ = std::make_unique<FastCar>(*model_);
+  else if (ringCarUnsupported(*model_) == nullptr) ring_ = std::make_unique<RingCar>(*model_);
+}
+
 bool Simulator::step(long long n) {
   for (long long i = 0; i < n; ++i)
     if (!step()) return false;

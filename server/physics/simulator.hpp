@@ -30,6 +30,14 @@ class Simulator {
   bool step();
   bool step(long long n);
 
+  // Steps from here on take `substeps` integrator steps per step of dt: a
+  // refinement at a safe point (docs/accuracy.md, "Refinement"). The model
+  // is copied with the new count; the state, its tick and the hits under
+  // way stay, so the run goes on at the same times with a finer step. A
+  // Simulator built on that model and given this state continues the same
+  // way bit for bit (a re-simulation refines at the same tick).
+  void refine(int substeps);
+
   const Model& model() const { return *model_; }
   std::shared_ptr<const Model> modelPtr() const { return model_; }
   const State& state() const { return state_; }
@@ -77,6 +85,7 @@ class Simulator {
   std::vector<Hit> takeEndedHits() { return hits_.takeEnded(); }
 
   static constexpr int kEnergyCheckInterval = 256;
+  static constexpr int kMaxSubsteps = 10000;  // as the scenario's physics.substeps
 
  private:
   std::shared_ptr<const Model> model_;

@@ -10,6 +10,9 @@ AccuracySpec readAccuracy(ObjectReader r) {
   a.tolerance = r.number("tolerance", def.tolerance, Range::closed(1e-6, 1.0));
   a.pilot_duration = r.number("pilot_duration", def.pilot_duration, Range::closed(0.05, 60.0));
   a.live_estimate = r.boolean("live_estimate", def.live_estimate);
+  a.refine = r.boolean("refine", def.refine);
+  // 2^6 = 64 times the chosen step's work at most
+  a.max_refinements = r.integer("max_refinements", def.max_refinements, 0, 6);
   r.finish();
   return a;
 }

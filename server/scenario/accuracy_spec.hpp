@@ -18,6 +18,12 @@ struct AccuracySpec {
   // the live estimate (a shadow stepped at half the step over sampled
   // windows) while the run goes
   bool live_estimate = true;
+  // refinement at a safe point (server/accuracy/refinement.hpp): when the
+  // live estimate of the run's setting passes the tolerance, twice the
+  // integrator substeps per step from the next safe point on, at most
+  // max_refinements times (needs the live estimate)
+  bool refine = true;
+  int max_refinements = 3;
 };
 
 }  // namespace groundsim::scenario

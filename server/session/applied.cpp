@@ -18,6 +18,7 @@ const char* appliedKindName(AppliedKind k) {
     case AppliedKind::Stop: return "stop";
     case AppliedKind::End: return "end";
     case AppliedKind::Respawn: return "respawn";
+    case AppliedKind::Refine: return "refine";
   }
   return "?";
 }
@@ -87,6 +88,11 @@ std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<Vehic
       if (a.vehicle < 0 || a.vehicle >= race->race.cars())
         return "respawn of vehicle " + std::to_string(a.vehicle) + ", which the race does not have";
       raceRespawnCar(*race, sim, initial, a.vehicle);
+      break;
+    case AppliedKind::Refine:
+      if (a.steps < 1 || a.steps > Simulator::kMaxSubsteps)
+        return "refine to " + std::to_string(a.steps) + " substeps: 1 to " + std::to_string(Simulator::kMaxSubsteps);
+      sim.refine(static_cast<int>(a.steps));
       break;
     // no effect on the simulation: the states they publish come with their ticks
     case AppliedKind::Pause:

@@ -19,7 +19,8 @@ namespace groundsim::session {
 
 // Numbered as applied_t.KIND_*.
 enum class AppliedKind : int { Drive = 1, Controls = 2, DriveTimeout = 3, ControlsTimeout = 4, Reset = 5,
-                               Pause = 6, Resume = 7, Step = 8, SetMode = 9, Stop = 10, End = 11, Respawn = 12 };
+                               Pause = 6, Resume = 7, Step = 8, SetMode = 9, Stop = 10, End = 11, Respawn = 12,
+                               Refine = 13 };
 const char* appliedKindName(AppliedKind k);
 
 struct Applied {
@@ -32,7 +33,7 @@ struct Applied {
   int vehicle = -1;
   std::vector<WheelControl> wheels;  // Drive: as applied
   CarControls controls;              // Controls: as applied
-  std::int64_t steps = 0;            // Step
+  std::int64_t steps = 0;            // Step; Refine: the integrator substeps per step from here on
   int mode = 0;                      // SetMode (0: unchanged)
   double rate = 0.0, publish_rate = 0.0;
   std::string reason;                // Stop, End

@@ -276,7 +276,7 @@ void SessionService::build(const Request& r) {
     // runs the same settings without a pilot whose timing may choose others
     std::string scenario_json = r.scenario_json;
     std::shared_ptr<accuracy::LiveEstimate> live;
-    double tolerance = 0.0;
+    accuracy::RefinementPolicy refinement;
     if (sc.accuracy) {
       const scenario::AccuracySpec spec = *sc.accuracy;
       const accuracy::Choice choice =
@@ -293,7 +293,7 @@ void SessionService::build(const Request& r) {
         live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
         live->setPrediction(choice.predicted_error, sc.duration, choice.growth);
         live->setWindowScale(choice.window_scale);
-        tolerance = spec.tolerance;
+        refinement = {spec.tolerance, spec.refine, spec.max_refinements};
       }
     }
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
@@ -307,7 +307,7 @@ void SessionService::build(const Request& r) {
     setup.name = sc.name;
     setup.scenario_json = scenario_json;
     setup.live_estimate = std::move(live);
-    setup.tolerance = tolerance;
+    setup.refinement = refinement;
     setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
                               ? scene.vehicle_names
                               : scene.built.model->vehicle_names;

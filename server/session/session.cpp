@@ -42,6 +42,7 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
       out_(out),
       clock_(clock),
       sim_(model, initial),
+      refiner_(setup_.refinement),
       initial_(std::move(initial)),
       budget_(cfg.publish_limit, std::max(1.0, cfg.publish_limit * 0.05)) {
   const Model& m = *model;
@@ -188,7 +189,7 @@ void Session::apply(const Request& r, TimePoint now) {
       resetTo(sim_, cars_, initial_);
       raceReset();
       if (setup_.live_estimate) setup_.live_estimate->reset();
-      live_warned_ = false;
+      refiner_.reset();
       status_ = Status::Running;
       reason_.clear();
       drive_held_ = false;
@@ -337,13 +338,7 @@ bool Session::stepOnce() {
   raceAfterStep(t0);
   if (live) {
     live->afterStep(sim_);
-    if (!live_warned_ && live->estimate() > setup_.tolerance) {
-      live_warned_ = true;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "accuracy: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s",
-                    live->estimate(), setup_.tolerance, sim_.state().t);
-      event(Severity::Warning, ErrorCode::None, buf);
-    }
+    watchAccuracy();
   }
   if (sim_.model().collisions) reportHits();
   if (sim_.state().tick % steps_per_frame_ == 0) frame_pending_ = true;
@@ -356,6 +351,25 @@ bool Session::stepOnce() {
     else replicate();
   }
   return true;
+}
+
+// A refinement at a safe point: a frame boundary (each published state of
+// one setting) with no contact between bodies under way. Logged as an
+// applied entry, so that a standby and a re-simulation refine at this tick
+// too (applyEntry); the standby's snapshot carries the substeps.
+void Session::watchAccuracy() {
+  accuracy::LiveEstimate& live = *setup_.live_estimate;
+  const bool safe = sim_.state().tick % steps_per_frame_ == 0 && accuracy::safeToRefine(sim_);
+  const accuracy::Refiner::Decision d = refiner_.check(sim_, live, safe);
+  if (d.substeps > 0) {
+    sim_.refine(d.substeps);
+    live.refine(d.substeps, sim_.state().t);
+    refiner_.refined();
+    Applied a = entry(AppliedKind::Refine);
+    a.steps = d.substeps;
+    logApplied(std::move(a));
+  }
+  if (!d.message.empty()) event(d.warning ? Severity::Warning : Severity::Info, ErrorCode::None, d.message);
 }
 
 // Each hit once, when it ends: a game shows it, a task penalises it, a log

@@ -19,6 +19,7 @@
 #include "config.hpp"
 #include "pacing.hpp"
 #include "accuracy/live_estimate.hpp"
+#include "accuracy/refinement.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 #include "scheduler.hpp"
@@ -46,10 +47,11 @@ struct SessionSetup {
   // session: they stay in the server's asset store while it runs.
   std::shared_ptr<const scenario::AssetBytes> assets;
   // A scenario with a tolerance (docs/accuracy.md): the live error estimate
-  // the session steps beside its simulation, and the tolerance it warns at
-  // (one warning event when the estimate passes it). Null otherwise.
+  // the session steps beside its simulation (null otherwise), and the
+  // tolerance and refinement it is watched with (accuracy/refinement.hpp:
+  // a finer step at the next safe point, or one warning event).
   std::shared_ptr<accuracy::LiveEstimate> live_estimate;
-  double tolerance = 0.0;
+  accuracy::RefinementPolicy refinement;
 };
 
 
@@ -118,6 +120,7 @@ class Session : public HostedSession {
   std::optional<TimePoint> advanceLockstep(TimePoint deadline);
   bool stepOnce();
   void reportHits();
+  void watchAccuracy();  // after a step, with the live estimate
   // Publishes an entry of the applied-command log (applied.hpp), at the
   // current tick, kept with the frame published next.
   void logApplied(Applied a);
@@ -145,7 +148,7 @@ class Session : public HostedSession {
   Output& out_;
   const SessionClock& clock_;
   Simulator sim_;
-  bool live_warned_ = false;  // the live estimate's warning was sent (until a reset)
+  accuracy::Refiner refiner_;  // with the live estimate: refines or warns (watchAccuracy)
   State initial_;
   std::vector<VehicleWheels> vehicles_;
   std::shared_ptr<const std::vector<std::string>> names_;

@@ -57,6 +57,7 @@ void Session::replicate() {
   m["publish_rate"] = setup_.publish_rate;
   m["driven"] = cars_.driven;
   m["frame_pending"] = frame_pending_;
+  m["substeps"] = sim_.model().opt.substeps;  // refined since the scenario (applied Refine entries)
   r.meta = m.dump();
   out_.publishReplica(r);
 }
@@ -134,6 +135,10 @@ std::string Session::resume(const Replica& snapshot, const std::vector<Applied>&
   const nlohmann::json m = nlohmann::json::parse(snapshot.meta, nullptr, false);
   if (!m.is_object()) return "the snapshot's meta is not JSON";
   sim_.restore(s.state);
+  if (const int n = m.value("substeps", sim_.model().opt.substeps); n != sim_.model().opt.substeps) {
+    if (n < 1 || n > Simulator::kMaxSubsteps) return "the snapshot's substeps: " + std::to_string(n);
+    sim_.refine(n);
+  }
   seq_ = snapshot.frame_seq;
   applied_seq_ = snapshot.applied_seq;
   status_ = static_cast<Status>(m.value("status", static_cast<int>(Status::Running)));

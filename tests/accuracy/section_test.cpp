@@ -25,6 +25,8 @@ TEST(Section, ReadsTheToleranceAndDefaults) {
   EXPECT_EQ(s.accuracy->tolerance, 0.02);
   EXPECT_EQ(s.accuracy->pilot_duration, AccuracySpec{}.pilot_duration);
   EXPECT_TRUE(s.accuracy->live_estimate);
+  EXPECT_TRUE(s.accuracy->refine);
+  EXPECT_EQ(s.accuracy->max_refinements, 3);
   EXPECT_FALSE(parseScenario(nlohmann::json{{"ground", {{"type", "plane"}}}, {"vehicle", nlohmann::json::object()}})
                    .accuracy.has_value());
 }
@@ -37,6 +39,9 @@ TEST(Section, NamesTheFieldAndTheReason) {
   EXPECT_EQ(firstIssue(doc({{"pilot_duration", 1e9}})).rfind("/accuracy/pilot_duration: must be", 0), 0u);
   EXPECT_EQ(firstIssue(doc({{"tolerence", 0.1}})).rfind("/accuracy/tolerence: unknown key", 0), 0u)
       << firstIssue(doc({{"tolerence", 0.1}}));
+  EXPECT_EQ(firstIssue(doc({{"max_refinements", 7}})).rfind("/accuracy/max_refinements: must be", 0), 0u)
+      << firstIssue(doc({{"max_refinements", 7}}));
+  EXPECT_EQ(firstIssue(doc({{"refine", 1}})).rfind("/accuracy/refine: expected", 0), 0u) << firstIssue(doc({{"refine", 1}}));
   EXPECT_EQ(firstIssue(doc(5)).rfind("/accuracy: expected an object", 0), 0u) << firstIssue(doc(5));
 }
 

@@ -340,22 +340,37 @@ TEST_F(Service, CleanShutdownOnSigterm) {
 
 }  // namespace
 // A tolerance no setting meets: the session's live error estimate passes
-// it while the session steps, and the session says so in one warning event.
+// it while the session steps, so the session refines its step at safe
+// points, twice (accuracy.max_refinements 2), each said in an info event,
+// and then says once, in a warning event, that no refinement is left.
 TEST_F(Service, TheLiveEstimateWarnsWhenItPassesTheTolerance) {
   const std::string file = tokenFile("slalom_tight") + ".json";
-  slalomWithAccuracy(file, "{\"tolerance\": 1e-6, \"pilot_duration\": 1}");
+  slalomWithAccuracy(file, "{\"tolerance\": 1e-6, \"pilot_duration\": 1, \"max_refinements\": 2}");
   EventListener events;
   ASSERT_TRUE(events.lcm().good());
   const Result c = cli({"create", file, "--mode", "lockstep", "--duration", "4"}, true);
   ASSERT_EQ(c.status, 0) << c.err;
   const std::string id = lastLine(c.out);
-  ASSERT_EQ(step(id, 400).status, 0);
-  std::string warning;
-  for (int i = 0; i < 20 && warning.empty(); ++i) {
-    const std::string r = events.waitFor(groundsim::event_t::ERR_NONE + 0, 1);
-    if (r.find("live error estimate") != std::string::npos) warning = r;
+  std::vector<std::string> said;  // the accuracy events, in order
+  bool warned = false;
+  // the windows of a 4 s run are 1/16 s long: a few hundred steps each at
+  // the chosen step; step on until the warning (or the session's end)
+  for (int round = 0; round < 40 && !warned; ++round) {
+    if (step(id, 400).status != 0) break;
+    for (std::string r; !(r = events.waitFor(groundsim::event_t::ERR_NONE + 0, 0.5)).empty();) {
+      if (r.rfind("accuracy:", 0) != 0) continue;
+      said.push_back(r);
+      warned = warned || r.find("max_refinements") != std::string::npos;
+    }
   }
-  EXPECT_NE(warning.find("passed the tolerance 1e-06"), std::string::npos) << warning;
+  std::string all;
+  for (const std::string& r : said) all += r + "\n";
+  ASSERT_EQ(said.size(), 3u) << all;
+  EXPECT_NE(said[0].find("passed the tolerance 1e-06: refined to 2 integrator substeps per step (from 1)"),
+            std::string::npos) << all;
+  EXPECT_NE(said[1].find("refined to 4 integrator substeps per step (from 2)"), std::string::npos) << all;
+  EXPECT_NE(said[2].find("passed the tolerance 1e-06"), std::string::npos) << all;
+  EXPECT_NE(said[2].find("2 refinements, the most: accuracy.max_refinements"), std::string::npos) << all;
   std::remove(file.c_str());
 }
 

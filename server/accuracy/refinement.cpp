@@ -1,0 +1,125 @@
+#include "accuracy/refinement.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "physics/checks/telemetry.hpp"
+
+namespace groundsim::accuracy {
+
+bool safeToRefine(const Simulator& sim) { return sim.healthy() && sim.hits().empty(); }
+
+Refiner::Decision Refiner::check(const Simulator& sim, const LiveEstimate& live, bool safe) {
+  Decision d;
+  if (!(p_.tolerance > 0.0)) return d;
+  const double t = sim.state().t;
+  const int substeps = sim.model().opt.substeps;
+  const bool can = p_.refine && live.refinements() < p_.max_refinements &&
+                   2 * substeps <= Simulator::kMaxSubsteps && !live.shadowFailed();
+  // the setting's own error above the tolerance: a finer one is due
+  if (can && !pending_ && live.level() > p_.tolerance) {
+    pending_ = true;
+    asked_at_ = t;
+    asked_level_ = live.level();
+  }
+  if (pending_ && safe) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "accuracy: the live error estimate of the current setting, %.3g at t = %.4g s, passed the "
+                  "tolerance %.3g: refined to %d integrator substeps per step (from %d) at t = %.4g s",
+                  asked_level_, asked_at_, p_.tolerance, 2 * substeps, substeps, t);
+    d.substeps = 2 * substeps;
+    d.message = buf;
+    return d;
+  }
+  // a refinement waiting a whole second for a safe point (bodies kept in
+  // contact): said once, and the refinement still comes when it can
+  if (!warned_ && pending_ && t - asked_at_ > 1.0) {
+    warned_ = true;
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "accuracy: the live error estimate of the current setting, %.3g at t = %.4g s, passed the "
+                  "tolerance %.3g; no safe point to refine at since (contact between bodies under way)",
+                  asked_level_, asked_at_, p_.tolerance);
+    d.message = buf;
+    d.warning = true;
+    return d;
+  }
+  // past the tolerance with no refinement to come: said once. After a
+  // refinement the finer setting is measured first (level() >= 0).
+  if (!warned_ && !pending_ && live.level() >= 0.0 && live.estimate() > p_.tolerance &&
+      !(can && live.level() > p_.tolerance)) {
+    warned_ = true;
+    char buf[400];
+    std::string why;
+    if (live.refinements() > 0 && live.level() <= p_.tolerance)
+      why = " (refined " + std::to_string(live.refinements()) + " times, to " + std::to_string(substeps) +
+            " substeps per step: the error made before the last refinement stays)";
+    else if (!p_.refine)
+      why = " (refinement off: accuracy.refine)";
+    else if (live.shadowFailed())
+      why = " (the estimate's shadow diverged)";
+    else
+      why = " (" + std::to_string(substeps) + " substeps per step after " + std::to_string(live.refinements()) +
+            " refinements, the most: accuracy.max_refinements)";
+    std::snprintf(buf, sizeof buf, "accuracy: the live error estimate %.3g passed the tolerance %.3g at t = %.4g s%s",
+                  live.estimate(), p_.tolerance, t, why.c_str());
+    d.message = buf;
+    d.warning = true;
+  }
+  return d;
+}
+
+RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, Prediction prediction) {
+  RefinedRun out;
+  const scenario::Scene scene = scenario::buildScene(s);
+  Simulator sim(scene.built.model, scene.built.initial);
+  LiveEstimateOptions o;
+  o.duration = s.duration;
+  LiveEstimate live(s, order, o);
+  live.setPrediction(prediction.error, s.duration, prediction.growth);
+  live.setWindowScale(prediction.window_scale);
+  Refiner refiner(p);
+  const long long total = std::max(1LL, std::llround(s.duration / s.options.dt));
+  const long long per_sample = std::max(1LL, std::llround(kSamplePeriod / s.options.dt));
+  Trajectory& t = out.run;
+  auto sample = [&](bool last) {
+    t.positions.emplace_back();
+    for (const CarHandle& car : scene.cars) {
+      const VehicleSample v = sampleVehicle(sim, car.vehicle, false);
+      t.positions.back().push_back(v.position);
+      if (last) t.final_velocity.push_back(v.velocity);
+    }
+  };
+  sample(false);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long long done = 0; done < total;) {
+    const long long n = std::min(per_sample - done % per_sample, total - done);
+    if (!stepWatched(scene, sim, n, &live)) break;
+    done += n;
+    const Refiner::Decision d = refiner.check(sim, live, safeToRefine(sim));
+    if (d.substeps > 0) {
+      sim.refine(d.substeps);
+      live.refine(d.substeps, sim.state().t);
+      refiner.refined();
+      out.refinements.push_back({sim.state().tick, d.substeps});
+    }
+    if (!d.message.empty()) out.messages.push_back(d.message);
+    sample(done == total);
+  }
+  t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  live.beforeStep(sim);  // a last update at the end
+  out.estimate = live.estimate();
+  t.duration = sim.state().t;
+  t.steps = sim.state().tick;
+  t.evaluations = sim.forceEvaluations();
+  if (!sim.healthy()) {
+    t.healthy = false;
+    t.failure = std::string(healthName(sim.state().health)) + ": " + sim.state().health_reason;
+  }
+  return out;
+}
+
+}  // namespace groundsim::accuracy
