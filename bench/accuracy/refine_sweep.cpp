@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       const accuracy::Choice at_t = accuracy::chooseSettings(base, T);
       const accuracy::Trajectory alone = accuracy::runTrajectory(start.scenario, base.duration);
       const accuracy::RefinedRun r = accuracy::runRefined(start.scenario, start.order, {T, true, 3},
-                                                           {start.predicted_error, start.growth, start.window_scale});
+                                                           {start.predicted_error, start.growth, start.window_scale, start.refined_error});
       const accuracy::Trajectory chosen = accuracy::runTrajectory(at_t.scenario, base.duration);
       const double e_alone = accuracy::compareRuns(alone, ref).value();
       const double e_refined = accuracy::compareRuns(r.run, ref).value();

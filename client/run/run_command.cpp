@@ -383,6 +383,7 @@ int run(const RunOptions& o) {
     if (choice) {
       live->setPrediction(choice->predicted_error, s.duration, choice->growth);
       live->setWindowScale(choice->window_scale);
+      live->setRefinedPredictions(choice->refined_error);
     }
   }
   accuracy::RefinementPolicy refinement;

@@ -13,6 +13,7 @@ LiveEstimate::LiveEstimate(const scenario::Scenario& s, int order, LiveEstimateO
   const double p2 = std::pow(2.0, order);
   factor_ = p2 / (p2 - 1.0);
   order_factor_ = 1.0 / p2;
+  run_duration_ = o.duration;
   const double window = o.duration > 0.0 ? std::min(o.window, o.duration / (4.0 * o.every)) : o.window;
   window_steps_ = std::max(8LL, std::llround(window / dt_));
   every_ = std::max(2, o.every);
@@ -119,8 +120,12 @@ void LiveEstimate::refine(int substeps, double t) {
   segment_t0_ = t;
   prediction_base_ = predicted(t);
   prediction_t0_ = t;
-  prediction_scale_ *= order_factor_;
   ++refinements_;
+  const auto k = static_cast<size_t>(refinements_);
+  if (k < refined_error_.size() && refined_error_[0] > 0.0 && std::isfinite(refined_error_[k]))
+    prediction_scale_ = refined_error_[k] / refined_error_[0];  // as the pilot measured the finer steps
+  else
+    prediction_scale_ *= order_factor_;
   level_ = -1.0;
   // a window under way compared the coarser main run: dropped, and the
   // finer setting measured from the next boundary on
@@ -162,7 +167,7 @@ void LiveEstimate::update(const Simulator& main) {
       path_ = std::max(path_, base_p_[i] / std::max(distance_[i], kMinDistance));
     speed_ = speed_before_ * order_factor_;
     estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
-    if (refinements_ == 0) level_ = estimate_;
+    if (refinements_ == 0) level_ = predictedLevel(t);
     return;
   }
   path_ = speed_ = 0.0;
@@ -177,7 +182,19 @@ void LiveEstimate::update(const Simulator& main) {
     speed_ = std::max(speed_, sum_v_[i] / windows_ / std::max(speed_now_[i], kMinSpeed));
   }
   estimate_ = std::max({window_scale_ * path_, window_scale_ * speed_, predicted(t)});
-  level_ = std::max({window_scale_ * level_path, window_scale_ * speed_, prediction_scale_ * predictedRaw(t)});
+  // the windows decide once two of this setting agree that it errs: the
+  // first window of a run starts from rest, where a launch's speed error
+  // over a speed near the floor reads high (the sedan's launch read 1e-3
+  // after 0.16 s with 6e-4 made over the run)
+  const double windows = windows_ >= 2 ? window_scale_ * std::max(level_path, speed_) : 0.0;
+  level_ = std::max(windows, predictedLevel(t));
+}
+
+double LiveEstimate::predictedLevel(double t) const {
+  // a run of known length: the pilot's figure for its whole length (the
+  // error it predicts at the end, at the current setting); a session
+  // without end: at the time reached
+  return prediction_scale_ * predictedRaw(std::max(t, run_duration_));
 }
 
 bool stepWatched(const scenario::Scene& scene, Simulator& sim, long long n, LiveEstimate* live) {

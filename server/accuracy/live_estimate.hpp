@@ -61,6 +61,10 @@ class LiveEstimate {
   // as t^growth): a floor of the estimate (0: none).
   void setPrediction(double error, double duration, double growth);
 
+  // The pilot's prediction at dt / 2^k (Choice::refined_error): after k
+  // refinements the prediction is scaled by e[k] / e[0] rather than 2^-pk.
+  void setRefinedPredictions(std::vector<double> e) { refined_error_ = std::move(e); }
+
   // The windows' calibration (Choice::window_scale, at most 1): their
   // reading is scaled by it before it is compared with the prediction.
   void setWindowScale(double scale) { window_scale_ = scale > 0.0 ? scale : 1.0; }
@@ -71,10 +75,15 @@ class LiveEstimate {
   double pathEstimate() const { return path_; }
   double speedEstimate() const { return speed_; }
   // The error the current setting would make over the run (as estimate()
-  // if the whole run had taken it): what a refinement is decided on. Below
-  // 0 while it is unknown (no window has ended since the last refinement).
+  // if the whole run had taken it): what a refinement is decided on. The
+  // larger of the windows' reading, once two windows of the setting have
+  // ended, and the pilot's prediction for the run's whole length, scaled
+  // by 2^-p per refinement. Below 0 while it is unknown (no window has
+  // ended since the last refinement).
   double level() const { return level_; }
   int refinements() const { return refinements_; }
+  // windows ended since the last refinement (the run's start)
+  int settingWindows() const { return windows_; }
   // Shadow steps taken (each half a main step's cost).
   long long shadowSteps() const { return shadow_steps_; }
   int windowsMeasured() const { return windows_total_; }
@@ -88,6 +97,7 @@ class LiveEstimate {
   void update(const Simulator& main);
   double predicted(double t) const;       // the pilot's figure at t, refinements included
   double predictedRaw(double t) const;    // at the pilot's setting
+  double predictedLevel(double t) const;  // the current setting's, for the run's whole length
 
   std::unique_ptr<scenario::Scene> scene_;  // the shadow's (dt / 2)
   std::unique_ptr<Simulator> shadow_;
@@ -107,6 +117,8 @@ class LiveEstimate {
   bool skip_next_ = false;      // ... in place of the next scheduled window
   int refinements_ = 0;
   double level_ = 0.0;
+  double run_duration_ = 0.0;   // LiveEstimateOptions::duration
+  std::vector<double> refined_error_;
   double order_factor_ = 0.5;   // 2^-p: a refinement's effect on the error rate
   // the pilot's prediction after refinements: its value at the last one
   // plus what it grows since, times order_factor_^refinements_

@@ -534,6 +534,7 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   c.observed_order = best->order;
   c.growth = best->growth;
   c.predicted_error = best->error(best_dt);
+  for (int k = 0; k <= 6; ++k) c.refined_error.push_back(best->error(std::ldexp(best_dt, -k)));
   c.predicted_cost = best->step_cost / best_dt;
   c.predicted_work = best->step_cost * best->work_per_evaluation / best_dt;
   c.model = best->model;

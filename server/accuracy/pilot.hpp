@@ -119,6 +119,10 @@ struct Choice {
   double observed_order = 1.0;
   double growth = 0.0;            // the chosen trial's error growth exponent
   double predicted_error = 0.0;
+  // the chosen trial's predicted error at dt / 2^k, k = 0 .. 6 (measured at
+  // the pilot's steps, its fitted law below them): what a refinement at a
+  // safe point (refinement.hpp) is predicted to make of the error
+  std::vector<double> refined_error;
   double predicted_cost = 0.0;    // force evaluations per simulated s
   // the live estimate's windows calibrated on the pilot's own run at the
   // chosen step (the finest pilot step's below them): the pilot's error

@@ -47,14 +47,18 @@ Refiner::Decision Refiner::check(const Simulator& sim, const LiveEstimate& live,
     d.warning = true;
     return d;
   }
-  // past the tolerance with no refinement to come: said once. After a
-  // refinement the finer setting is measured first (level() >= 0).
-  if (!warned_ && !pending_ && live.level() >= 0.0 && live.estimate() > p_.tolerance &&
-      !(can && live.level() > p_.tolerance)) {
+  // past the tolerance with no refinement to come: said once. Either none
+  // can come, or the setting reads within the tolerance on two windows of
+  // its own after a refinement, and what was made before keeps the run's
+  // estimate above it. (Before any refinement, an estimate above the
+  // tolerance with the setting's level below it is the windows' first
+  // reading, which waits for a second: then both agree.)
+  const bool settled_within = live.refinements() > 0 && live.settingWindows() >= 2 && live.level() <= p_.tolerance;
+  if (!warned_ && !pending_ && live.level() >= 0.0 && live.estimate() > p_.tolerance && (!can || settled_within)) {
     warned_ = true;
     char buf[400];
     std::string why;
-    if (live.refinements() > 0 && live.level() <= p_.tolerance)
+    if (settled_within)
       why = " (refined " + std::to_string(live.refinements()) + " times, to " + std::to_string(substeps) +
             " substeps per step: the error made before the last refinement stays)";
     else if (!p_.refine)
@@ -81,6 +85,7 @@ RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p
   LiveEstimate live(s, order, o);
   live.setPrediction(prediction.error, s.duration, prediction.growth);
   live.setWindowScale(prediction.window_scale);
+  live.setRefinedPredictions(prediction.refined_error);
   Refiner refiner(p);
   const long long total = std::max(1LL, std::llround(s.duration / s.options.dt));
   const long long per_sample = std::max(1LL, std::llround(kSamplePeriod / s.options.dt));

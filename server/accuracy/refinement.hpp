@@ -71,6 +71,7 @@ struct RefinedRun {
 };
 struct Prediction {
   double error = 0.0, growth = 0.0, window_scale = 1.0;  // Choice's
+  std::vector<double> refined_error;
 };
 RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, Prediction prediction = {});
 

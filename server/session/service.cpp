@@ -293,6 +293,7 @@ void SessionService::build(const Request& r) {
         live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
         live->setPrediction(choice.predicted_error, sc.duration, choice.growth);
         live->setWindowScale(choice.window_scale);
+        live->setRefinedPredictions(choice.refined_error);
         refinement = {spec.tolerance, spec.refine, spec.max_refinements};
       }
     }
