@@ -89,11 +89,15 @@ std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<Vehic
         return "respawn of vehicle " + std::to_string(a.vehicle) + ", which the race does not have";
       raceRespawnCar(*race, sim, initial, a.vehicle);
       break;
-    case AppliedKind::Refine:
-      if (a.steps < 1 || a.steps > Simulator::kMaxSubsteps)
-        return "refine to " + std::to_string(a.steps) + " substeps: 1 to " + std::to_string(Simulator::kMaxSubsteps);
+    case AppliedKind::Refine: {
+      // a session's refinement doubles the substeps (accuracy/refinement.hpp)
+      const int now = sim.model().opt.substeps;
+      if (a.steps != 2LL * now || a.steps > Simulator::kMaxSubsteps)
+        return "refine to " + std::to_string(a.steps) + " substeps from " + std::to_string(now) +
+               ": a refinement doubles them, to at most " + std::to_string(Simulator::kMaxSubsteps);
       sim.refine(static_cast<int>(a.steps));
       break;
+    }
     // no effect on the simulation: the states they publish come with their ticks
     case AppliedKind::Pause:
     case AppliedKind::Resume:
