@@ -189,9 +189,11 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
   };
 
   // without a CSV nobody reads the frames: step straight to the end and
-  // sample once there (a frame's sample costs as much as a few steps)
+  // sample once there (a frame's sample costs as much as a few steps). With
+  // the live estimate the frames stay: they are where a refinement may
+  // come, and the run must not depend on whether a CSV is written.
   if (csv) writeFrame();
-  const long long frames = csv ? last_frame : 0;
+  const long long frames = csv || live ? last_frame : 0;
   for (long long k = 1; k <= frames && sim.healthy(); ++k) {
     const long long target = std::min(frameTick(k, scene.output_rate, dt), end_tick);
     while (sim.state().tick < target) {
@@ -202,7 +204,7 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
       if (!ok) break;
       bar.update(sim.state().t);
     }
-    writeFrame();  // after a divergence: the last finite state, health set
+    if (csv) writeFrame();  // after a divergence: the last finite state, health set
   }
   // a duration that is not a whole number of frames still runs to its end
   while (sim.healthy() && sim.state().tick < end_tick) {

@@ -172,11 +172,16 @@ void LiveEstimate::update(const Simulator& main) {
   }
   path_ = speed_ = 0.0;
   double level_path = 0.0;
+  // the level looks at the run's end (a run of known length): the error
+  // at the setting's rate by then over the distance travelled by then, at
+  // the speed of now (a launch's distance grows faster than its time)
+  const double horizon = std::max(t, run_duration_);
   for (size_t i = 0; i < vehicles_.size(); ++i) {
     const double rate_p = sum_p_[i] / sampled_time_;
     const double d = std::max(distance_[i], kMinDistance);
     path_ = std::max(path_, (base_p_[i] + rate_p * (t - segment_t0_)) / d);
-    level_path = std::max(level_path, rate_p * t / d);
+    const double d_end = std::max(distance_[i] + speed_now_[i] * (horizon - t), kMinDistance);
+    level_path = std::max(level_path, rate_p * horizon / d_end);
     // a speed error does not pile up window on window (grip, drive and
     // brakes pull the speed back): the mean made in one window
     speed_ = std::max(speed_, sum_v_[i] / windows_ / std::max(speed_now_[i], kMinSpeed));
