@@ -1,6 +1,8 @@
 // groundsim-server: hosts simulation sessions for LCM clients
 // (docs/protocol.md). Stops cleanly on SIGINT or SIGTERM; in a fleet
 // (--etcd, docs/fleet.md) it hands its sessions over first.
+#include <chrono>
+#include <thread>
 #include <cctype>
 #include <csignal>
 #include <cstdio>
@@ -30,6 +32,7 @@ int main(int argc, char** argv) {
   bool quiet = false;
   groundsim::net::ResendLimits resend;
   int metrics_port = 0;
+  double stop_linger = 1.0;
   std::string metrics_bind = "127.0.0.1";
   groundsim::net::FleetOptions fleet;
   std::string etcd;
@@ -99,6 +102,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--metrics-bind", metrics_bind, "address the metrics port listens on (127.0.0.1: this machine only)")
       ->capture_default_str();
+  app.add_option("--stop-linger", stop_linger,
+                 "in a fleet with a metrics port: s that /health keeps answering 503 \"stopping\" after a drain "
+                 "handed the sessions over, so that a balancer's health check sees the drain")
+      ->capture_default_str()->check(CLI::Range(0.0, 60.0));
   app.add_option("--etcd", etcd, "join a fleet: etcd endpoints, comma separated (docs/fleet.md); without it a lone server");
   app.add_option("--server-id", fleet.server_id, "this server's id in the fleet (default: a random one)")
       ->check([](const std::string& s) {
@@ -180,6 +187,11 @@ int main(int argc, char** argv) {
       std::printf("metrics on http://%s:%u/metrics and /health\n", metrics_bind.c_str(), metrics->port());
     std::fflush(stdout);
     server.run(g_stop);
+    // a balancer polls /health every second or so: a drain that handed its
+    // sessions over in milliseconds would otherwise show it a refused
+    // connection, not "stopping" (docs/metrics.md)
+    if (metrics && node && stop_linger > 0)
+      std::this_thread::sleep_for(std::chrono::duration<double>(stop_linger));
     metrics.reset();
     server.service().setOwnership(nullptr);
     node.reset();  // leaves the fleet
