@@ -26,15 +26,6 @@
 namespace groundsim::bench {
 namespace {
 
-scenario::Scenario load(const std::string& configs, const ToleranceScene& sc) {
-  const std::string path = configs + "/" + sc.config;
-  nlohmann::json doc = scenario::loadScenarioDocument(path);
-  for (const std::string& o : sc.overrides) scenario::applyOverride(doc, o);
-  doc.erase("accuracy");
-  return scenario::parseScenario(std::move(doc),
-                                 scenario::FileAccess::local(path.substr(0, path.find_last_of('/'))));
-}
-
 accuracy::Trajectory reference(const scenario::Scenario& s, double dt) {
   // contact refined with the step: the floor contact needs at 64 dt
   return accuracy::runTrajectory(accuracy::withSettings(s, IntegratorKind::VelocityVerlet, dt, 1), s.duration);
@@ -67,7 +58,7 @@ int main(int argc, char** argv) {
   int judged = 0, within = 0, needed = 0, rescued = 0;
   for (const ToleranceScene& sc : toleranceScenes()) {
     if (std::find(only.begin(), only.end(), sc.name) == only.end()) continue;
-    const scenario::Scenario base = load(configs, sc);
+    const scenario::Scenario base = loadToleranceScene(configs, sc);
     const accuracy::Trajectory ref = reference(base, 0.02 / 64);
     const double uncertainty = accuracy::compareRuns(reference(base, 0.02 / 32), ref).value();
     for (const double T : tolerances) {
@@ -79,7 +70,7 @@ int main(int argc, char** argv) {
       const accuracy::Choice at_t = accuracy::chooseSettings(base, T);
       const accuracy::Trajectory alone = accuracy::runTrajectory(start.scenario, base.duration);
       const accuracy::RefinedRun r = accuracy::runRefined(start.scenario, start.order, {T, true, 3},
-                                                           {start.predicted_error, start.growth, start.window_scale, start.refined_error});
+                                                           start.prediction());
       const accuracy::Trajectory chosen = accuracy::runTrajectory(at_t.scenario, base.duration);
       const double e_alone = accuracy::compareRuns(alone, ref).value();
       const double e_refined = accuracy::compareRuns(r.run, ref).value();

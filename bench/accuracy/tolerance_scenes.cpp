@@ -29,4 +29,13 @@ const std::vector<ToleranceScene>& toleranceScenes() {
   return scenes;
 }
 
+scenario::Scenario loadToleranceScene(const std::string& configs, const ToleranceScene& sc) {
+  const std::string path = configs + "/" + sc.config;
+  nlohmann::json doc = scenario::loadScenarioDocument(path);
+  for (const std::string& o : sc.overrides) scenario::applyOverride(doc, o);
+  doc.erase("accuracy");
+  return scenario::parseScenario(std::move(doc),
+                                 scenario::FileAccess::local(path.substr(0, path.find_last_of('/'))));
+}
+
 }  // namespace groundsim::bench

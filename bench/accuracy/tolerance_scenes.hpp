@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "scenario/scenario.hpp"
+
 namespace groundsim::bench {
 
 struct ToleranceScene {
@@ -17,5 +19,9 @@ struct ToleranceScene {
 };
 
 const std::vector<ToleranceScene>& toleranceScenes();
+
+// The scene's config with its overrides, without its own `accuracy`
+// section (configs: the configs directory).
+scenario::Scenario loadToleranceScene(const std::string& configs, const ToleranceScene& sc);
 
 }  // namespace groundsim::bench

@@ -61,15 +61,6 @@ std::string fmt(double x) {
   return b;
 }
 
-scenario::Scenario load(const std::string& configs, const ToleranceScene& sc) {
-  const std::string path = configs + "/" + sc.config;
-  nlohmann::json doc = scenario::loadScenarioDocument(path);
-  for (const std::string& o : sc.overrides) scenario::applyOverride(doc, o);
-  doc.erase("accuracy");
-  return scenario::parseScenario(std::move(doc), scenario::FileAccess::local(
-                                                     path.substr(0, path.find_last_of('/'))));
-}
-
 bool accepts(const scenario::Scenario& s, IntegratorKind k) {
   try {
     scenario::buildScene(accuracy::withSettings(s, k, 1e-3));
@@ -107,8 +98,7 @@ void liveEstimate(const accuracy::Choice& c, Row& row) {
   accuracy::LiveEstimateOptions o;
   o.duration = s.duration;
   accuracy::LiveEstimate live(s, c.order, o);
-  live.setPrediction(c.predicted_error, s.duration, c.growth);
-  live.setWindowScale(c.window_scale);
+  live.expect(c.prediction(), s.duration);
   const long long n = std::llround(s.duration / s.options.dt);
   const auto t0 = std::chrono::steady_clock::now();
   for (long long i = 0; i < n; ++i) {
@@ -206,7 +196,7 @@ int main(int argc, char** argv) {
   }
   for (const ToleranceScene& sc : toleranceScenes()) {
     if (!only.empty() && std::find(only.begin(), only.end(), sc.name) == only.end()) continue;
-    const scenario::Scenario s = load(configs, sc);
+    const scenario::Scenario s = loadToleranceScene(configs, sc);
     const auto w0 = std::chrono::steady_clock::now();
     // the reference: the highest order the scene accepts, 64 ladder steps
     // below its coarsest stable step; its uncertainty from twice that step

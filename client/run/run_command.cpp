@@ -165,13 +165,8 @@ RunResult simulate(Simulator& sim, const scenario::Scene& scene, std::ostream* c
   auto advance = [&](long long n) {
     if (!accuracy::stepWatched(scene, sim, n, live)) return false;
     if (!live) return true;
-    const accuracy::Refiner::Decision d = refiner.check(sim, *live, accuracy::safeToRefine(sim));
-    if (d.substeps > 0) {
-      sim.refine(d.substeps);
-      live->refine(d.substeps, sim.state().t);
-      refiner.refined();
-      r.refinements.push_back({sim.state().t, d.substeps});
-    }
+    const accuracy::Refiner::Decision d = refiner.watch(sim, *live, accuracy::safeToRefine(sim));
+    if (d.substeps > 0) r.refinements.push_back({sim.state().t, d.substeps});
     if (!d.message.empty())
       std::fprintf(stderr, "%s%s%s\n", progress ? "\n" : "", d.warning ? "warning: " : "", d.message.c_str());
     return true;
@@ -382,14 +377,10 @@ int run(const RunOptions& o) {
     accuracy::LiveEstimateOptions lo;
     lo.duration = s.duration;
     live = std::make_unique<accuracy::LiveEstimate>(s, accuracy::nominalOrder(s.options.integrator), lo);
-    if (choice) {
-      live->setPrediction(choice->predicted_error, s.duration, choice->growth);
-      live->setWindowScale(choice->window_scale);
-      live->setRefinedPredictions(choice->refined_error);
-    }
+    if (choice) live->expect(choice->prediction(), s.duration);
   }
-  accuracy::RefinementPolicy refinement;
-  if (s.accuracy) refinement = {s.accuracy->tolerance, s.accuracy->refine, s.accuracy->max_refinements};
+  const accuracy::RefinementPolicy refinement = s.accuracy ? accuracy::refinementPolicy(*s.accuracy)
+                                                           : accuracy::RefinementPolicy{};
   const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(), refinement);
   int code = 0;
   if (csv.is_open()) {

@@ -33,6 +33,14 @@ struct LiveEstimateOptions {
   double duration = 0.0;
 };
 
+// What a pilot predicted for the run (pilot.hpp, Choice::prediction()).
+struct Prediction {
+  double error = 0.0;         // at the run's duration
+  double growth = 0.0;        // error ~ t^growth
+  double window_scale = 1.0;  // the windows' calibration
+  std::vector<double> refined_error;  // at dt / 2^k, k = 0, 1, ...
+};
+
 class LiveEstimate {
  public:
   // s: the scenario the main run steps (its dt); order: its integrator's.
@@ -64,6 +72,13 @@ class LiveEstimate {
   // The pilot's prediction at dt / 2^k (Choice::refined_error): after k
   // refinements the prediction is scaled by e[k] / e[0] rather than 2^-pk.
   void setRefinedPredictions(std::vector<double> e) { refined_error_ = std::move(e); }
+
+  // All of a pilot's prediction, for a scene of `duration` s: the three above.
+  void expect(const Prediction& p, double duration) {
+    setPrediction(p.error, duration, p.growth);
+    setWindowScale(p.window_scale);
+    setRefinedPredictions(p.refined_error);
+  }
 
   // The windows' calibration (Choice::window_scale, at most 1): their
   // reading is scaled by it before it is compared with the prediction.

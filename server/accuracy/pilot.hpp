@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy/live_estimate.hpp"
 #include "accuracy/trajectory.hpp"
 #include "scenario/scenario.hpp"
 
@@ -148,6 +149,8 @@ struct Choice {
   // one line: "velocity_verlet at dt 0.001 s: predicted error 2.1e-04 (tolerance 0.01), predicted cost 2000 force
   // evaluations per sim-s"
   std::string line() const;
+  // what the live estimate is given of it (LiveEstimate::expect)
+  Prediction prediction() const { return {predicted_error, growth, window_scale, refined_error}; }
   // the table of trials, one line each, for --verbose output and docs
   std::string report() const;
 };

@@ -1,15 +1,24 @@
 #include "accuracy/refinement.hpp"
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-
-#include "physics/checks/telemetry.hpp"
 
 namespace groundsim::accuracy {
 
 bool safeToRefine(const Simulator& sim) { return sim.healthy() && sim.hits().empty(); }
+
+RefinementPolicy refinementPolicy(const scenario::AccuracySpec& a) {
+  return {a.tolerance, a.refine, a.max_refinements};
+}
+
+Refiner::Decision Refiner::watch(Simulator& sim, LiveEstimate& live, bool safe) {
+  Decision d = check(sim, live, safe);
+  if (d.substeps > 0) {
+    sim.refine(d.substeps);
+    live.refine(d.substeps, sim.state().t);
+    pending_ = false;
+  }
+  return d;
+}
 
 Refiner::Decision Refiner::check(const Simulator& sim, const LiveEstimate& live, bool safe) {
   Decision d;
@@ -76,54 +85,24 @@ Refiner::Decision Refiner::check(const Simulator& sim, const LiveEstimate& live,
   return d;
 }
 
-RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, Prediction prediction) {
+RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, const Prediction& prediction) {
   RefinedRun out;
   const scenario::Scene scene = scenario::buildScene(s);
   Simulator sim(scene.built.model, scene.built.initial);
   LiveEstimateOptions o;
   o.duration = s.duration;
   LiveEstimate live(s, order, o);
-  live.setPrediction(prediction.error, s.duration, prediction.growth);
-  live.setWindowScale(prediction.window_scale);
-  live.setRefinedPredictions(prediction.refined_error);
+  live.expect(prediction, s.duration);
   Refiner refiner(p);
-  const long long total = std::max(1LL, std::llround(s.duration / s.options.dt));
-  const long long per_sample = std::max(1LL, std::llround(kSamplePeriod / s.options.dt));
-  Trajectory& t = out.run;
-  auto sample = [&](bool last) {
-    t.positions.emplace_back();
-    for (const CarHandle& car : scene.cars) {
-      const VehicleSample v = sampleVehicle(sim, car.vehicle, false);
-      t.positions.back().push_back(v.position);
-      if (last) t.final_velocity.push_back(v.velocity);
-    }
-  };
-  sample(false);
-  const auto t0 = std::chrono::steady_clock::now();
-  for (long long done = 0; done < total;) {
-    const long long n = std::min(per_sample - done % per_sample, total - done);
-    if (!stepWatched(scene, sim, n, &live)) break;
-    done += n;
-    const Refiner::Decision d = refiner.check(sim, live, safeToRefine(sim));
-    if (d.substeps > 0) {
-      sim.refine(d.substeps);
-      live.refine(d.substeps, sim.state().t);
-      refiner.refined();
-      out.refinements.push_back({sim.state().tick, d.substeps});
-    }
+  out.run = sampleRun(scene, sim, s.duration, [&](long long n) {
+    if (!stepWatched(scene, sim, n, &live)) return false;
+    const Refiner::Decision d = refiner.watch(sim, live, safeToRefine(sim));
+    if (d.substeps > 0) out.refinements.push_back({sim.state().tick, d.substeps});
     if (!d.message.empty()) out.messages.push_back(d.message);
-    sample(done == total);
-  }
-  t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return true;
+  });
   live.beforeStep(sim);  // a last update at the end
   out.estimate = live.estimate();
-  t.duration = sim.state().t;
-  t.steps = sim.state().tick;
-  t.evaluations = sim.forceEvaluations();
-  if (!sim.healthy()) {
-    t.healthy = false;
-    t.failure = std::string(healthName(sim.state().health)) + ": " + sim.state().health_reason;
-  }
   return out;
 }
 

@@ -13,6 +13,7 @@
 #include "accuracy/live_estimate.hpp"
 #include "accuracy/trajectory.hpp"
 #include "physics/simulator.hpp"
+#include "scenario/accuracy_spec.hpp"
 
 namespace groundsim::accuracy {
 
@@ -21,6 +22,7 @@ struct RefinementPolicy {
   bool refine = true;       // accuracy.refine
   int max_refinements = 3;  // accuracy.max_refinements: at most 2^this substeps per step
 };
+RefinementPolicy refinementPolicy(const scenario::AccuracySpec& a);
 
 // A step where the main run may change its step: the end of a step with no
 // contact between bodies under way (a hit is resolved in substeps of its
@@ -39,15 +41,15 @@ class Refiner {
     bool warning = false; // the tolerance is passed and no refinement follows
   };
   // After a step of `sim` watched by `live`, at a point where the caller
-  // could refine (safe: safeToRefine and its own condition). A decision to
-  // refine is applied by the caller (Simulator::refine, LiveEstimate::refine,
-  // and a session's log), then noted here with refined().
-  Decision check(const Simulator& sim, const LiveEstimate& live, bool safe);
-  void refined() { pending_ = false; }
+  // could refine (safe: safeToRefine and its own condition): decides, and
+  // when it refines applies it to both (Simulator::refine,
+  // LiveEstimate::refine); the caller says it (and a session logs it).
+  Decision watch(Simulator& sim, LiveEstimate& live, bool safe);
   // a session's reset: the warning may be given again
   void reset() { warned_ = pending_ = false; }
 
  private:
+  Decision check(const Simulator& sim, const LiveEstimate& live, bool safe);
   RefinementPolicy p_;
   bool warned_ = false;
   bool pending_ = false;  // the estimate asks for one: at the next safe point
@@ -69,10 +71,6 @@ struct RefinedRun {
   std::vector<Refinement> refinements;
   std::vector<std::string> messages;  // the decisions' texts, in order
 };
-struct Prediction {
-  double error = 0.0, growth = 0.0, window_scale = 1.0;  // Choice's
-  std::vector<double> refined_error;
-};
-RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, Prediction prediction = {});
+RefinedRun runRefined(const scenario::Scenario& s, int order, RefinementPolicy p, const Prediction& prediction = {});
 
 }  // namespace groundsim::accuracy

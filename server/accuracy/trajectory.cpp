@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "accuracy/live_estimate.hpp"
@@ -42,10 +43,9 @@ void sample(const Simulator& sim, const scenario::Scene& scene, std::vector<Vec3
 
 }  // namespace
 
-Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order, bool with_energy) {
-  const scenario::Scene scene = scenario::buildScene(s);
-  Simulator sim(scene.built.model, scene.built.initial);
-  const double dt = s.options.dt;
+Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double duration,
+                     const std::function<bool(long long)>& advance, bool with_energy) {
+  const double dt = sim.model().opt.dt;
   const long long total = std::max(1LL, std::llround(duration / dt));
   const long long per_sample = std::max(1LL, std::llround(kSamplePeriod / dt));
   Trajectory t;
@@ -57,13 +57,6 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
   };
   energy();
   const auto t0 = std::chrono::steady_clock::now();
-  std::unique_ptr<LiveEstimate> live;
-  if (watch_order > 0) {
-    LiveEstimateOptions o;
-    o.duration = s.duration;
-    live = std::make_unique<LiveEstimate>(s, watch_order, o);
-  }
-  auto advance = [&](long long n) { return stepWatched(scene, sim, n, live.get()); };
   long long done = 0;
   while (done < total) {
     const long long n = std::min(per_sample - done % per_sample, total - done);
@@ -74,10 +67,6 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
     energy();
   }
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (live) {
-    live->beforeStep(sim);  // a last update at the end
-    t.windows = std::max(live->pathEstimate(), live->speedEstimate());
-  }
   t.steps = sim.state().tick;
   t.evaluations = sim.forceEvaluations();
   if (!sim.healthy()) {
@@ -85,6 +74,24 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
     char buf[64];
     std::snprintf(buf, sizeof buf, " at t = %.4g s", sim.state().t);
     t.failure = std::string(healthName(sim.state().health)) + buf + ": " + sim.state().health_reason;
+  }
+  return t;
+}
+
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order, bool with_energy) {
+  const scenario::Scene scene = scenario::buildScene(s);
+  Simulator sim(scene.built.model, scene.built.initial);
+  std::unique_ptr<LiveEstimate> live;
+  if (watch_order > 0) {
+    LiveEstimateOptions o;
+    o.duration = s.duration;
+    live = std::make_unique<LiveEstimate>(s, watch_order, o);
+  }
+  Trajectory t = sampleRun(
+      scene, sim, duration, [&](long long n) { return stepWatched(scene, sim, n, live.get()); }, with_energy);
+  if (live) {
+    live->beforeStep(sim);  // a last update at the end
+    t.windows = std::max(live->pathEstimate(), live->speedEstimate());
   }
   return t;
 }

@@ -5,11 +5,13 @@
 // point (error_measure.hpp).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "physics/core/math.hpp"
 #include "physics/core/model.hpp"
+#include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::accuracy {
@@ -49,5 +51,12 @@ scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind
 // at the end; the run itself is the same, bit for bit. with_energy fills
 // `energy` (one force-free pass per sample).
 Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order = 0, bool with_energy = false);
+
+// The sampling loop under runTrajectory: `sim` (of `scene`) run for
+// `duration`, `advance(n)` taking each chunk of n steps between samples
+// (false: diverged, the run ends there), which may watch or refine it
+// (refinement.hpp's runRefined).
+Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double duration,
+                     const std::function<bool(long long)>& advance, bool with_energy = false);
 
 }  // namespace groundsim::accuracy

@@ -291,10 +291,8 @@ void SessionService::build(const Request& r) {
         const double run = r.duration == 0 ? sc.duration : r.duration;
         lo.duration = run > 0 ? run : 0.0;  // a session without end: windows of 0.25 s
         live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
-        live->setPrediction(choice.predicted_error, sc.duration, choice.growth);
-        live->setWindowScale(choice.window_scale);
-        live->setRefinedPredictions(choice.refined_error);
-        refinement = {spec.tolerance, spec.refine, spec.max_refinements};
+        live->expect(choice.prediction(), sc.duration);
+        refinement = accuracy::refinementPolicy(spec);
       }
     }
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration

@@ -360,11 +360,8 @@ bool Session::stepOnce() {
 void Session::watchAccuracy() {
   accuracy::LiveEstimate& live = *setup_.live_estimate;
   const bool safe = sim_.state().tick % steps_per_frame_ == 0 && accuracy::safeToRefine(sim_);
-  const accuracy::Refiner::Decision d = refiner_.check(sim_, live, safe);
+  const accuracy::Refiner::Decision d = refiner_.watch(sim_, live, safe);
   if (d.substeps > 0) {
-    sim_.refine(d.substeps);
-    live.refine(d.substeps, sim_.state().t);
-    refiner_.refined();
     Applied a = entry(AppliedKind::Refine);
     a.steps = d.substeps;
     logApplied(std::move(a));

@@ -28,7 +28,7 @@ TEST(Refinement, TheSlalomRefinesAndComesCloserToTheConvergedPath) {
   ASSERT_GT(alone, tolerance) << "the 10 ms run must err by more than the tolerance for the test to mean anything";
   const Choice c = chooseSettings(base, 0.1);
   ASSERT_EQ(c.scenario.document.dump(), coarse.document.dump()) << c.line();
-  const RefinedRun r = runRefined(c.scenario, c.order, {tolerance, true, 3}, {c.predicted_error, c.growth, c.window_scale, c.refined_error});
+  const RefinedRun r = runRefined(c.scenario, c.order, {tolerance, true, 3}, c.prediction());
   ASSERT_FALSE(r.refinements.empty()) << "no refinement; estimate " << r.estimate;
   EXPECT_EQ(r.refinements.front().substeps, 2);
   const double realised = compareRuns(r.run, reference).value();

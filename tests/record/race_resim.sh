@@ -16,8 +16,8 @@ build=$1; src=$2; gs=$build/client/groundsim; tamper=$build/tests/record/mcap_ta
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; tail -n 20 "$dir/server.out"; exit 1; }
 export XDG_STATE_HOME="$dir"   # the tokens of this test's sessions
-"$build/server/lcm/groundsim-server" > "$dir/server.out" 2>&1 &
-for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+. "$(dirname "$0")/resim_lib.sh"
+start_server
 "$gs" record --create "$src/tests/web/data/race/sprint.json" --exact --session-duration 11 --publish-rate 100 \
   --out "$dir/race.mcap" > "$dir/rec.out" 2> "$dir/rec.err" &
 rec=$!
@@ -34,9 +34,5 @@ grep -q '"type":"respawn"' "$dir/server.out" || fail "the server did not respawn
 "$tamper" "$dir/race.mcap" - find "/$sid/applied" '"kind":12,' > /dev/null || fail "no applied RESPAWN entry in the file"
 "$tamper" "$dir/race.mcap" - find "/$sid/applied" '"kind":2,' > /dev/null || fail "no applied controls in the file"
 grep '"type":"respawn"' "$dir/server.out" | head -n 1
-"$gs" replay --resimulate "$dir/race.mcap" --session "$sid" > "$dir/same.txt" 2>&1 ||
-  { cat "$dir/same.txt"; fail "the race did not re-simulate to the same states"; }
-cat "$dir/same.txt"
-grep -q "^identical: session $sid" "$dir/same.txt" || fail "no identical line"
-grep -q "^compared bit for bit" "$dir/same.txt" || fail "not bit for bit"
+expect_identical "$dir/race.mcap" "$sid"
 echo "PASS: a race with its countdown and a respawn re-simulates bit for bit"

@@ -18,8 +18,8 @@ set -eu
 build=$1; src=$2; gs=$build/client/groundsim; tamper=$build/tests/record/mcap_tamper
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-"$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
-for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+. "$(dirname "$0")/resim_lib.sh"
+start_server --quiet
 "$gs" record --all --raw --exact --duration 7 --out "$dir/run.mcap" 2> "$dir/rec.err" &
 rec=$!
 for _ in $(seq 100); do grep -q "recording to" "$dir/rec.err" && break; sleep 0.1; done
@@ -46,11 +46,7 @@ grep "^record" "$dir/rec.err" | tail -4
 "$gs" inspect "$dir/run.mcap" | grep -E "^end|/applied"
 
 for s in "$a" "$b"; do
-  "$gs" replay --resimulate "$dir/run.mcap" --session "$s" > "$dir/same.txt" 2>&1 ||
-    { cat "$dir/same.txt"; fail "session $s did not re-simulate to the same states"; }
-  cat "$dir/same.txt"
-  grep -q "^identical: session $s" "$dir/same.txt" || fail "no identical line"
-  grep -q "^compared bit for bit" "$dir/same.txt" || fail "not bit for bit"
+  expect_identical "$dir/run.mcap" "$s"
   grep -q "^raw LCM bytes identical too" "$dir/same.txt" || fail "raw bytes not compared"
 done
 # the commands that took effect: drive, timeout, pause, resume, reset, stop, end;
