@@ -14,7 +14,7 @@ set -eu
 N=${1:-20}; R=${2:-1000}; D=${3:-20}
 root=$(cd "$(dirname "$0")/../.." && pwd); build=${BUILD:-$root/build}; gs=$build/client/groundsim
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; [ -z "${KEEP:-}" ] || cp "$dir/bus.lcm" "$dir/all.mcap" "$KEEP"/; rm -rf "$dir"' EXIT
-"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) > "$dir/server.out" 2>&1 &
+"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) --client-sessions 0 --client-creates 0 > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
 logger=$!

@@ -10,7 +10,7 @@ b=$1; here=$2
 url="udpm://239.255.76.67:7667?ttl=0"
 # waits for the server'"'"'s ready line instead of sleeping
 server() {
-  out=$(mktemp); taskset -c 0 "$b/server/lcm/groundsim-server" --lcm-url "$url" --workers 1 --max-sessions 1000 --quiet "$@" >"$out" & pid=$!
+  out=$(mktemp); taskset -c 0 "$b/server/lcm/groundsim-server" --lcm-url "$url" --workers 1 --max-sessions 1000 --client-sessions 0 --client-creates 0 --quiet "$@" >"$out" & pid=$!
   i=0; until grep -q "groundsim-server ready" "$out"; do i=$((i+1)); [ $i -lt 200 ] || exit 1; sleep 0.05; done
 }
 echo "== lockstep round trip (server on core 0, 1 worker)"

@@ -11,6 +11,7 @@
 #include <groundsim/event_t.hpp>
 #include <groundsim/request_t.hpp>
 
+#include "protocol/client_id.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/text.hpp"
@@ -78,10 +79,7 @@ RemoteVecEnv::RemoteVecEnv(const std::string& scenario_text, int num_envs, Remot
   if (!lcm_.good())
     throw RemoteError("cannot open LCM URL " + net::quoted(url_) +
                       " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
-  std::random_device rd;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "vec-%d-%08x", static_cast<int>(getpid()), rd());
-  client_id_ = buf;
+  client_id_ = net::newClientId("vec");  // principal/instance (protocol/client_id.hpp)
   lcm_.subscribe(net::kVecReplyChannel, &RemoteVecEnv::onVecReply, this)->setQueueCapacity(net::kDeepQueue);
   lcm_.subscribe(net::kReplyChannel, &RemoteVecEnv::onReply, this)->setQueueCapacity(net::kDeepQueue);
   wants_.setClientId(client_id_);

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include "protocol/client_id.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/text.hpp"
@@ -23,10 +24,7 @@ NetClient::NetClient(const std::string& url, bool deep_receive)
       watch_(lcm_) {
   if (!lcm_.good())
     throw NetError("cannot open LCM URL " + net::quoted(url_) + " (no multicast route? e.g. `ip route add 224.0.0.0/4 dev lo`)");
-  std::random_device rd;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "cli-%d-%08x", static_cast<int>(getpid()), rd());
-  client_id_ = buf;
+  client_id_ = net::newClientId("cli");  // principal/instance (protocol/client_id.hpp)
   wants_.setClientId(client_id_);
   // replies and events of every client share one channel: keep ours only
   lcm_.subscribe(net::kReplyChannel, &NetClient::onReply, this)->setQueueCapacity(net::kDeepQueue);

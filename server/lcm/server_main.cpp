@@ -44,8 +44,14 @@ int main(int argc, char** argv) {
   app.add_option("--workers", cfg.workers, "stepping threads (0: one per core)")->capture_default_str()
       ->check(CLI::Range(0, 1024));
   app.add_option("--max-sessions", cfg.max_sessions, "concurrent sessions")->capture_default_str()->check(CLI::Range(1, 100000));
+  app.add_option("--client-sessions", cfg.max_client_sessions,
+                 "sessions one client (a create's client_id) may hold at once (0: no limit; docs/reliability.md)")
+      ->capture_default_str()->check(CLI::Range(0, 100000));
+  app.add_option("--client-creates", cfg.client_creates_per_minute,
+                 "creates one client may make a minute, as a burst of that many then one every 60/n s (0: no limit)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
   app.add_option("--idle-timeout", cfg.idle_timeout, "s without owner activity before a session is reclaimed (0: never)")->capture_default_str()->check(CLI::NonNegativeNumber);
-  app.add_option("--command-timeout", cfg.command_timeout, "s real time mode holds a drive command before zero torque")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--command-timeout", cfg.command_timeout, "s real time mode holds a car's drive command or pedals before zero torque (each car on its own)")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--max-torque", cfg.max_torque, "N m, largest accepted drive or brake torque")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--slice-ms", slice_ms, "ms a session may step before yielding its worker")->capture_default_str()->check(CLI::Range(0.05, 1000.0));
   app.add_option("--publish-limit", cfg.publish_limit, "state messages per wall second per session (paced, not dropped)")->capture_default_str()->check(CLI::PositiveNumber);

@@ -405,4 +405,72 @@ std::string Race::layoutReason(const std::vector<std::string>& names) const {
   return "race: " + j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+// ---- progress, for a session's snapshot -------------------------------------
+
+namespace {
+nlohmann::json standingJson(const CarStanding& c) {
+  return {{"car", c.car}, {"position", c.position}, {"started", c.started}, {"finished", c.finished},
+          {"laps_done", c.laps_done}, {"next_gate", c.next_gate}, {"lap_start", c.lap_start},
+          {"last_lap", c.last_lap}, {"best_lap", c.best_lap}, {"finish_time", c.finish_time},
+          {"last_cross", c.last_cross}, {"splits", c.splits}, {"best_splits", c.best_splits},
+          {"wrong_way", c.wrong_way}, {"off_track", c.off_track}, {"protected_until", c.protected_until}};
+}
+
+CarStanding standingFrom(const nlohmann::json& j) {
+  CarStanding c;
+  c.car = j.at("car").get<int>();
+  c.position = j.at("position").get<int>();
+  c.started = j.at("started").get<bool>();
+  c.finished = j.at("finished").get<bool>();
+  c.laps_done = j.at("laps_done").get<int>();
+  c.next_gate = j.at("next_gate").get<int>();
+  c.lap_start = j.at("lap_start").get<double>();
+  c.last_lap = j.at("last_lap").get<double>();
+  c.best_lap = j.at("best_lap").get<double>();
+  c.finish_time = j.at("finish_time").get<double>();
+  c.last_cross = j.at("last_cross").get<double>();
+  c.splits = j.at("splits").get<std::vector<double>>();
+  c.best_splits = j.at("best_splits").get<std::vector<double>>();
+  c.wrong_way = j.at("wrong_way").get<bool>();
+  c.off_track = j.at("off_track").get<bool>();
+  c.protected_until = j.at("protected_until").get<double>();
+  return c;
+}
+}  // namespace
+
+// Doubles go as JSON numbers (nlohmann writes the shortest text that reads
+// back to the same double), so a restored race times the next lap to the bit.
+std::string Race::progress() const {
+  nlohmann::json cars = nlohmann::json::array();
+  for (const CarStanding& c : cars_) cars.push_back(standingJson(c));
+  return nlohmann::json{{"cars", cars}, {"against", against_}, {"near_segment", near_segment_},
+                        {"finished", finished_}, {"went", went_}}
+      .dump();
+}
+
+std::string Race::restore(const std::string& text) {
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    std::vector<CarStanding> cars;
+    for (const nlohmann::json& c : j.at("cars")) cars.push_back(standingFrom(c));
+    std::vector<double> against = j.at("against").get<std::vector<double>>();
+    std::vector<int> near = j.at("near_segment").get<std::vector<int>>();
+    if (cars.size() != cars_.size() || against.size() != against_.size() || near.size() != near_segment_.size())
+      return "the race's progress is of " + std::to_string(cars.size()) + " cars, this race has " +
+             std::to_string(cars_.size());
+    for (std::size_t k = 0; k < cars.size(); ++k)
+      if (cars[k].car != static_cast<int>(k) || cars[k].next_gate < 0 ||
+          cars[k].next_gate >= static_cast<int>(std::max<std::size_t>(1, spec_.gates.size())))
+        return "the race's progress: car " + std::to_string(k) + " does not fit this race";
+    cars_ = std::move(cars);
+    against_ = std::move(against);
+    near_segment_ = std::move(near);
+    finished_ = j.at("finished").get<int>();
+    went_ = j.at("went").get<bool>();
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("the race's progress: ") + e.what();
+  }
+}
+
 }  // namespace groundsim::race

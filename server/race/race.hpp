@@ -105,6 +105,12 @@ class Race {
   // and gates passed, then by who got there first.
   std::vector<CarStanding> leaderboard() const;
 
+  // The race's progress (every car's standing, the wrong-way clocks, who
+  // finished, whether it went) as JSON text, and back: a session's snapshot
+  // carries it, so a standby that takes the session over keeps every
+  // player's laps (docs/fleet.md). restore returns "" or why not.
+  std::string progress() const;
+  std::string restore(const std::string& progress);
   // "race: {json}" reasons for event_t (docs/protocol.md, Race events).
   static std::string reason(const RaceEvent& e, const std::vector<std::string>& names);
   std::string standingsReason(double t, const std::vector<std::string>& names) const;

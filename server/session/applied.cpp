@@ -51,11 +51,22 @@ void releasePedals(Simulator& sim) {
   const Model& m = sim.model();
   for (size_t c = 0; c < m.road_cars.size(); ++c) {
     if (!vehicleInRange(m, m.road_cars[c].vehicle)) continue;
-    CarControls cc = sim.carControls(static_cast<int>(c));
-    cc.throttle = 0.0;
-    cc.brake = 0.0;
-    sim.setCarControls(static_cast<int>(c), cc);
+    releasePedals(sim, static_cast<int>(c));
   }
+}
+
+void releaseDrive(Simulator& sim, const std::vector<int>& wheels) {
+  for (int w : wheels) {
+    sim.controls()[static_cast<size_t>(w)].drive_torque = 0.0;
+    sim.controls()[static_cast<size_t>(w)].brake_torque = 0.0;
+  }
+}
+
+void releasePedals(Simulator& sim, int road_car) {
+  CarControls cc = sim.carControls(road_car);
+  cc.throttle = 0.0;
+  cc.brake = 0.0;
+  sim.setCarControls(road_car, cc);
 }
 
 void resetTo(Simulator& sim, DrivenCars& cars, const State& initial) {
@@ -77,8 +88,17 @@ std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<Vehic
         return "controls of vehicle " + std::to_string(a.vehicle) + ", which is not a road car of the scenario";
       applyCarControls(sim, cars, v->road_car, a.controls);
       break;
-    case AppliedKind::DriveTimeout: releaseDrive(sim); break;
-    case AppliedKind::ControlsTimeout: releasePedals(sim); break;
+    // a vehicle's own timeout; -1: every vehicle's (logs written before per-car timeouts)
+    case AppliedKind::DriveTimeout:
+      if (a.vehicle < 0) releaseDrive(sim);
+      else if (v) releaseDrive(sim, v->wheels);
+      else return "drive timeout of vehicle " + std::to_string(a.vehicle) + ", which the scenario does not have";
+      break;
+    case AppliedKind::ControlsTimeout:
+      if (a.vehicle < 0) releasePedals(sim);
+      else if (v && v->road_car >= 0) releasePedals(sim, v->road_car);
+      else return "controls timeout of vehicle " + std::to_string(a.vehicle) + ", which is not a road car of the scenario";
+      break;
     case AppliedKind::Reset:
       resetTo(sim, cars, initial);
       if (race) raceRestart(*race, sim);

@@ -51,6 +51,10 @@ void applyDrive(Simulator& sim, const std::vector<int>& wheels, const std::vecto
 void applyCarControls(Simulator& sim, DrivenCars& cars, int road_car, const CarControls& applied);
 void releaseDrive(Simulator& sim);      // every wheel's drive and brake torque to zero
 void releasePedals(Simulator& sim);     // every road car's throttle and brake to zero
+// One vehicle's controls timed out (entries with `vehicle` >= 0): only its
+// own wheels' torques, or its own road car's pedals, go to zero.
+void releaseDrive(Simulator& sim, const std::vector<int>& wheels);
+void releasePedals(Simulator& sim, int road_car);
 void resetTo(Simulator& sim, DrivenCars& cars, const State& initial);
 // An entry of the log applied again to a simulation at its tick (the
 // re-simulator, and a session resumed from a lost owner's log): its effect

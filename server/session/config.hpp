@@ -14,6 +14,11 @@ namespace groundsim::session {
 struct ServiceConfig {
   int workers = 0;                     // stepping threads; 0: one per core
   int max_sessions = 64;               // concurrent sessions, pending creates included
+  // One client's share (by the client_id of its creates; docs/reliability.md,
+  // Fairness): sessions it may hold at once, and creates a minute (a burst
+  // of that many, then one every 60 / n s). 0: no limit.
+  int max_client_sessions = 16;
+  double client_creates_per_minute = 60.0;
   double idle_timeout = 600.0;         // s  wall time without owner activity before a session is reclaimed
   double command_timeout = 0.5;        // s  real time mode: drive torques fall to zero without a fresh command
   double max_torque = 1000.0;          // N m  largest |drive| or brake torque accepted

@@ -32,6 +32,12 @@ class HostedSession : public Task {
   // Constant-time comparison with the owner's token.
   bool tokenMatches(const std::string& token) const;
 
+  // The client id of the create that made it ("" for a session taken over
+  // from a lost owner): what the registry counts against that client's
+  // limit (groundsim-server --client-sessions). Set before insertion.
+  const std::string& creator() const { return creator_; }
+  void setCreator(std::string client) { creator_ = std::move(client); }
+
   // Owner activity, for idle reclamation (receive thread).
   void touch(TimePoint now);
   double idleSeconds(TimePoint now) const;
@@ -56,6 +62,7 @@ class HostedSession : public Task {
   const Kind kind_;
   const std::string id_;
   const std::string token_;
+  std::string creator_;
   mutable std::mutex activity_mutex_;
   TimePoint last_activity_;
   std::atomic<std::int64_t> epoch_{0};

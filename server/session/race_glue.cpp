@@ -7,6 +7,8 @@
 #include <cmath>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
 #include "physics/ground/ground.hpp"
 #include "answers.hpp"
 #include "session.hpp"
@@ -152,6 +154,28 @@ void raceGhosts(RaceGlue& g, Simulator& sim) {
   State s = sim.state();
   sim = Simulator(any ? ghostModel(*g.model, ghost) : g.model, std::move(s));
   g.ghosted = any;
+}
+
+std::string raceProgress(const RaceGlue& g) {
+  return nlohmann::json{{"race", nlohmann::json::parse(g.race.progress())},
+                        {"announced", g.announced},
+                        {"ghost_until", g.ghost_until}}
+      .dump();
+}
+
+std::string raceRestore(RaceGlue& g, Simulator& sim, const std::string& progress) {
+  try {
+    const nlohmann::json j = nlohmann::json::parse(progress);
+    std::vector<double> ghost_until = j.at("ghost_until").get<std::vector<double>>();
+    if (ghost_until.size() != g.ghost_until.size()) return "the race's protections are of another number of cars";
+    if (std::string why = g.race.restore(j.at("race").dump()); !why.empty()) return why;
+    g.announced = j.at("announced").get<bool>();
+    g.ghost_until = std::move(ghost_until);
+    raceGhosts(g, sim);
+    return "";
+  } catch (const std::exception& e) {
+    return std::string("the race's progress: ") + e.what();
+  }
 }
 
 std::vector<race::RaceEvent> raceStepped(RaceGlue& g, Simulator& sim, double t0) {

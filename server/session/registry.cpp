@@ -7,7 +7,19 @@
 
 namespace groundsim::session {
 
-OwnerCheck Registry::admit(int max_sessions) {
+int Registry::heldLocked(const std::string& client) const {
+  int n = 0;
+  for (const auto& [id, s] : sessions_) n += s->creator() == client;
+  auto r = reserved_by_.find(client);
+  return n + (r == reserved_by_.end() ? 0 : r->second);
+}
+
+int Registry::heldBy(const std::string& client) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return heldLocked(client);
+}
+
+OwnerCheck Registry::admit(int max_sessions, const std::string* client, int client_max) {
   std::lock_guard<std::mutex> lk(mutex_);
   if (closed_) return {ErrorCode::Shutdown, "server is shutting down"};
   const int used = static_cast<int>(sessions_.size()) + reserved_;
@@ -15,14 +27,24 @@ OwnerCheck Registry::admit(int max_sessions) {
     return {ErrorCode::TooManySessions,
             "too many sessions: " + std::to_string(used) + " of " + std::to_string(max_sessions) +
                 " in use (stop one, or start the server with a larger --max-sessions)"};
+  if (client && client_max > 0) {
+    const int held = heldLocked(*client);
+    if (held >= client_max)
+      return {ErrorCode::TooManySessions,
+              "too many sessions for client '" + client->substr(0, 64) + "': it holds " + std::to_string(held) +
+                  ", at most " + std::to_string(client_max) +
+                  " (server --client-sessions; stop one of its sessions first)"};
+  }
   ++reserved_;
+  if (client) ++reserved_by_[*client];
   return {};
 }
 
-void Registry::cancel(const std::string& id) {
+void Registry::cancel(const std::string& id, const std::string* client) {
   std::lock_guard<std::mutex> lk(mutex_);
   if (!id.empty()) pending_ids_.erase(id);
   if (reserved_ > 0) --reserved_;
+  if (client) unreserve(*client);
 }
 
 std::string Registry::newId() {
@@ -39,10 +61,16 @@ void Registry::cancelId(const std::string& id) {
   pending_ids_.erase(id);
 }
 
+void Registry::unreserve(const std::string& client) {
+  auto it = reserved_by_.find(client);
+  if (it != reserved_by_.end() && --it->second <= 0) reserved_by_.erase(it);
+}
+
 void Registry::insert(std::shared_ptr<HostedSession> s) {
   std::lock_guard<std::mutex> lk(mutex_);
   pending_ids_.erase(s->id());
   if (reserved_ > 0) --reserved_;
+  if (!s->creator().empty()) unreserve(s->creator());
   sessions_[s->id()] = std::move(s);
 }
 

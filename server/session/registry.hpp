@@ -19,17 +19,23 @@ namespace groundsim::session {
 class Registry {
  public:
   // Reserves a place for a create that is about to be built, or says why
-  // not (code Shutdown or TooManySessions, and the reason).
-  OwnerCheck admit(int max_sessions);
+  // not (code Shutdown or TooManySessions, and the reason). With a client
+  // (a create's client_id) and client_max > 0, that client may hold at most
+  // client_max sessions at once, creates still building included
+  // (groundsim-server --client-sessions); a takeover passes no client.
+  OwnerCheck admit(int max_sessions, const std::string* client = nullptr, int client_max = 0);
   // A reserved create that failed to build: its place (and the id it was
-  // given, if any) is free again.
-  void cancel(const std::string& id = "");
+  // given, if any) is free again; `client` as given to admit.
+  void cancel(const std::string& id = "", const std::string* client = nullptr);
   // A fresh id (not in use, not reserved) for a create being built.
   std::string newId();
   // An id from newId() that will not be used (the fleet holds it elsewhere).
   void cancelId(const std::string& id);
-  // The built session takes its reserved place and its id.
+  // The built session takes its reserved place and its id (and its
+  // creator's, when admitted with a client: s->creator() names it).
   void insert(std::shared_ptr<HostedSession> s);
+  // Sessions (and creates building) the client holds.
+  int heldBy(const std::string& client) const;
 
   std::shared_ptr<HostedSession> find(const std::string& id) const;
   template <class T>
@@ -67,6 +73,9 @@ class Registry {
   };
   std::vector<Ended> ended_;
   int reserved_ = 0;  // admitted creates still building
+  std::map<std::string, int> reserved_by_;  // of those, per client (admitted with one)
+  int heldLocked(const std::string& client) const;
+  void unreserve(const std::string& client);
   bool closed_ = false;
 };
 

@@ -69,7 +69,7 @@ std::int64_t claimId(Registry& registry, Ownership* ownership, std::string& id) 
 }  // namespace
 
 SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
-    : cfg_(cfg), out_(out), clock_(clock), assets_(cfg.assets), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
+    : cfg_(cfg), out_(out), clock_(clock), create_rate_(cfg.client_creates_per_minute), assets_(cfg.assets), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
   cfg_.workers = pool_.workers();
   cfg_.budget.max_vehicles = std::min(cfg_.budget.max_vehicles, cfg_.max_vehicles);
   cfg_.budget.max_document_bytes = std::min(cfg_.budget.max_document_bytes, cfg_.max_scenario_bytes);
@@ -247,6 +247,14 @@ void SessionService::handleRequest(const Request& r) {
   }
 }
 
+// The server's capacity, then the client's own bounds (--client-sessions,
+// --client-creates): one client creating in a loop cannot take every slot.
+OwnerCheck SessionService::admitCreate(const std::string& client_id) {
+  const std::string client = clientKey(client_id);
+  if (OwnerCheck rate = create_rate_.take(client, clock_.now()); !rate) return rate;
+  return registry_.admit(cfg_.max_sessions, &client, cfg_.max_client_sessions);
+}
+
 void SessionService::create(const Request& r) {
   if (r.scenario_json.size() > cfg_.max_scenario_bytes)
     return fail(r, ErrorCode::BadScenario,
@@ -255,7 +263,7 @@ void SessionService::create(const Request& r) {
   if (!std::isfinite(r.duration))
     return fail(r, ErrorCode::BadRequest, "duration: must be finite (< 0 runs until stopped), got " + num(r.duration));
   if (!validSettings(r)) return;
-  if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return fail(r, a.code, a.why);
+  if (const OwnerCheck a = admitCreate(r.client_id); !a) return fail(r, a.code, a.why);
   // parsing and building may take a while for large grounds: not on the receive thread
   pool_.post([this, r] { build(r); });  // build() answers, whatever happens
 }
@@ -322,6 +330,7 @@ void SessionService::build(const Request& r) {
     session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
                                         clock_);
     session->setEpoch(epoch);
+    session->setCreator(clientKey(r.client_id));
     registry_.insert(session);
     if (cfg_.replica_interval > 0) out_.publishReplica(session->scenarioReplica());
     Reply reply;
@@ -352,7 +361,8 @@ void SessionService::build(const Request& r) {
     fail(r, ErrorCode::Internal, "internal error: unknown exception while building the scenario");
   }
   if (session) return;
-  registry_.cancel(id);
+  const std::string client = clientKey(r.client_id);
+  registry_.cancel(id, &client);
   if (claimed) ownership_->release(id);
 }
 
@@ -556,7 +566,7 @@ void SessionService::createVec(const VecRequest& r) {
     return failVec(r, ErrorCode::BadRequest, "num_envs",
                    std::to_string(r.num_envs) + " is outside [1, " + std::to_string(cfg_.max_envs) +
                        "] (groundsim-server --max-envs)");
-  if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return failVec(r, a.code, "", a.why);
+  if (const OwnerCheck a = admitCreate(r.client_id); !a) return failVec(r, a.code, "", a.why);
   pool_.post([this, r] { buildVec(r); });
 }
 
@@ -586,6 +596,7 @@ void SessionService::buildVec(const VecRequest& r) {
     setup.id = id;
     session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
     session->setEpoch(epoch);
+    session->setCreator(clientKey(r.client_id));
     registry_.insert(session);
     VecReply reply;
     reply.op = VecOp::Create;
@@ -613,7 +624,8 @@ void SessionService::buildVec(const VecRequest& r) {
     failVec(r, ErrorCode::Internal, "", "internal error: unknown exception while building the environments");
   }
   if (session) return;
-  registry_.cancel(id);
+  const std::string client = clientKey(r.client_id);
+  registry_.cancel(id, &client);
   if (claimed) ownership_->release(id);
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "config.hpp"
+#include "create_rate.hpp"
 #include "ownership.hpp"
 #include "registry.hpp"
 #include "scheduler.hpp"
@@ -104,6 +105,13 @@ class SessionService {
   const SessionClock& clock_;
   Ownership* ownership_ = nullptr;
   Registry registry_;  // every session, of both kinds (workers insert what they build)
+  CreateRate create_rate_;  // creates per minute per client (receive thread)
+  OwnerCheck admitCreate(const std::string& client_id);  // receive thread
+  // The principal a client's sessions and creates are counted under: the
+  // id up to its first '/' (protocol/client_id.hpp: one user on one host).
+  static std::string clientKey(const std::string& client_id) {
+    return client_id.empty() ? "(no client id)" : client_id.substr(0, client_id.find('/'));
+  }
   AssetStore assets_;
   Scheduler pool_;    // last member: its workers stop before the registry goes
 };

@@ -48,6 +48,7 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
   const Model& m = *model;
   vehicles_ = vehicleWheels(m);
   names_ = std::make_shared<const std::vector<std::string>>(setup_.vehicle_names);
+  releaseHeld(now);
   info_.dt = m.opt.dt;
   for (const VehicleWheels& v : vehicles_) info_.wheel_counts.push_back(static_cast<int>(v.wheels.size()));
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, m.opt.dt);
@@ -192,8 +193,7 @@ void Session::apply(const Request& r, TimePoint now) {
       refiner_.reset();
       status_ = Status::Running;
       reason_.clear();
-      drive_held_ = false;
-      car_held_ = false;
+      releaseHeld(now);
       reanchor(now);
       frame_pending_ = true;
       reply(to, true, ErrorCode::None, "");
@@ -272,7 +272,7 @@ void Session::apply(const Drive& d) {
   logApplied(std::move(a));
   last_drive_ = d.received;
   drive_applied_ = clock_.now();
-  drive_held_ = any;
+  drive_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, any};
 }
 
 // Checked by the service (a road car, values in range); the physics clamps
@@ -287,8 +287,7 @@ void Session::apply(const CarDrive& d) {
   a.vehicle = d.vehicle;
   a.controls = cc;
   logApplied(std::move(a));
-  last_car_drive_ = d.received;
-  car_held_ = cc.throttle != 0.0 || cc.brake != 0.0;
+  car_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, cc.throttle != 0.0 || cc.brake != 0.0};
 }
 
 void Session::apply(const StopCommand& c) {
@@ -385,21 +384,41 @@ void Session::reportHits() {
   }
 }
 
+// Each vehicle on its own: a silent player's pedals (or torques) are
+// released after the timeout whatever the others send, and the release
+// touches no other car. Logged per vehicle, so that re-simulation and a
+// standby release the same car at the same tick.
 void Session::checkCommandTimeout(TimePoint now) {
-  if (car_held_ && seconds(now - last_car_drive_) > cfg_.command_timeout) {
-    // as for drive_t: the pedals are released, steering and gear stay
-    releasePedals(sim_);
-    logApplied(entry(AppliedKind::ControlsTimeout));
-    car_held_ = false;
-    event(Severity::Warning, ErrorCode::CommandTimeout,
-          "no controls command for " + shortNumber(cfg_.command_timeout) + " s: throttle and brake set to zero");
+  const double limit = cfg_.command_timeout;
+  for (size_t v = 0; v < vehicles_.size(); ++v) {
+    const std::string& name = names_ && v < names_->size() ? (*names_)[v] : std::to_string(v);
+    if (Held& h = car_held_[v]; h.held && seconds(now - h.last) > limit) {
+      // as for drive_t: the pedals are released, steering and gear stay
+      h.held = false;
+      releasePedals(sim_, vehicles_[v].road_car);
+      Applied a = entry(AppliedKind::ControlsTimeout);
+      a.vehicle = static_cast<int>(v);
+      logApplied(std::move(a));
+      event(Severity::Warning, ErrorCode::CommandTimeout,
+            "no controls command for " + name + " (vehicle " + std::to_string(v) + ") for " + shortNumber(limit) +
+                " s: its throttle and brake set to zero");
+    }
+    if (Held& h = drive_held_[v]; h.held && seconds(now - h.last) > limit) {
+      h.held = false;
+      releaseDrive(sim_, vehicles_[v].wheels);
+      Applied a = entry(AppliedKind::DriveTimeout);
+      a.vehicle = static_cast<int>(v);
+      logApplied(std::move(a));
+      event(Severity::Warning, ErrorCode::CommandTimeout,
+            "no drive command for " + name + " (vehicle " + std::to_string(v) + ") for " + shortNumber(limit) +
+                " s: its torques set to zero");
+    }
   }
-  if (!drive_held_ || seconds(now - last_drive_) <= cfg_.command_timeout) return;
-  releaseDrive(sim_);
-  logApplied(entry(AppliedKind::DriveTimeout));
-  drive_held_ = false;
-  event(Severity::Warning, ErrorCode::CommandTimeout,
-        "no drive command for " + shortNumber(cfg_.command_timeout) + " s: torques set to zero");
+}
+
+void Session::releaseHeld(TimePoint now) {
+  drive_held_.assign(vehicles_.size(), Held{now, false});
+  car_held_.assign(vehicles_.size(), Held{now, false});
 }
 
 std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {

@@ -131,6 +131,7 @@ class Session : public HostedSession {
              std::optional<Frame> state = std::nullopt);
   void event(Severity sev, ErrorCode code, std::string reason);
   void checkCommandTimeout(TimePoint now);
+  void releaseHeld(TimePoint now);    // every vehicle's hold forgotten (a reset), timeouts from now
   void reanchor(TimePoint now);
   void updateInfo(TimePoint now);
   bool finished() const;
@@ -167,11 +168,17 @@ class Session : public HostedSession {
   RealtimeAnchor anchor_;
   PublishBudget budget_;
   std::deque<StepJob> steps_;
-  TimePoint last_drive_{};
+  TimePoint last_drive_{};            // the newest drive command of any vehicle (the latency trace)
   TimePoint drive_applied_{};  // when last_drive_'s command was applied
-  bool drive_held_ = false;           // a non-zero drive command is in force
-  TimePoint last_car_drive_{};
-  bool car_held_ = false;             // a road car's throttle or brake is in force
+  // Per vehicle: its driver's last command and whether it holds a torque or
+  // a pedal. Each vehicle's controls expire on their own (checkCommandTimeout):
+  // another player's commands neither refresh nor release them.
+  struct Held {
+    TimePoint last{};
+    bool held = false;
+  };
+  std::vector<Held> drive_held_;      // drive_t (wheel torques)
+  std::vector<Held> car_held_;        // controls_t (a road car's throttle and brake)
   DrivenCars cars_;                   // per road car: a client took over from the control table
   std::int64_t applied_seq_ = 0;      // entries of the applied-command log so far
   TimePoint last_overrun_event_{};

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/snapshot.hpp"
+#include "race_glue.hpp"
 #include "session.hpp"
 
 namespace groundsim::session {
@@ -58,6 +59,7 @@ void Session::replicate() {
   m["driven"] = cars_.driven;
   m["frame_pending"] = frame_pending_;
   m["substeps"] = sim_.model().opt.substeps;  // refined since the scenario (applied Refine entries)
+  if (race_) m["race"] = raceProgress(*race_);  // laps, gates, best laps: kept through a failover
   r.meta = m.dump();
   out_.publishReplica(r);
 }
@@ -84,8 +86,24 @@ std::string Session::replay(const Applied& a) {
   if (std::string why = applyEntry(sim_, cars_, vehicles_, initial_, a, race_.get()); !why.empty()) return why;
   // and its effect on the session's own settings
   switch (a.kind) {
-    case AppliedKind::Drive: drive_held_ = false; break;  // its timeout restarts from the resumption
+    // a held command's timeout restarts from the resumption
+    case AppliedKind::Drive: {
+      bool any = false;
+      for (const WheelControl& c : a.wheels) any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
+      drive_held_.at(static_cast<size_t>(a.vehicle)) = Held{clock_.now(), any};
+      break;
+    }
+    case AppliedKind::Controls:
+      car_held_.at(static_cast<size_t>(a.vehicle)) =
+          Held{clock_.now(), a.controls.throttle != 0.0 || a.controls.brake != 0.0};
+      break;
+    case AppliedKind::DriveTimeout:
+    case AppliedKind::ControlsTimeout:
+      if (a.vehicle < 0) releaseHeld(clock_.now());
+      else (a.kind == AppliedKind::DriveTimeout ? drive_held_ : car_held_).at(static_cast<size_t>(a.vehicle)).held = false;
+      break;
     case AppliedKind::Reset:
+      releaseHeld(clock_.now());
       status_ = Status::Running;
       reason_.clear();
       break;
@@ -149,6 +167,10 @@ std::string Session::resume(const Replica& snapshot, const std::vector<Applied>&
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, sim_.model().opt.dt);
   if (m.contains("driven") && m["driven"].is_array()) cars_.driven = m["driven"].get<std::vector<bool>>();
   frame_pending_ = m.value("frame_pending", true);
+  if (race_ && m.contains("race")) {
+    if (!m["race"].is_string()) return "the snapshot's race is not text";
+    if (std::string why = raceRestore(*race_, sim_, m["race"].get<std::string>()); !why.empty()) return why;
+  }
   replaying_ = true;
   std::string why;
   for (const Applied& a : log) {

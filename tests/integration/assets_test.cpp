@@ -97,8 +97,10 @@ class Assets : public ::testing::Test {
   void SetUp() override {
     token_file_ = tokenFile("assets");
     std::remove(token_file_.c_str());
-    // as the README starts it: no options but the test's URL
-    server_ = std::make_unique<Process>(std::vector<std::string>{kServer, "--lcm-url", kUrl, "--max-sessions", "64"});
+    // as the README starts it, but for the test's URL and room for every
+    // shipped scenario's create from this one client (--client-*: 0, no limit)
+    server_ = std::make_unique<Process>(std::vector<std::string>{kServer, "--lcm-url", kUrl, "--max-sessions", "64",
+                                                                 "--client-sessions", "0", "--client-creates", "0"});
     ASSERT_TRUE(server_->waitForOutput("groundsim-server ready", 20)) << server_->wait(1).err;
   }
   void TearDown() override {

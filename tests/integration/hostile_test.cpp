@@ -7,6 +7,7 @@
 // messages; waits are bounded and generous.
 #include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -171,6 +172,42 @@ TEST_F(Hostile, CreateTakesAPreset) {
   const Result r = cli({"create", kPlain, "--preset", "fast", "--mode", "lockstep"});
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(cli({"create", kPlain, "--preset", "nonsense"}).status, kUsage);
+}
+
+// A client on the bus that creates in a loop (a shell loop of `groundsim
+// create`: one principal, user@host or GROUNDSIM_CLIENT) is refused at the
+// server's --client-sessions, naming the limit and the flag, while another
+// client still creates (docs/reliability.md, Fairness).
+TEST_F(Hostile, ACreateLoopIsRefusedAtItsLimitWhileAnotherClientCreates) {
+  // this case's own server: --client-sessions 3
+  server_->signal(SIGTERM);
+  server_->wait(30);
+  server_ = std::make_unique<Process>(std::vector<std::string>{kServer, "--lcm-url", kUrl, "--workers", "2",
+                                                               "--max-sessions", "8", "--client-sessions", "3"});
+  ASSERT_TRUE(server_->waitForOutput("groundsim-server ready", 20)) << server_->wait(1).err;
+  const std::string tokens = token_file_;
+  auto create = [&](const char* client) {
+    ::setenv("GROUNDSIM_CLIENT", client, 1);
+    std::vector<std::string> args{kCli, "create", kPlain, "--duration", "-1", "--lcm-url", kUrl, "--token-file", tokens};
+    withReplyTimeout(args);
+    Result r = run(args, "", 120);
+    ::unsetenv("GROUNDSIM_CLIENT");
+    return r;
+  };
+  int made = 0;
+  Result refused;
+  for (int k = 0; k < 6 && refused.err.empty(); ++k) {
+    Result r = create("looper");
+    if (r.status == 0) ++made;
+    else refused = r;
+  }
+  EXPECT_EQ(made, 3) << "the loop's creates up to --client-sessions";
+  EXPECT_EQ(refused.status, kRefused) << refused.err;
+  EXPECT_NE(refused.err.find("too many sessions for client 'cli-looper': it holds 3, at most 3 (server --client-sessions"),
+            std::string::npos)
+      << refused.err;
+  const Result other = create("someone-else");
+  EXPECT_EQ(other.status, 0) << "another client still creates: " << other.err;
 }
 
 }  // namespace

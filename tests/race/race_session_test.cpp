@@ -285,3 +285,101 @@ TEST(RaceSession, ASessionWithoutARaceRefusesRespawn) {
 
 }  // namespace
 }  // namespace groundsim::session::test
+
+namespace groundsim::session::test {
+namespace {
+
+// A race survives its host (issue: race state in a fleet): the owner's
+// snapshot carries the race's progress, so a standby that resumes the
+// session mid-lap (after both cars started and passed gate 1, before the
+// finish) times every player's lap, best lap, finish and place exactly as
+// the owner does from the same point. Without the progress in the snapshot
+// the standby's race starts afresh: no car has started, and it times no lap.
+TEST(RaceSession, ARaceResumedOnAStandbyKeepsEveryPlayersLaps) {
+  const char* two = R"({"name": "two", "duration": 30, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "a", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.8}]},
+                 {"name": "b", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.6}]}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1,
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [30, 0], "width": 14, "heading_deg": 0},
+                       {"center": [80, 0], "width": 14, "heading_deg": 0}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  const scenario::Scenario sc = scenario::parseScenario(std::string(two));
+  scenario::Scene scene = scenario::buildScene(sc);
+  ServiceConfig cfg;
+  cfg.replica_interval = 0.2;  // a snapshot every 50 ticks
+  ManualClock clock;
+  RecordingOutput owner_out, standby_out;
+  SessionSetup setup;
+  setup.id = "0000FAIL";
+  setup.token = "t";
+  setup.scenario_json = two;
+  setup.vehicle_names = {"a", "b"};
+  setup.duration = 30;
+  setup.mode = Mode::Realtime;
+  setup.publish_rate = 50;
+  setup.control_tables = scene.control_tables;
+  auto owner = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, owner_out, clock.now(), clock);
+  auto raceEvents = [](const RecordingOutput& out, const std::string& type) {
+    std::vector<nlohmann::json> v;
+    for (const Event& e : out.events)
+      if (e.reason.rfind("race: ", 0) == 0) {
+        nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
+        if (j["type"] == type) v.push_back(j);
+      }
+    return v;
+  };
+  auto passed = [&](const std::string& type) { return raceEvents(owner_out, type).size(); };
+  // the owner runs until both cars passed gate 1 (mid-lap), in real time by 0.1 s
+  owner->run(clock.now());
+  for (int i = 0; i < 400 && passed("gate") < 2; ++i) {
+    clock.advance(0.1);
+    owner->run(clock.now());
+  }
+  ASSERT_EQ(passed("start"), 2u);
+  ASSERT_EQ(passed("gate"), 2u);
+  ASSERT_EQ(passed("finish"), 0u) << "the failover must come mid-lap";
+  // the host is lost here: its newest snapshot, the entries after it, its last state
+  const Replica* snap = nullptr;
+  for (const Replica& r : owner_out.replicas)
+    if (r.kind == Replica::Kind::Snapshot) snap = &r;
+  ASSERT_NE(snap, nullptr);
+  ASSERT_NE(snap->meta.find("\"race\""), std::string::npos) << "the snapshot carries the race";
+  std::vector<Applied> log;
+  for (const Applied& a : owner_out.applied)
+    if (a.seq >= snap->applied_seq) log.push_back(a);
+  auto standby = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, standby_out, clock.now(),
+                                           clock);
+  standby->setEpoch(2);
+  ASSERT_EQ(standby->resume(*snap, log, owner_out.frames.back().tick), "");
+  // both go on to the finish (the owner as if it had not been lost)
+  for (int i = 0; i < 400 && raceEvents(standby_out, "finish").size() < 2; ++i) {
+    clock.advance(0.1);
+    owner->run(clock.now());
+    standby->run(clock.now());
+  }
+  const auto laps = raceEvents(owner_out, "lap"), fin = raceEvents(owner_out, "finish");
+  const auto slaps = raceEvents(standby_out, "lap"), sfin = raceEvents(standby_out, "finish");
+  ASSERT_EQ(laps.size(), 2u);
+  ASSERT_EQ(slaps.size(), 2u) << "the standby times both players' laps";
+  ASSERT_EQ(sfin.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(slaps[k]["car"], laps[k]["car"]);
+    EXPECT_EQ(slaps[k]["lap_time"].get<double>(), laps[k]["lap_time"].get<double>()) << "car " << laps[k]["car"];
+    EXPECT_EQ(slaps[k]["best"], laps[k]["best"]);
+    EXPECT_EQ(sfin[k]["car"], fin[k]["car"]);
+    EXPECT_EQ(sfin[k]["race_time"].get<double>(), fin[k]["race_time"].get<double>());
+    EXPECT_EQ(sfin[k]["position"], fin[k]["position"]);
+  }
+  std::printf("after the failover: car %d lap %.6f s, car %d lap %.6f s, as on the lost host\n",
+              slaps[0]["car"].get<int>(), slaps[0]["lap_time"].get<double>(), slaps[1]["car"].get<int>(),
+              slaps[1]["lap_time"].get<double>());
+  // the standings the standby publishes carry the same best laps
+  const auto st = raceEvents(standby_out, "standings"), ost = raceEvents(owner_out, "standings");
+  ASSERT_FALSE(st.empty());
+  ASSERT_FALSE(ost.empty());
+  EXPECT_EQ(st.back()["cars"], ost.back()["cars"]);
+}
+
+}  // namespace
+}  // namespace groundsim::session::test

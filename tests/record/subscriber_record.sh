@@ -25,7 +25,7 @@ if [ -z "$modules" ] || ! command -v node > /dev/null; then
 fi
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) > "$dir/server.out" 2>&1 &
+"$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) --client-sessions 0 --client-creates 0 > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
 logger=$!

@@ -136,3 +136,89 @@ TEST(RoadCarSession, ControlTableIsFollowedUntilAClientDrives) {
 
 }  // namespace
 }  // namespace groundsim::session::test
+
+namespace groundsim::session::test {
+namespace {
+
+// Two players in one session (issue: one frozen player cannot drive on):
+// A holds full throttle and goes silent; B keeps sending controls. Each
+// car's controls expire on their own: B's commands neither refresh A's
+// timeout nor release A's pedals, A's release (after the timeout, within a
+// frame) touches only A's car, and it is an applied entry naming A's car,
+// which re-applied to a fresh simulation releases A's car only.
+TEST(RoadCarSession, EachCarsControlsExpireOnTheirOwn) {
+  const char* two = R"({"name": "two", "duration": 5, "physics": {"dt": 0.004}, "contact": {"friction": 1.0},
+    "ground": {"type": "plane"}, "vehicles": [
+      {"name": "a", "kind": "road_car", "initial": {"position": [0, 0, 0]}},
+      {"name": "b", "kind": "road_car", "initial": {"position": [0, 10, 0]}}]})";
+  CarRig rig(two);
+  ASSERT_EQ(rig.session->vehicles().size(), 2u);
+  auto drive = [&](int v, double throttle) {
+    CarDrive d = rig.controls(throttle, 0.0, 0.0);
+    d.vehicle = v;
+    rig.session->post(d);
+  };
+  auto commanded = [&](int v) { return rig.out.frames.back().cars.at(static_cast<size_t>(v)).commanded.throttle; };
+  rig.run();
+  drive(0, 1.0);  // A: full throttle, then nothing more
+  drive(1, 0.0);  // B: throttle 0 (a command with both pedals at zero cleared the whole session's flag before)
+  const double timeout = rig.cfg.command_timeout;
+  // B keeps driving every 0.1 s: at zero, then at half throttle
+  double t = 0.0;
+  for (int k = 1; t + 0.1 <= timeout - 0.05; ++k) {
+    rig.clock.advance(0.1);
+    t += 0.1;
+    drive(1, k < 3 ? 0.0 : 0.5);
+    rig.run();
+  }
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 0) << "within the timeout";
+  EXPECT_EQ(commanded(0), 1.0) << "A's throttle held within its timeout";
+  // past A's timeout by less than a frame (50 Hz): B still sending
+  const double frame = 1.0 / 50.0;
+  while (t <= timeout + 0.5 * frame) {
+    rig.clock.advance(0.5 * frame);
+    t += 0.5 * frame;
+    drive(1, 0.5);
+    rig.run();
+  }
+  rig.clock.advance(frame);
+  drive(1, 0.5);
+  rig.run();
+  EXPECT_EQ(commanded(0), 0.0) << "A's throttle released within the timeout plus one frame, B driving all along";
+  EXPECT_EQ(commanded(1), 0.5) << "B's car untouched by A's release";
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 1);
+  bool named = false;
+  for (const Event& e : rig.out.events) named = named || e.reason.find("(vehicle 0) for") != std::string::npos;
+  EXPECT_TRUE(named) << "the warning names the silent car";
+  // the release is an applied entry of A's car only
+  int releases = 0;
+  for (const Applied& a : rig.out.applied)
+    if (a.kind == AppliedKind::ControlsTimeout) {
+      ++releases;
+      EXPECT_EQ(a.vehicle, 0);
+    }
+  EXPECT_EQ(releases, 1);
+  // re-applied (re-simulation, a standby): A's pedals released, B's kept
+  scenario::Scene scene = scenario::buildScene(scenario::parseScenario(std::string(two)));
+  Simulator sim(scene.built.model, scene.built.initial);
+  DrivenCars cars;
+  const std::vector<VehicleWheels> vw = vehicleWheels(*scene.built.model);
+  for (int v : {0, 1}) {
+    Applied c;
+    c.kind = AppliedKind::Controls;
+    c.vehicle = v;
+    c.controls.throttle = 0.7;
+    ASSERT_EQ(applyEntry(sim, cars, vw, scene.built.initial, c), "");
+  }
+  Applied release;
+  release.kind = AppliedKind::ControlsTimeout;
+  release.vehicle = 0;
+  ASSERT_EQ(applyEntry(sim, cars, vw, scene.built.initial, release), "");
+  EXPECT_EQ(sim.carControls(0).throttle, 0.0);
+  EXPECT_EQ(sim.carControls(1).throttle, 0.7);
+  release.vehicle = 5;
+  EXPECT_NE(applyEntry(sim, cars, vw, scene.built.initial, release), "") << "a car the scenario lacks is refused";
+}
+
+}  // namespace
+}  // namespace groundsim::session::test

@@ -82,3 +82,76 @@ TEST(Service, AnInvalidScenarioIsAnswered) {
 
 }  // namespace
 }  // namespace groundsim::session::test
+
+namespace groundsim::session::test {
+namespace {
+
+// One client cannot take the server (docs/reliability.md, Fairness): a
+// client that creates in a loop is refused at --client-sessions, naming the
+// limit and the flag, while another client still creates; the processes of
+// one principal (the id up to '/') count as one client; the create rate
+// refills with time (a manual clock: no wall-clock verdict).
+TEST(Service, OneClientIsBoundedWhileAnotherStillCreates) {
+  RecordingOutput out;
+  ManualClock clock;
+  ServiceConfig cfg;
+  cfg.max_sessions = 8;
+  cfg.max_client_sessions = 3;
+  cfg.client_creates_per_minute = 6;  // a burst of 6, then one every 10 s
+  SessionService service(cfg, out, clock);
+  auto createAs = [&](std::int64_t id, const std::string& client) {
+    Request r = create(id);
+    r.client_id = client;
+    service.handleRequest(r);
+    Reply reply;
+    EXPECT_TRUE(out.waitReply(id, &reply)) << id;
+    return reply;
+  };
+  std::vector<Reply> made;
+  // two processes of one principal ("cli-loop/1", "cli-loop/2") are one client
+  for (int k = 1; k <= 3; ++k) {
+    made.push_back(createAs(k, "cli-loop/" + std::to_string(k % 2)));
+    ASSERT_TRUE(made.back().ok) << made.back().error;
+  }
+  const Reply fourth = createAs(4, "cli-loop/9");
+  EXPECT_FALSE(fourth.ok);
+  EXPECT_EQ(fourth.code, ErrorCode::TooManySessions);
+  EXPECT_NE(fourth.error.find("too many sessions for client 'cli-loop': it holds 3, at most 3 (server --client-sessions"),
+            std::string::npos)
+      << fourth.error;
+  const Reply other = createAs(5, "cli-other/1");
+  EXPECT_TRUE(other.ok) << "another client still creates: " << other.error;
+  // a stopped session frees its place; the rate bucket (6: 4 taken) allows two more now
+  Request stop;
+  stop.op = Op::Stop;
+  stop.request_id = 6;
+  stop.client_id = "cli-loop/1";
+  stop.session_id = made[0].session_id;
+  stop.token = made[0].token;
+  service.handleRequest(stop);
+  Reply stopped;
+  ASSERT_TRUE(out.waitReply(6, &stopped));
+  ASSERT_TRUE(stopped.ok) << stopped.error;
+  EXPECT_TRUE(createAs(7, "cli-loop/1").ok);
+  // the burst of 6 used up (the refused 4th took one): refused by rate, naming it
+  stop.request_id = 8;
+  stop.session_id = made[1].session_id;
+  stop.token = made[1].token;
+  service.handleRequest(stop);
+  ASSERT_TRUE(out.waitReply(8, &stopped));
+  const Reply early = createAs(9, "cli-loop/1");
+  EXPECT_TRUE(early.ok) << early.error;  // the 6th create of the minute
+  stop.request_id = 10;
+  stop.session_id = made[2].session_id;
+  stop.token = made[2].token;
+  service.handleRequest(stop);
+  ASSERT_TRUE(out.waitReply(10, &stopped));
+  const Reply fast = createAs(11, "cli-loop/1");
+  EXPECT_FALSE(fast.ok);
+  EXPECT_NE(fast.error.find("at most 6 a minute (server --client-creates)"), std::string::npos) << fast.error;
+  clock.advance(10.5);  // one create's worth refilled
+  EXPECT_TRUE(createAs(12, "cli-loop/1").ok);
+}
+
+}  // namespace
+}  // namespace groundsim::session::test

@@ -1,6 +1,7 @@
 // The bridge's pure parts: browser message validation, the controls
 // mapping, ground grids against the grounds' closed forms, the car layout
 // of the report's figure 1, and the state re-encoding.
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "bridge/browser_limits.hpp"
 #include "bridge/browser_message.hpp"
 #include "bridge/controls.hpp"
 #include "bridge/scene_view.hpp"
@@ -339,4 +341,59 @@ TEST(BrowserMessage, PlayerNameAndPreview) {
   EXPECT_EQ(std::get<groundsim::web::PreviewMsg>(*ok.message).config, "race/circuit.json");
   EXPECT_EQ(parseBrowserMessage(R"({"op":"preview","config":"../etc/passwd"})").error.field, "/config");
   EXPECT_EQ(parseBrowserMessage(R"({"op":"preview"})").error.field, "/config");
+}
+
+// One browser's creates against groundsim-web's limits: each refusal names
+// the field, the limit and its flag; the minute's budget refills with time
+// (given instants: no wall clock).
+TEST(BrowserLimits, ACreateIsHeldToEveryLimitNamingItsFlag) {
+  BrowserLimits l;  // the defaults: realtime only, 8 cars, 60 Hz, 2 sessions, 20 creates a minute
+  BrowserAllowance a(l);
+  const auto t0 = TokenBucket::Clock::time_point{} + std::chrono::hours(1);
+  auto no = a.create(l, "fast", 8, 1000, 0, t0);
+  ASSERT_TRUE(no);
+  EXPECT_EQ(no->field, "/mode");
+  EXPECT_NE(no->reason.find("(realtime; groundsim-web --browser-modes)"), std::string::npos) << no->reason;
+  no = a.create(l, "realtime", 9, 0, 0, t0);
+  ASSERT_TRUE(no);
+  EXPECT_EQ(no->field, "/vehicles");
+  EXPECT_NE(no->reason.find("at most 8 in a browser's session (groundsim-web --browser-cars)"), std::string::npos);
+  no = a.create(l, "realtime", 1, 1000, 0, t0);
+  ASSERT_TRUE(no);
+  EXPECT_EQ(no->field, "/publish_rate");
+  EXPECT_NE(no->reason.find("1000 Hz, at most 60 (groundsim-web --browser-publish-rate)"), std::string::npos);
+  no = a.create(l, "realtime", 1, 0, 2, t0);
+  ASSERT_TRUE(no);
+  EXPECT_NE(no->reason.find("owns 2 sessions, at most 2 at once (groundsim-web --browser-sessions)"), std::string::npos);
+  // refusals above took nothing from the minute's 20
+  for (int k = 0; k < 20; ++k) EXPECT_FALSE(a.create(l, "realtime", 1, 60, 0, t0)) << k;
+  no = a.create(l, "realtime", 1, 60, 0, t0);
+  ASSERT_TRUE(no);
+  EXPECT_NE(no->reason.find("at most 20 a minute (groundsim-web --browser-creates); the next in 3 s"), std::string::npos)
+      << no->reason;
+  EXPECT_TRUE(a.create(l, "realtime", 1, 60, 0, t0 + std::chrono::milliseconds(2900)));
+  EXPECT_FALSE(a.create(l, "realtime", 1, 60, 0, t0 + std::chrono::milliseconds(3100)));
+  // what the operator allows
+  BrowserLimits open = l;
+  ASSERT_FALSE(parseModes("realtime,fast,lockstep", open.modes));
+  EXPECT_EQ(joinModes(open.modes), "fast,lockstep,realtime");
+  EXPECT_TRUE(parseModes("realtime,warp", open.modes));
+  BrowserAllowance b(l);
+  l.modes = {"realtime", "fast"};
+  EXPECT_FALSE(b.create(l, "fast", 8, 60, 1, t0));
+  // the publish rate asked of the server: the browser's, else the scenario's, held to the limit
+  EXPECT_EQ(publishRateFor(l, 0, 50), 50);
+  EXPECT_EQ(publishRateFor(l, 0, 500), 60);
+  EXPECT_EQ(publishRateFor(l, 30, 500), 30);
+}
+
+TEST(BrowserLimits, MessagesArePacedNotDropped) {
+  TokenBucket b(200, 200);
+  const auto t0 = TokenBucket::Clock::time_point{} + std::chrono::hours(1);
+  for (int k = 0; k < 200; ++k) EXPECT_EQ(b.take(t0), 0.0) << k;  // a second's burst
+  const double wait = b.take(t0);
+  EXPECT_NEAR(wait, 1.0 / 200, 1e-12);  // the next, once the rate allows
+  EXPECT_EQ(b.take(t0 + std::chrono::microseconds(5001)), 0.0);
+  TokenBucket none(0, 0);
+  EXPECT_EQ(none.take(t0), 0.0) << "0: no limit";
 }

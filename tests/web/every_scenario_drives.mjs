@@ -8,7 +8,9 @@
 // back to the lobby.
 import * as h from './harness.mjs';
 
-const { url } = await h.startServices();
+// one page creates every shipped scenario in turn: more creates a minute than an
+// anonymous player's (groundsim-web --browser-creates)
+const { url } = await h.startServices({ bridgeArgs: ['--browser-creates', '0'] });
 await h.launch();
 const page = await h.newPage(url, { width: 1280, height: 900 });
 const ids = await page.evaluate(() => [...document.querySelectorAll('#create-config option')].map((o) => o.value));

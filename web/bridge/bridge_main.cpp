@@ -54,6 +54,29 @@ int main(int argc, char** argv) {
                  "data messages a Foxglove client may fall behind by; the oldest are dropped beyond (counted)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1 << 20));
+  // what one browser may do (docs/front-end.md, Fairness): defaults for anonymous players on a public page
+  BrowserLimits& lim = cfg.limits;
+  app.add_option("--browser-sessions", lim.sessions,
+                 "sessions one browser may own at once (those it created and that have not ended; 0: no limit)")
+      ->capture_default_str()->check(CLI::Range(0, 1000));
+  app.add_option("--browser-cars", lim.cars, "cars in a session a browser creates")
+      ->capture_default_str()->check(CLI::Range(1, 64));
+  std::string modes = joinModes(lim.modes);
+  app.add_option("--browser-modes", modes, "modes a browser may create in (comma-separated: realtime,fast,lockstep)")
+      ->capture_default_str()
+      ->check([&lim](const std::string& v) { return parseModes(v, lim.modes).value_or(""); });
+  app.add_option("--browser-publish-rate", lim.publish_rate,
+                 "Hz of states at most in a session a browser creates (0: no limit; the scenario's rate is held to it)")
+      ->capture_default_str()->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--browser-creates", lim.creates_per_minute,
+                 "creates a minute per browser: a burst of this many, then one every 60/n s (0: no limit)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  app.add_option("--browser-messages", lim.messages_per_second,
+                 "WebSocket messages a browser may send a second; beyond, the bridge reads its next one later (0: no limit)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  app.add_option("--orphan-stop", cfg.orphan_stop_s,
+                 "s after which a session a browser created and that nobody watches or drives is stopped")
+      ->capture_default_str()->check(CLI::Range(1.0, 86400.0));
   app.add_flag("--quiet", quiet, "no connection and refusal log on stderr");
   CLI11_PARSE(app, argc, argv);
   cfg.log = !quiet;

@@ -20,6 +20,7 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 // at most one drive command per browser per period (bounds what a browser can make the server do)
 constexpr auto kControlsPeriod = std::chrono::milliseconds(4);
+constexpr auto kLobbyPeriod = std::chrono::milliseconds(50);
 
 namespace {
 
@@ -37,11 +38,13 @@ std::int8_t modeValue(const std::string& m) {
 
 }  // namespace
 
-Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move(cfg)), bus_(std::move(bus)), ticker_(io) {
+Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move(cfg)), bus_(std::move(bus)), ticker_(io), lobby_timer_(io) {
   // every scenario under configs_dir, with its description and how many
   // cars it hosts (shipped_scenarios.hpp), sent to each browser as it connects
   const ShippedList list =
-      listShippedScenarios(cfg_.configs_dir, cfg_.vehicle_margin, std::min(kMaxCreateVehicles, cfg_.max_vehicles));
+      listShippedScenarios(cfg_.configs_dir, cfg_.vehicle_margin,
+                           std::min({kMaxCreateVehicles, cfg_.max_vehicles,
+                                     cfg_.limits.cars > 0 ? cfg_.limits.cars : kMaxCreateVehicles}));
   json offered = json::array();
   for (const ShippedScenario& sc : list.scenarios) {
     configs_.push_back(sc.id);
@@ -58,7 +61,10 @@ Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move
   tick();
 }
 
-Hub::~Hub() { ticker_.cancel(); }
+Hub::~Hub() {
+  ticker_.cancel();
+  lobby_timer_.cancel();
+}
 
 // ---- LCM thread -------------------------------------------------------------
 
@@ -101,12 +107,12 @@ LcmHandlers Hub::lcmHandlers() {
     asio::post(io_, [this, e, json] { onEvent(e, json); });
   };
   h.reply = [this](const groundsim::reply_t& r) {
-    if (r.client_id != bus_.client_id) return;
+    if (!ours(r.client_id)) return;
     asio::post(io_, [this, r] { onReply(r); });
   };
   h.scenario = [this](const groundsim::scenario_t& s) { asio::post(io_, [this, s] { onScenario(s); }); };
   h.asset_want = [this](const groundsim::asset_want_t& w) {
-    if (w.client_id != bus_.client_id) return;
+    if (!ours(w.client_id)) return;
     asio::post(io_, [this, w] {
       if (wants_.size() > 64) wants_.erase(wants_.begin());  // creates long answered
       auto& list = wants_[w.request_id];
@@ -122,8 +128,16 @@ LcmHandlers Hub::lcmHandlers() {
 
 // ---- browsers -----------------------------------------------------------------
 
+bool Hub::ours(const std::string& id) const {
+  const std::string& me = bus_.client_id;
+  return id == me || (id.size() > me.size() + 2 && id.compare(0, me.size(), me) == 0 && id.compare(me.size(), 2, "-b") == 0);
+}
+
 void Hub::attach(Peer* p) {
-  peers_[p] = PeerState{};
+  PeerState& ps = peers_[p];
+  ps = PeerState{};
+  ps.serial = next_browser_++;
+  ps.allowance = std::make_shared<BrowserAllowance>(cfg_.limits);
   p->send(welcome_);
   publishLobby();
   if (cfg_.log) std::fprintf(stderr, "groundsim-web: browser %s connected\n", p->describe().c_str());
@@ -188,7 +202,8 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
                     c->config + " hosts " + std::to_string(s.min_cars) +
                         (s.max_cars > s.min_cars ? "-" + std::to_string(s.max_cars) : std::string()) + " cars (" +
                         s.limit + "), got " + std::to_string(c->vehicles));
-    return create(p, *c);
+    if (!allowCreate(p, ps, *c, s)) return;
+    return create(p, ps, *c, s);
   }
   if (auto* o = std::get_if<SessionOpMsg>(&m)) return sessionOp(p, ps, *o);
   if (std::get_if<LeaveMsg>(&m)) {
@@ -210,7 +225,7 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
 // ---- requests to the server -----------------------------------------------
 
 void Hub::request(groundsim::request_t r, std::function<void(const groundsim::reply_t*)> done) {
-  r.client_id = bus_.client_id;
+  if (r.client_id.empty()) r.client_id = bus_.client_id;  // a browser's create names that browser
   r.request_id = next_request_++;
   r.utime = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch()).count();
   auto timer = std::make_shared<asio::steady_timer>(io_);
@@ -237,7 +252,40 @@ void Hub::onReply(const groundsim::reply_t& r) {
   if (done) done(&r);
 }
 
-void Hub::create(Peer* p, const CreateMsg& m) {
+int Hub::ownedBy(std::uint64_t serial) const {
+  int n = 0;
+  for (const auto& [id, s] : sessions_) n += s.creator == serial && !s.token.empty();
+  return n;
+}
+
+bool Hub::allowCreate(Peer* p, PeerState& ps, const CreateMsg& c, const ShippedScenario& s) {
+  if (cfg_.limits.sessions > 0 && ownedBy(ps.serial) + ps.creating >= cfg_.limits.sessions) {
+    // what it left behind would end within --orphan-stop anyway
+    for (auto& [id, e] : sessions_)
+      if (e.creator == ps.serial && !e.token.empty() && e.watchers.empty()) stopSession(id, e);
+  }
+  const int cars = c.vehicles > 0 ? c.vehicles : s.vehicles;
+  const std::optional<Refusal> no = ps.allowance->create(cfg_.limits, c.mode, cars, c.publish_rate,
+                                                         ownedBy(ps.serial) + ps.creating, Clock::now());
+  if (no) refuse(p, "create", no->field, no->reason);
+  return !no;
+}
+
+groundsim::request_t Hub::stopRequest(const std::string& id, const std::string& token) const {
+  groundsim::request_t r{};
+  r.op = groundsim::request_t::OP_STOP;
+  r.session_id = id;
+  r.token = token;
+  return r;
+}
+
+void Hub::stopSession(const std::string& id, SessionEntry& s) {
+  request(stopRequest(id, s.token), nullptr);
+  s.token.clear();
+  s.unwatched_since = {};
+}
+
+void Hub::create(Peer* p, PeerState& ps, const CreateMsg& m, const ShippedScenario& sc) {
   if (std::find(configs_.begin(), configs_.end(), m.config) == configs_.end())
     return refuse(p, "create", "/config", "no shipped scenario named \"" + m.config + "\"");
   const std::filesystem::path file = std::filesystem::path(cfg_.configs_dir) / m.config;
@@ -264,17 +312,27 @@ void Hub::create(Peer* p, const CreateMsg& m) {
   r.op = groundsim::request_t::OP_CREATE;
   r.scenario_json = std::move(sent.json);
   r.mode = modeValue(m.mode);
-  r.publish_rate = m.publish_rate;
+  r.publish_rate = publishRateFor(cfg_.limits, m.publish_rate, sc.output_rate);
   r.duration = -1;  // a game runs until its players leave
-  createRound(p, std::move(r), std::make_shared<const std::vector<scenario::Asset>>(std::move(sent.assets)), m.drive,
-              0);
+  // the server counts each browser's sessions and creates on its own (--client-sessions, --client-creates)
+  r.client_id = bus_.client_id + "-b" + std::to_string(ps.serial);  // a principal of its own (protocol/client_id.hpp)
+  ++ps.creating;
+  createRound(p, ps.serial, std::move(r),
+              std::make_shared<const std::vector<scenario::Asset>>(std::move(sent.assets)), m.drive, 0);
 }
 
-void Hub::createRound(Peer* p, groundsim::request_t r, std::shared_ptr<const std::vector<scenario::Asset>> assets,
-                      bool drive, int round) {
+void Hub::createRound(Peer* p, std::uint64_t serial, groundsim::request_t r,
+                      std::shared_ptr<const std::vector<scenario::Asset>> assets, bool drive, int round) {
   const std::string doc = r.scenario_json;
-  request(r, [this, p, drive, doc, r, assets, round](const groundsim::reply_t* rep) {
-    if (!peers_.count(p)) return;
+  request(r, [this, p, serial, drive, doc, r, assets, round](const groundsim::reply_t* rep) {
+    // the browser may have gone (and another taken its address): known by its serial
+    auto pit = peers_.find(p);
+    const bool here = pit != peers_.end() && pit->second.serial == serial;
+    const bool again = rep && !rep->ok && rep->error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS &&
+                       !assets->empty() && round + 1 < net::kAssetRounds && here;
+    if (here && !again) --pit->second.creating;
+    if (rep && rep->ok) return created(here ? p : nullptr, serial, *rep, doc, drive);
+    if (!here) return;
     if (!rep) return refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
     if (!rep->ok && rep->error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS && !assets->empty() &&
         round + 1 < net::kAssetRounds) {
@@ -284,31 +342,41 @@ void Hub::createRound(Peer* p, groundsim::request_t r, std::shared_ptr<const std
         wants_.erase(w);
       }
       // a large file takes a while to send: not on the I/O thread
-      worker_.post([this, p, r, assets, drive, round, wants] {
+      worker_.post([this, p, serial, r, assets, drive, round, wants] {
         std::string error;
         try {
           if (bus_.assets) bus_.assets(*assets, wants);
         } catch (const std::exception& e) {
           error = std::string("sending the scenario's files: ") + e.what();
         }
-        asio::post(io_, [this, p, r, assets, drive, round, error] {
-          if (!peers_.count(p)) return;
-          if (!error.empty()) return refuse(p, "create", "", error);
-          createRound(p, r, assets, drive, round + 1);
+        asio::post(io_, [this, p, serial, r, assets, drive, round, error] {
+          auto pit = peers_.find(p);
+          if (pit == peers_.end() || pit->second.serial != serial) return;
+          if (!error.empty()) {
+            --pit->second.creating;
+            return refuse(p, "create", "", error);
+          }
+          createRound(p, serial, r, assets, drive, round + 1);
         });
       });
       return;
     }
-    if (!rep->ok) return refuse(p, "create", "", rep->error);
-    SessionEntry& s = sessions_[rep->session_id];
-    s.token = rep->token;  // kept here: never sent to a browser
-    scenario_texts_[rep->session_id] = doc;
-    sendJson(p, json{{"op", "created"}, {"session", rep->session_id}}.dump());
-    JoinMsg j;
-    j.session = rep->session_id;
-    j.role = drive ? Role::Drive : Role::Spectate;
-    join(p, j);
+    return refuse(p, "create", "", rep->error);
   });
+}
+
+void Hub::created(Peer* p, std::uint64_t serial, const groundsim::reply_t& rep, const std::string& doc, bool drive) {
+  SessionEntry& s = sessions_[rep.session_id];
+  s.token = rep.token;  // kept here: never sent to a browser
+  s.creator = serial;
+  s.unwatched_since = Clock::now();  // until someone watches: a create nobody joins ends too
+  scenario_texts_[rep.session_id] = doc;
+  if (!p) return;  // its browser left before the reply: ended by tick() as nobody watches it
+  sendJson(p, json{{"op", "created"}, {"session", rep.session_id}}.dump());
+  JoinMsg j;
+  j.session = rep.session_id;
+  j.role = drive ? Role::Drive : Role::Spectate;
+  join(p, j);
 }
 
 scenario::FileAccess Hub::knownAssets(const std::string& scenario_json) const {
@@ -692,13 +760,7 @@ void Hub::tick() {
   for (auto& [id, s] : sessions_) {
     if (s.token.empty() || !s.watchers.empty() || s.unwatched_since == Clock::time_point{}) continue;
     if (now - s.unwatched_since < std::chrono::milliseconds(static_cast<int>(cfg_.orphan_stop_s * 1000))) continue;
-    groundsim::request_t r{};
-    r.op = groundsim::request_t::OP_STOP;
-    r.session_id = id;
-    r.token = s.token;
-    request(r, nullptr);
-    s.token.clear();
-    s.unwatched_since = {};
+    stopSession(id, s);
   }
   // forget views of sessions nobody watches (a hostile browser cannot grow the table)
   for (auto it = sessions_.begin(); it != sessions_.end();) {
@@ -718,10 +780,8 @@ void Hub::tick() {
 void Hub::stopOwnedSessions() {
   for (auto& [id, s] : sessions_) {
     if (s.token.empty()) continue;
-    groundsim::request_t r{};
-    r.op = groundsim::request_t::OP_STOP;
-    r.session_id = id;
-    r.token = s.token;
+    // not through request(): the I/O loop that would time its reply out is ending
+    groundsim::request_t r = stopRequest(id, s.token);
     r.client_id = bus_.client_id;
     r.request_id = next_request_++;
     bus_.request(r);
@@ -729,7 +789,21 @@ void Hub::stopOwnedSessions() {
   }
 }
 
+// At most one lobby every kLobbyPeriod: joins, leaves and connections
+// (a page can cause hundreds a second) mark it due; one timer builds it once
+// for every browser.
 void Hub::publishLobby() {
+  if (lobby_due_) return;
+  lobby_due_ = true;
+  lobby_timer_.expires_after(kLobbyPeriod);
+  lobby_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    lobby_due_ = false;
+    publishLobbyNow();
+  });
+}
+
+void Hub::publishLobbyNow() {
   const auto now = Clock::now();
   json sessions = json::array();
   std::set<std::string> listed;

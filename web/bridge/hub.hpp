@@ -22,6 +22,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 
+#include "bridge/browser_limits.hpp"
 #include "bridge/browser_message.hpp"
 #include "bridge/controls.hpp"
 #include "bridge/lcm_link.hpp"
@@ -41,7 +42,8 @@ struct HubConfig {
   double grid_step = 0.5;         // m between nodes
   double vehicle_margin = 1.0;    // m between the copies of a car (create with "vehicles")
   double reply_timeout_s = 3.0;   // s  a request without reply is answered as failed
-  double orphan_stop_s = 30.0;    // s  a session this bridge created, watched by nobody, is stopped
+  double orphan_stop_s = 8.0;     // s  a session this bridge created, watched by nobody, is stopped (--orphan-stop)
+  BrowserLimits limits;           // what one browser may create (browser_limits.hpp)
   bool log = true;                // refusals and connections on stderr
 };
 
@@ -71,6 +73,7 @@ class Hub {
   // Stops the sessions this bridge created (at shutdown).
   void stopOwnedSessions();
   const std::vector<std::string>& configs() const { return configs_; }
+  const BrowserLimits& limits() const { return cfg_.limits; }
   const std::map<std::string, ShippedScenario>& scenarios() const { return scenarios_; }
 
   // Any thread: whether a browser watches the session, and a message for
@@ -89,6 +92,9 @@ class Hub {
 
  private:
   struct PeerState {
+    std::uint64_t serial = 0;  // this browser's number (sessions it created name it; its creates' client id)
+    std::shared_ptr<BrowserAllowance> allowance;
+    int creating = 0;          // its creates awaiting the server's reply
     std::string session;
     Role role = Role::Spectate;
     int vehicle = -1;
@@ -106,6 +112,7 @@ class Hub {
   };
   struct SessionEntry {
     std::string token;                     // "" unless this bridge created it
+    std::uint64_t creator = 0;             // the browser that created it (PeerState::serial; 0: none)
     std::shared_ptr<SceneView> view;
     std::shared_ptr<const std::string> joined_layout;  // view->layout dumped once
     bool view_failed = false;
@@ -124,11 +131,15 @@ class Hub {
   };
 
   void handle(Peer* p, PeerState& ps, const BrowserMessage& m);
-  void create(Peer* p, const CreateMsg& m);
+  void create(Peer* p, PeerState& ps, const CreateMsg& m, const ShippedScenario& sc);
   // One round of a create: a refusal for missing files sends the parts the
   // server asked for (on the worker) and creates again, up to net::kAssetRounds.
-  void createRound(Peer* p, groundsim::request_t r, std::shared_ptr<const std::vector<scenario::Asset>> assets,
-                   bool drive, int round);
+  void createRound(Peer* p, std::uint64_t serial, groundsim::request_t r,
+                   std::shared_ptr<const std::vector<scenario::Asset>> assets, bool drive, int round);
+  // The create's reply: the session is this bridge's (and its creator's)
+  // whether or not the creating browser is still there.
+  void created(Peer* p, std::uint64_t serial, const groundsim::reply_t& rep, const std::string& doc, bool drive);
+  bool ours(const std::string& client_id) const;  // the bridge's id, or one of its browsers' (id-bN)
   // The files a session's scenario names, from those this bridge sent (by hash).
   scenario::FileAccess knownAssets(const std::string& scenario_json) const;
   void join(Peer* p, const JoinMsg& m);
@@ -143,6 +154,12 @@ class Hub {
   void preview(Peer* p, const PreviewMsg& m);
   void sessionOp(Peer* p, PeerState& ps, const SessionOpMsg& m);
   void refuse(Peer* p, const std::string& op, const std::string& field, const std::string& reason);
+  // A browser's create against its limits (browser_limits.hpp); at its
+  // session limit, its own sessions nobody watches end first.
+  bool allowCreate(Peer* p, PeerState& ps, const CreateMsg& c, const ShippedScenario& s);
+  int ownedBy(std::uint64_t serial) const;
+  void stopSession(const std::string& id, SessionEntry& s);  // a session this bridge created (its token)
+  groundsim::request_t stopRequest(const std::string& id, const std::string& token) const;
   void sendJson(Peer* p, const std::string& text);
 
   void request(groundsim::request_t r, std::function<void(const groundsim::reply_t*)> done);
@@ -157,7 +174,8 @@ class Hub {
                     std::int64_t seq);
   void onStatus(const groundsim::server_status_t& s);
   void tick();  // 1 Hz: lobby, orphaned sessions
-  void publishLobby();
+  void publishLobby();     // soon (coalesced: at most one every 50 ms)
+  void publishLobbyNow();
   void updateWatched(const std::string& id);
 
   boost::asio::io_context& io_;
@@ -177,6 +195,7 @@ class Hub {
   bool preview_busy_ = false;
   void nextPreview();
   std::int64_t next_request_ = 1;
+  std::uint64_t next_browser_ = 1;
   struct Pending {
     std::function<void(const groundsim::reply_t*)> done;
     std::shared_ptr<boost::asio::steady_timer> timer;
@@ -190,6 +209,8 @@ class Hub {
   std::int64_t refused_ = 0;
   std::atomic<std::uint64_t> undecodable_{0};  // LCM thread
   boost::asio::steady_timer ticker_;
+  boost::asio::steady_timer lobby_timer_;
+  bool lobby_due_ = false;
 
   // shared with the LCM thread
   std::mutex shared_mu_;

@@ -101,6 +101,7 @@ ShippedList listShippedScenarios(const std::string& dir, double margin, int max_
       s.name = sc.name;
       s.description = sc.description;
       s.vehicles = static_cast<int>(sc.vehicles.size());
+      s.output_rate = sc.output_rate;
     } catch (const std::exception& e) {
       out.skipped.push_back(id + ": " + firstLine(e.what()));
       continue;

@@ -17,6 +17,7 @@ struct ShippedScenario {
   std::string name;         // the scenario's "name"
   std::string description;  // its "description" ("" when it has none)
   int vehicles = 1;         // its own vehicles (a create with "vehicles": 0)
+  double output_rate = 50;  // Hz: its states published (a create with publish_rate 0)
   int min_cars = 1;         // the cars a create may ask for (vehicles 0 or n copies of its car)
   int max_cars = 1;
   std::string limit;        // why no more than max_cars: the first refusal, or the cap

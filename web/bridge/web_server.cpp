@@ -11,6 +11,7 @@
 #include <thread>
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
@@ -63,7 +64,12 @@ const char* contentType(const std::string& name) {
 class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
  public:
   WsSession(tcp::socket socket, Hub& hub, std::shared_ptr<WebTraffic> traffic)
-      : ws_(std::move(socket)), hub_(hub), traffic_(std::move(traffic)) {
+      : ws_(std::move(socket)),
+        hub_(hub),
+        traffic_(std::move(traffic)),
+        // a burst of a second's worth (a page catching up after a stall), then the rate
+        messages_(hub.limits().messages_per_second, std::max(1.0, hub.limits().messages_per_second)),
+        pause_(ws_.get_executor()) {
     beast::error_code ec;
     const auto ep = ws_.next_layer().socket().remote_endpoint(ec);
     name_ = ec ? "?" : ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -126,7 +132,21 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
       const std::string text = beast::buffers_to_string(self->buffer_.data());
       self->buffer_.consume(self->buffer_.size());
       if (self->ws_.got_text()) self->hub_.onText(self.get(), text); else self->hub_.onBinary(self.get());
-      if (self->open_) self->read();
+      if (self->open_) self->readNext();
+    });
+  }
+
+  // A browser sending faster than --browser-messages waits: its next
+  // message is read once the rate allows (TCP holds the rest, and the page's
+  // own sends back up), so one page's flood costs the bridge a bounded share
+  // of its thread, and nothing it sent is dropped.
+  void readNext() {
+    const double wait = messages_.take(TokenBucket::Clock::now());
+    if (wait <= 0) return read();
+    ++paused_;
+    pause_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(wait * 1e6) + 1));
+    pause_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      if (!ec && self->open_) self->read();
     });
   }
 
@@ -172,6 +192,7 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     if (!open_) return;
     open_ = false;
     hub_.detach(this);
+    pause_.cancel();
     queue_.clear();
     for (auto& m : latest_) m.reset();
     beast::error_code ec;
@@ -189,6 +210,9 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   std::shared_ptr<const std::string> current_;
   bool writing_ = false, open_ = false, closing_ = false;
   std::uint64_t states_sent_ = 0, states_skipped_ = 0;
+  TokenBucket messages_;       // messages read a second (--browser-messages)
+  asio::steady_timer pause_;   // waiting for the next read's turn
+  std::uint64_t paused_ = 0;   // reads that waited
 };
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
