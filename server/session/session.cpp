@@ -389,31 +389,30 @@ void Session::reportHits() {
 // touches no other car. Logged per vehicle, so that re-simulation and a
 // standby release the same car at the same tick.
 void Session::checkCommandTimeout(TimePoint now) {
-  const double limit = cfg_.command_timeout;
   for (size_t v = 0; v < vehicles_.size(); ++v) {
-    const std::string& name = names_ && v < names_->size() ? (*names_)[v] : std::to_string(v);
-    if (Held& h = car_held_[v]; h.held && seconds(now - h.last) > limit) {
-      // as for drive_t: the pedals are released, steering and gear stay
-      h.held = false;
-      releasePedals(sim_, vehicles_[v].road_car);
-      Applied a = entry(AppliedKind::ControlsTimeout);
-      a.vehicle = static_cast<int>(v);
-      logApplied(std::move(a));
-      event(Severity::Warning, ErrorCode::CommandTimeout,
-            "no controls command for " + name + " (vehicle " + std::to_string(v) + ") for " + shortNumber(limit) +
-                " s: its throttle and brake set to zero");
-    }
-    if (Held& h = drive_held_[v]; h.held && seconds(now - h.last) > limit) {
-      h.held = false;
-      releaseDrive(sim_, vehicles_[v].wheels);
-      Applied a = entry(AppliedKind::DriveTimeout);
-      a.vehicle = static_cast<int>(v);
-      logApplied(std::move(a));
-      event(Severity::Warning, ErrorCode::CommandTimeout,
-            "no drive command for " + name + " (vehicle " + std::to_string(v) + ") for " + shortNumber(limit) +
-                " s: its torques set to zero");
-    }
+    const VehicleWheels& vw = vehicles_[v];
+    // as for drive_t: the pedals are released, steering and gear stay
+    expire(car_held_[v], now, v, AppliedKind::ControlsTimeout, "controls", "its throttle and brake",
+           [&] { releasePedals(sim_, vw.road_car); });
+    expire(drive_held_[v], now, v, AppliedKind::DriveTimeout, "drive", "its torques",
+           [&] { releaseDrive(sim_, vw.wheels); });
   }
+}
+
+template <class Release>
+void Session::expire(Held& h, TimePoint now, size_t v, AppliedKind kind, const char* command, const char* what,
+                     Release release) {
+  const double limit = cfg_.command_timeout;
+  if (!h.held || seconds(now - h.last) <= limit) return;
+  h.held = false;
+  release();
+  Applied a = entry(kind);
+  a.vehicle = static_cast<int>(v);
+  logApplied(std::move(a));
+  const std::string& name = names_ && v < names_->size() ? (*names_)[v] : std::to_string(v);
+  event(Severity::Warning, ErrorCode::CommandTimeout,
+        std::string("no ") + command + " command for " + name + " (vehicle " + std::to_string(v) + ") for " +
+            shortNumber(limit) + " s: " + what + " set to zero");
 }
 
 void Session::releaseHeld(TimePoint now) {

@@ -132,6 +132,11 @@ class Session : public HostedSession {
   void event(Severity sev, ErrorCode code, std::string reason);
   void checkCommandTimeout(TimePoint now);
   void releaseHeld(TimePoint now);    // every vehicle's hold forgotten (a reset), timeouts from now
+  struct Held;
+  // One vehicle's hold past the timeout: released, logged, warned of.
+  template <class Release>
+  void expire(Held& h, TimePoint now, size_t v, AppliedKind kind, const char* command, const char* what,
+              Release release);
   void reanchor(TimePoint now);
   void updateInfo(TimePoint now);
   bool finished() const;

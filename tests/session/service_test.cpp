@@ -121,31 +121,26 @@ TEST(Service, OneClientIsBoundedWhileAnotherStillCreates) {
       << fourth.error;
   const Reply other = createAs(5, "cli-other/1");
   EXPECT_TRUE(other.ok) << "another client still creates: " << other.error;
+  auto stopAs = [&](std::int64_t id, const Reply& made_by) {
+    Request stop;
+    stop.op = Op::Stop;
+    stop.request_id = id;
+    stop.client_id = "cli-loop/1";
+    stop.session_id = made_by.session_id;
+    stop.token = made_by.token;
+    service.handleRequest(stop);
+    Reply stopped;
+    ASSERT_TRUE(out.waitReply(id, &stopped));
+    ASSERT_TRUE(stopped.ok) << stopped.error;
+  };
   // a stopped session frees its place; the rate bucket (6: 4 taken) allows two more now
-  Request stop;
-  stop.op = Op::Stop;
-  stop.request_id = 6;
-  stop.client_id = "cli-loop/1";
-  stop.session_id = made[0].session_id;
-  stop.token = made[0].token;
-  service.handleRequest(stop);
-  Reply stopped;
-  ASSERT_TRUE(out.waitReply(6, &stopped));
-  ASSERT_TRUE(stopped.ok) << stopped.error;
+  stopAs(6, made[0]);
   EXPECT_TRUE(createAs(7, "cli-loop/1").ok);
-  // the burst of 6 used up (the refused 4th took one): refused by rate, naming it
-  stop.request_id = 8;
-  stop.session_id = made[1].session_id;
-  stop.token = made[1].token;
-  service.handleRequest(stop);
-  ASSERT_TRUE(out.waitReply(8, &stopped));
+  stopAs(8, made[1]);
   const Reply early = createAs(9, "cli-loop/1");
   EXPECT_TRUE(early.ok) << early.error;  // the 6th create of the minute
-  stop.request_id = 10;
-  stop.session_id = made[2].session_id;
-  stop.token = made[2].token;
-  service.handleRequest(stop);
-  ASSERT_TRUE(out.waitReply(10, &stopped));
+  stopAs(10, made[2]);
+  // the burst of 6 used up (the refused 4th took one): refused by rate, naming it
   const Reply fast = createAs(11, "cli-loop/1");
   EXPECT_FALSE(fast.ok);
   EXPECT_NE(fast.error.find("at most 6 a minute (server --client-creates)"), std::string::npos) << fast.error;

@@ -1,7 +1,8 @@
 // One page cannot take the server (docs/front-end.md, Fairness), against a
 // plain groundsim-server and groundsim-web as the README starts them: a
 // hostile page sends, on one WebSocket, 80 creates of sedan.json in fast
-// mode with 8 cars at 1000 Hz, 80 real-time creates of 8 cars, and a flood
+// mode with 8 cars at 1000 Hz, 80 real-time creates of 8 cars (leaving
+// between them), and a flood
 // of 3000 pings. Meanwhile a second, well-behaved browser creates a session
 // and drives it:
 // - every hostile create is answered: refused naming the limit and its
@@ -47,7 +48,10 @@ await hostile.evaluate((u) => {
     w.open = true;
     for (let k = 0; k < 80; ++k)
       ws.send(JSON.stringify({ op: 'create', config: 'sedan.json', mode: 'fast', vehicles: 8, publish_rate: 1000, drive: false }));
-    for (let k = 0; k < 80; ++k) ws.send(JSON.stringify({ op: 'create', config: 'sedan.json', vehicles: 8, drive: true }));
+    for (let k = 0; k < 80; ++k) {
+      ws.send(JSON.stringify({ op: 'create', config: 'sedan.json', vehicles: 8, drive: true }));
+      if (k % 8 === 7) ws.send('{"op":"leave"}');  // back to the lobby between creates, as a page does
+    }
     for (let k = 1; k <= 3000; ++k) ws.send(JSON.stringify({ op: 'ping', t: k }));
   };
 }, wsUrl);

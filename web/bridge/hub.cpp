@@ -533,11 +533,14 @@ void Hub::leave(Peer* p) {
     if (s.watchers.empty()) s.unwatched_since = Clock::now();
   }
   const std::string id = ps.session;
-  const int logged = ps.logged;
-  std::string player = std::move(ps.player);
-  ps = PeerState{};
-  ps.logged = logged;
-  ps.player = std::move(player);
+  // what is the browser's, not its session's, stays: who it is, its name, its allowance
+  PeerState kept;
+  kept.serial = ps.serial;
+  kept.allowance = std::move(ps.allowance);
+  kept.creating = ps.creating;
+  kept.logged = ps.logged;
+  kept.player = std::move(ps.player);
+  ps = std::move(kept);
   updateWatched(id);
   publishLobby();
 }
@@ -789,13 +792,16 @@ void Hub::stopOwnedSessions() {
   }
 }
 
-// At most one lobby every kLobbyPeriod: joins, leaves and connections
-// (a page can cause hundreds a second) mark it due; one timer builds it once
-// for every browser.
+// At most one lobby every kLobbyPeriod: joins, leaves and connections (a
+// page can cause hundreds a second) publish it at once when the last is
+// older than that (so it reaches a page before the answer that caused it),
+// else mark it due for one timer that builds it once for every browser.
 void Hub::publishLobby() {
   if (lobby_due_) return;
+  const auto now = Clock::now();
+  if (now - lobby_sent_ >= kLobbyPeriod) return publishLobbyNow();
   lobby_due_ = true;
-  lobby_timer_.expires_after(kLobbyPeriod);
+  lobby_timer_.expires_at(lobby_sent_ + kLobbyPeriod);
   lobby_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec) return;
     lobby_due_ = false;
@@ -805,6 +811,7 @@ void Hub::publishLobby() {
 
 void Hub::publishLobbyNow() {
   const auto now = Clock::now();
+  lobby_sent_ = now;
   json sessions = json::array();
   std::set<std::string> listed;
   auto entry = [&](const std::string& id) -> json {

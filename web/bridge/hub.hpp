@@ -211,6 +211,7 @@ class Hub {
   boost::asio::steady_timer ticker_;
   boost::asio::steady_timer lobby_timer_;
   bool lobby_due_ = false;
+  std::chrono::steady_clock::time_point lobby_sent_{};
 
   // shared with the LCM thread
   std::mutex shared_mu_;
