@@ -6,7 +6,7 @@
 // ("Crowds") with each scene's cost against its reference (the pair apart,
 // or the same number of cars spread), the substeps the run took per step
 // and its hits.
-// Run: build/bench/physics/crowd_bench [rounds (default 5)] [scene dir]
+// Run: build/bench/physics/crowd_bench [rounds (default 5)] [scene dir] [one scene, for a profile]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,7 +79,9 @@ int main(int argc, char** argv) {
   };
   std::vector<std::pair<std::string, Result>> done;
   std::printf("| scene | steps/s | cost against | evaluations per step | hits |\n|---|---|---|---|---|\n");
+  const std::string only = argc > 3 ? argv[3] : "";
   for (const Row& row : rows) {
+    if (!only.empty() && only != row.scene) continue;
     const Result r = measure(dir + "/" + row.scene + ".json", rounds);
     done.emplace_back(row.scene, r);
     double ref = r.steps_per_s;

@@ -171,12 +171,30 @@ Vec3 deepestCirclePoint(const Shape& s, const Frame& f, const Vec3& centre, cons
 void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
   const CollisionGroup& gp = m.groups[P];
   const CollisionGroup& gc = m.groups[C];
+  // A rigid group's probes lie in its box (box_c, box_h, in its reference
+  // body's frame): a shape whose bounding sphere misses that box reaches
+  // none of them, and a probe fixed to that body is tested against the
+  // sphere in the body's frame, with no rotation. Both only skip work: a
+  // probe they pass meets the world-frame test below as before (so the
+  // same probes reach the shape, bit for bit), and the 1 mm of slack
+  // covers the round-off between the two frames.
+  constexpr double kSlack = 1e-3;  // m
+  const int rb = gp.rigid ? gp.ref_body : -1;
   for (int ci = gc.collider_begin; ci < gc.collider_end; ++ci) {
     const Collider& col = m.colliders[ci];
     const Frame f = colliderFrame(col, ws);
     const double reach = col.shape.bound();
+    Vec3 c_local = Vec3::Zero();  // the shape's origin in rb's frame
+    const double cull = (reach + kSlack) * (reach + kSlack);
+    if (rb >= 0) {
+      c_local = ws.R[rb].transpose() * (f.o - ws.com[rb]);
+      const Vec3 out = ((c_local - gp.box_c).cwiseAbs() - gp.box_h).cwiseMax(0.0);
+      if (out.squaredNorm() > cull) continue;
+    }
     for (int pi = gp.probe_begin; pi < gp.probe_end; ++pi) {
       const Probe& pr = m.probes[pi];
+      if (rb >= 0 && pr.body == rb && pr.wheel < 0 && pr.point < 0 && (pr.local - c_local).squaredNorm() > cull)
+        continue;
       Vec3 p, u;
       if (pr.wheel >= 0) {
         const Wheel& wh = m.wheels[pr.wheel];
