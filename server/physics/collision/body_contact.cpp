@@ -195,29 +195,30 @@ void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Wo
       const Probe& pr = m.probes[pi];
       if (rb >= 0 && pr.body == rb && pr.wheel < 0 && pr.point < 0 && (pr.local - c_local).squaredNorm() > cull)
         continue;
-      Vec3 p, u;
+      Vec3 p;
+      int moving = -1;  // the body whose velocity at p is the probe's, once it is inside
       if (pr.wheel >= 0) {
         const Wheel& wh = m.wheels[pr.wheel];
         const Vec3 centre = ws.com[wh.body];
         if ((centre - f.o).norm() > reach + wh.radius) continue;
         p = deepestCirclePoint(col.shape, f, centre, ws.R[wh.body] * wh.axis, wh.radius);
-        u = bodyPointVelocity(wh.body, p, ws);
+        moving = wh.body;
       } else if (pr.point >= 0) {
         p = ws.pointPos(pr.point);
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u = ws.pointVel(pr.point);
       } else if (pr.body >= 0) {
         p = ws.com[pr.body] + ws.R[pr.body] * pr.local;
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u = bodyPointVelocity(pr.body, p, ws);
+        moving = pr.body;
       } else {
         p = pr.local;
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u.setZero();
       }
       const Vec3 q = f.R.transpose() * (p - f.o);
       const double dist = col.shape.distance(q);
       if (!(dist < 0.0)) continue;
+      // the probe's velocity, only for a probe inside
+      const Vec3 u = moving >= 0 ? bodyPointVelocity(moving, p, ws) : pr.point >= 0 ? ws.pointVel(pr.point) : Vec3(Vec3::Zero());
       const double depth = -dist;
       const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
       const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);
