@@ -218,7 +218,9 @@ void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Wo
       const double dist = col.shape.distance(q);
       if (!(dist < 0.0)) continue;
       // the probe's velocity, only for a probe inside
-      const Vec3 u = moving >= 0 ? bodyPointVelocity(moving, p, ws) : pr.point >= 0 ? ws.pointVel(pr.point) : Vec3(Vec3::Zero());
+      const Vec3 u = moving >= 0     ? bodyPointVelocity(moving, p, ws)
+                     : pr.point >= 0 ? ws.pointVel(pr.point)
+                                     : Vec3(Vec3::Zero());
       const double depth = -dist;
       const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
       const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);
