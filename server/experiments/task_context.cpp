@@ -155,25 +155,35 @@ void checkRangeEnds(const TaskContext& ctx, const scenario::ParameterRange& rang
 
 // Several agents: the drawn offsets must not bring two of them into each
 // other (the scene builder would refuse that start at a reset, in the
-// middle of a training run). Each may move by up to `reach` (the largest
-// offset in x and y); two placed d apart come no closer than d - 2 reach.
+// middle of a training run). Each may move by up to the largest offset in
+// x and in y and turn by up to the largest drawn yaw. On the ground the
+// builder compares footprint rectangles, and so does this check, grown by
+// those moves (scenario::footprintsMayMeet): sedans stand 2.5 m abreast.
+// Placed freely, the circles about the rectangles (the builder's test).
 void checkAgentsApart(const scenario::Scenario& s, const std::vector<int>& agents, const scenario::Randomization& r,
                       const std::string& pointer) {
-  const double reach = std::hypot(std::max(std::abs(r.x[0]), std::abs(r.x[1])),
-                                  std::max(std::abs(r.y[0]), std::abs(r.y[1])));
+  const double mx = std::max(std::abs(r.x[0]), std::abs(r.x[1])), my = std::max(std::abs(r.y[0]), std::abs(r.y[1]));
+  const double reach = std::hypot(mx, my);
+  const double turn = std::max(std::abs(r.yaw_deg[0]), std::abs(r.yaw_deg[1])) * 3.14159265358979323846 / 180.0;
   for (size_t i = 0; i < agents.size(); ++i)
     for (size_t j = i + 1; j < agents.size(); ++j) {
       const scenario::VehicleSpec& a = s.vehicles[static_cast<size_t>(agents[i])];
       const scenario::VehicleSpec& b = s.vehicles[static_cast<size_t>(agents[j])];
       const Vec3 d = b.placement.position - a.placement.position;
       const double apart = std::hypot(d.x(), d.y());
+      const bool flat = a.placement.on_ground && b.placement.on_ground;
       const double need = scenario::vehicleFootprint(a) + scenario::vehicleFootprint(b);
-      if (apart - 2.0 * reach < need)
+      const bool meet = flat ? scenario::footprintsMayMeet(a, b, mx, my, turn) : apart - 2.0 * reach < need;
+      if (meet)
         throw scenario::ScenarioError({scenario::Issue{
             pointer, "agents " + scenario::quote(a.name) + " and " + scenario::quote(b.name) + " start " +
                          scenario::formatNumber(apart) + " m apart and may each be moved up to " +
-                         scenario::formatNumber(reach) + " m (x, y): they could be drawn into each other (their "
-                         "footprints need " + scenario::formatNumber(need) + " m)"}});
+                         scenario::formatNumber(mx) + " m in x and " + scenario::formatNumber(my) +
+                         " m in y and turned up to " + scenario::formatNumber(turn * 180.0 / 3.14159265358979323846) +
+                         " deg: they could be drawn into each other (" +
+                         (flat ? std::string("their footprint rectangles would overlap")
+                               : "their footprints need " + scenario::formatNumber(need) + " m") +
+                         ")"}});
     }
 }
 

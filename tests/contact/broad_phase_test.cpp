@@ -120,6 +120,28 @@ TEST(BroadPhase, CarsInNeighbouringLanesAreNotCandidates) {
   EXPECT_EQ(candidates(close.sim->model(), close.sim->state().y, wc).count({0, 1}), 1u);
 }
 
+// A road car is one rigid body: its box holds its shapes and probes as
+// they are, with no margin for parts that move against it (issue 33). Two
+// sedans side by side with 0.4 m between their bodies at 10 m/s (each box
+// padded by 2 x 0.04 m + 1 cm for the step) are no pair, so they cost what
+// cars far apart cost; nose to tail 0.5 m apart neither.
+TEST(BroadPhase, RigidCarsAFewDecimetresApartAreNotCandidates) {
+  const json cars = {roadCar("a", 0, 0, 0, 10), roadCar("b", 0, 2.2, 0, 10), roadCar("c", -5.2, 0, 0, 10)};
+  SceneRun r = load({{"name", "near"}, {"ground", {{"type", "plane"}}}, {"physics", {{"dt", 0.004}}}, {"vehicles", cars}});
+  const Model& m = r.sim->model();
+  ASSERT_TRUE(m.collisions);
+  for (const CollisionGroup& g : m.groups) {
+    EXPECT_TRUE(g.rigid) << g.name;
+    EXPECT_NEAR(2.0 * g.box_h.y(), 1.16 * 1.55, 1e-9) << g.name;  // the body box's width: no margin
+  }
+  Workspace ws(m, false);
+  for (int k = 0; k < 250; ++k) {
+    ASSERT_TRUE(candidates(m, r.sim->state().y, ws).empty()) << "step " << k;
+    ASSERT_TRUE(scenario::stepScene(r.scene, *r.sim, 1));
+  }
+  EXPECT_EQ(r.sim->forceEvaluations(), 250);  // no contact substeps
+}
+
 // After every step, the narrow phase over all pairs finds contact only in
 // pairs the broad phase kept at the step's start.
 struct Melee {

@@ -99,3 +99,40 @@ TEST(Agents, AnEnvironmentsSnapshotHoldsEveryAgent) {
 
 }  // namespace
 }  // namespace groundsim::experiments::test
+
+namespace groundsim::experiments::test {
+namespace {
+
+// A grid start (issue 33): sedans 2.5 m abreast (0.7 m between their
+// 1.8 m footprints), drawn up to 0.2 m along x and y and 2 degrees of yaw,
+// may start: their footprint rectangles, grown by those draws, stay apart.
+// Their footprint circles (2.65 m each) would need 5.3 m. Turned up to 30
+// degrees they could meet, and the task is refused at /task/randomize.
+nlohmann::json gridDoc(double yaw_deg) {
+  auto car = [](const char* name, double y) {
+    return nlohmann::json{{"name", name}, {"kind", "road_car"}, {"initial", {{"position", {0.0, y, 0.0}}}}};
+  };
+  return {{"physics", {{"dt", 0.004}}},
+          {"ground", plane()},
+          {"vehicles", {car("left", 1.25), car("right", -1.25)}},
+          {"task",
+           {{"agents", {"left", "right"}},
+            {"observation", {"position"}},
+            {"randomize", {{"x", {-0.2, 0.2}}, {"y", {-0.2, 0.2}}, {"yaw_deg", {-yaw_deg, yaw_deg}}}}}}};
+}
+
+TEST(Agents, GridStartsAreKeptApartByFootprintRectangles) {
+  Batch b(gridDoc(2.0), 8);
+  b.reset(3);
+  for (int e = 0; e < 8; ++e) EXPECT_GT(b.o("position.y", 2 * e) - b.o("position.y", 2 * e + 1), 1.8);
+  try {
+    makeVecEnv(gridDoc(30.0).dump(), 1);
+    ADD_FAILURE() << "accepted";
+  } catch (const scenario::ScenarioError& e) {
+    EXPECT_EQ(e.issues().at(0).path, "/task/randomize");
+    EXPECT_NE(e.issues().at(0).message.find("footprint rectangles would overlap"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace groundsim::experiments::test

@@ -171,35 +171,56 @@ Vec3 deepestCirclePoint(const Shape& s, const Frame& f, const Vec3& centre, cons
 void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
   const CollisionGroup& gp = m.groups[P];
   const CollisionGroup& gc = m.groups[C];
+  // A rigid group's probes lie in its box (box_c, box_h, in its reference
+  // body's frame): a shape whose bounding sphere misses that box reaches
+  // none of them, and a probe fixed to that body is tested against the
+  // sphere in the body's frame, with no rotation. Both only skip work: a
+  // probe they pass meets the world-frame test below as before (so the
+  // same probes reach the shape, bit for bit), and the 1 mm of slack
+  // covers the round-off between the two frames.
+  constexpr double kSlack = 1e-3;  // m
+  const int rb = gp.rigid ? gp.ref_body : -1;
   for (int ci = gc.collider_begin; ci < gc.collider_end; ++ci) {
     const Collider& col = m.colliders[ci];
     const Frame f = colliderFrame(col, ws);
     const double reach = col.shape.bound();
+    Vec3 c_local = Vec3::Zero();  // the shape's origin in rb's frame
+    const double cull = (reach + kSlack) * (reach + kSlack);
+    if (rb >= 0) {
+      c_local = ws.R[rb].transpose() * (f.o - ws.com[rb]);
+      const Vec3 out = ((c_local - gp.box_c).cwiseAbs() - gp.box_h).cwiseMax(0.0);
+      if (out.squaredNorm() > cull) continue;
+    }
     for (int pi = gp.probe_begin; pi < gp.probe_end; ++pi) {
       const Probe& pr = m.probes[pi];
-      Vec3 p, u;
+      if (rb >= 0 && pr.body == rb && pr.wheel < 0 && pr.point < 0 && (pr.local - c_local).squaredNorm() > cull)
+        continue;
+      Vec3 p;
+      int moving = -1;  // the body whose velocity at p is the probe's, once it is inside
       if (pr.wheel >= 0) {
         const Wheel& wh = m.wheels[pr.wheel];
         const Vec3 centre = ws.com[wh.body];
         if ((centre - f.o).norm() > reach + wh.radius) continue;
         p = deepestCirclePoint(col.shape, f, centre, ws.R[wh.body] * wh.axis, wh.radius);
-        u = bodyPointVelocity(wh.body, p, ws);
+        moving = wh.body;
       } else if (pr.point >= 0) {
         p = ws.pointPos(pr.point);
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u = ws.pointVel(pr.point);
       } else if (pr.body >= 0) {
         p = ws.com[pr.body] + ws.R[pr.body] * pr.local;
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u = bodyPointVelocity(pr.body, p, ws);
+        moving = pr.body;
       } else {
         p = pr.local;
         if ((p - f.o).squaredNorm() > reach * reach) continue;
-        u.setZero();
       }
       const Vec3 q = f.R.transpose() * (p - f.o);
       const double dist = col.shape.distance(q);
       if (!(dist < 0.0)) continue;
+      // the probe's velocity, only for a probe inside
+      const Vec3 u = moving >= 0     ? bodyPointVelocity(moving, p, ws)
+                     : pr.point >= 0 ? ws.pointVel(pr.point)
+                                     : Vec3(Vec3::Zero());
       const double depth = -dist;
       const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
       const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);

@@ -79,6 +79,9 @@ struct CollisionGroup {
   // and shape with the bound's margin: the broad phase's closer check
   Vec3 box_c = Vec3::Zero(), box_h = Vec3::Zero();  // m  centre and half extents
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // m  static groups: world box
+  // every probe and shape fixed to the reference body (a road car, an
+  // object with mass): box_c, box_h hold them exactly, with no margin
+  bool rigid = false;
   double friction = 0.5;            // -      Coulomb mu; a pair uses sqrt(mu_a mu_b)
   int probe_begin = 0, probe_end = 0;
   int collider_begin = 0, collider_end = 0;

@@ -340,8 +340,12 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     // steer, steered axle points, tyre particles) are held as the sphere
     // they sweep about their centre of turning, so the box holds them in
     // any pose; parts fixed to it as they are.
+    // whether every part is fixed to the reference body (a road car, an
+    // object with mass): then the box below is exact in any pose
+    bool rigid = true;
     for (int i = g.collider_begin; i < g.collider_end; ++i) {
       const Collider& c = m.colliders[i];
+      rigid = rigid && c.body == g.ref_body;
       const Mat3 Rb = Quat(bodyRot(y, c.body)).normalized().toRotationMatrix();
       const Vec3 centre = Vec3(bodyPos(y, c.body)) + Rb * c.pos;
       r = std::max(r, (centre - ref).norm() + c.shape.bound());
@@ -350,6 +354,9 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     }
     for (int i = g.probe_begin; i < g.probe_end; ++i) {
       const Probe& p = m.probes[i];
+      rigid = rigid && p.wheel < 0 && p.particle < 0 &&
+              (p.point >= 0 ? m.points[p.point].body == g.ref_body && m.points[p.point].steer_wheel < 0
+                            : p.body == g.ref_body);
       if (p.wheel >= 0) {
         const double rw = m.wheels[p.wheel].radius;
         r = std::max(r, (Vec3(bodyPos(y, p.body)) - ref).norm() + rw);
@@ -372,10 +379,14 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     }
     // suspension travel, tyre and spring deflection move parts relative
     // to the reference body: a margin keeps them inside the bound, and the
-    // box gets the same margin on every side
+    // box gets the same margin on every side. A rigid group's parts never
+    // move against its reference body, so its box holds them as they are
+    // (the broad phase still pads it by the step's motion): two sedans
+    // 0.4 m apart are no pair (issue 33). Its sphere keeps the margin.
     g.bound = 1.1 * r + 0.05;
     g.box_c = 0.5 * (lo + hi);
-    g.box_h = 0.5 * (hi - lo) + Vec3::Constant(0.1 * r + 0.05);
+    g.box_h = 0.5 * (hi - lo) + Vec3::Constant(rigid ? 0.0 : 0.1 * r + 0.05);
+    g.rigid = rigid;
   }
   for (CollisionGroup& g : m.groups) g.face_probes = faceProbes(m, g, y);
   m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));
