@@ -173,11 +173,16 @@ def test_rows_do_not_depend_on_threads_and_snapshots_restore_both_agents():
 
 
 def test_starts_that_could_be_drawn_into_each_other_are_refused(race_doc):
-    doc = race(race_doc, randomize={"y": [-3.2, 3.2]})  # 10 m apart, each may move 3.2 m: 3.6 < 4.13 m
+    # 10 m apart side by side, each may move 4.4 m across: their footprint
+    # rectangles (a sedan is 1.8 m wide) may meet; 3.2 m each (3.6 m between
+    # centres) is a valid start since starts are kept apart by rectangles
+    ok = race(race_doc, randomize={"y": [-3.2, 3.2]})
+    groundsim.make_vec(ok, 1)
+    doc = race(race_doc, randomize={"y": [-4.4, 4.4]})
     with pytest.raises(groundsim.ScenarioError) as e:
         groundsim.make_vec(doc, 1)
     assert e.value.issues[0].path == "/task/randomize" and "red" in e.value.issues[0].message
     env = groundsim.make_vec(RACE, 1)
     with pytest.raises(groundsim.ExperimentError) as e:
-        env.set_randomization({"x": [-2.5, 2.5], "y": [-2.5, 2.5]})
+        env.set_randomization({"x": [-2.5, 2.5], "y": [-4.5, 4.5]})
     assert e.value.field == "randomize"
