@@ -325,23 +325,27 @@ int resimulate(const ReplayOptions& o) {
         ++compared_raw;
       }
     }
-    // a car or contact state names its own publisher: the owner killed
+    // A car or contact state names its own publisher: an owner killed
     // between a state and its car state leaves the new owner's copy of the
-    // car state (published again, equal but for the epoch) in the file
-    const std::int64_t state_epoch = f.epoch;
-    auto publishedBy = [&f, state_epoch](const std::string& text) -> const session::Frame& {
-      const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+    // car state (published again, equal but for the epoch) in the file.
+    // Compared as the state's publisher's first; only a difference reads
+    // the message's own epoch.
+    auto sameAs = [&](const char* what, auto encode, const std::string& recorded) {
+      if (record::toJson(encode(f)) == recorded) return std::optional<int>();
+      const std::int64_t state_epoch = f.epoch;
+      const nlohmann::json j = nlohmann::json::parse(recorded, nullptr, false);
       f.epoch = j.is_object() ? j.value("epoch", state_epoch) : state_epoch;
-      return f;
+      std::optional<int> code = differsFrom(what, seq, record::toJson(encode(f)), recorded);
+      f.epoch = state_epoch;
+      return code;
     };
     if (auto it = cars.find(seq); it != cars.end()) {
-      if (auto code = differsFrom("car state", seq, record::toJson(net::toCarMessage(publishedBy(it->second))), it->second))
+      if (auto code = sameAs("car state", [](const session::Frame& g) { return net::toCarMessage(g); }, it->second))
         return *code;
       ++compared_cars;
     }
     if (auto it = contacts.find(seq); it != contacts.end()) {
-      if (auto code =
-              differsFrom("contact state", seq, record::toJson(net::toContactMessage(publishedBy(it->second))), it->second))
+      if (auto code = sameAs("contact state", [](const session::Frame& g) { return net::toContactMessage(g); }, it->second))
         return *code;
       ++compared_contacts;
     }

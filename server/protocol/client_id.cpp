@@ -34,9 +34,4 @@ std::string newClientId(const std::string& kind) {
   return kind + "-" + principal() + instance;
 }
 
-std::string clientPrincipal(const std::string& client_id) {
-  if (client_id.empty()) return "(no client id)";
-  return client_id.substr(0, client_id.find('/'));
-}
-
 }  // namespace groundsim::net

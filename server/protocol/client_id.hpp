@@ -14,10 +14,9 @@ namespace groundsim::net {
 
 // "<kind>-<principal>/<pid>-<random>", kind "cli", "vec", ...; principal
 // from $GROUNDSIM_CLIENT (printable, at most 48 bytes, '/' replaced), else
-// "<user>@<host>".
+// "<user>@<host>". The server reads the principal back as the id up to its
+// first '/' (SessionService::clientKey: the session layer does not link
+// this one).
 std::string newClientId(const std::string& kind);
-// What a server counts a client's sessions and creates under: the id up to
-// its first '/' (a whole id without one); "(no client id)" for "".
-std::string clientPrincipal(const std::string& client_id);
 
 }  // namespace groundsim::net

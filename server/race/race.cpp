@@ -440,17 +440,15 @@ CarStanding standingFrom(const nlohmann::json& j) {
 
 // Doubles go as JSON numbers (nlohmann writes the shortest text that reads
 // back to the same double), so a restored race times the next lap to the bit.
-std::string Race::progress() const {
+nlohmann::json Race::progress() const {
   nlohmann::json cars = nlohmann::json::array();
   for (const CarStanding& c : cars_) cars.push_back(standingJson(c));
-  return nlohmann::json{{"cars", cars}, {"against", against_}, {"near_segment", near_segment_},
-                        {"finished", finished_}, {"went", went_}}
-      .dump();
+  return {{"cars", cars}, {"against", against_}, {"near_segment", near_segment_}, {"finished", finished_},
+          {"went", went_}};
 }
 
-std::string Race::restore(const std::string& text) {
+std::string Race::restore(const nlohmann::json& j) {
   try {
-    const nlohmann::json j = nlohmann::json::parse(text);
     std::vector<CarStanding> cars;
     for (const nlohmann::json& c : j.at("cars")) cars.push_back(standingFrom(c));
     std::vector<double> against = j.at("against").get<std::vector<double>>();

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "scenario/race_spec.hpp"
 
 namespace groundsim::race {
@@ -106,11 +108,11 @@ class Race {
   std::vector<CarStanding> leaderboard() const;
 
   // The race's progress (every car's standing, the wrong-way clocks, who
-  // finished, whether it went) as JSON text, and back: a session's snapshot
+  // finished, whether it went) as JSON, and back: a session's snapshot
   // carries it, so a standby that takes the session over keeps every
   // player's laps (docs/fleet.md). restore returns "" or why not.
-  std::string progress() const;
-  std::string restore(const std::string& progress);
+  nlohmann::json progress() const;
+  std::string restore(const nlohmann::json& progress);
   // "race: {json}" reasons for event_t (docs/protocol.md, Race events).
   static std::string reason(const RaceEvent& e, const std::vector<std::string>& names);
   std::string standingsReason(double t, const std::vector<std::string>& names) const;

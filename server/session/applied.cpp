@@ -1,5 +1,7 @@
 #include "applied.hpp"
 
+#include <algorithm>
+
 #include "race_glue.hpp"
 
 namespace groundsim::session {
@@ -68,6 +70,13 @@ void releasePedals(Simulator& sim, int road_car) {
   cc.brake = 0.0;
   sim.setCarControls(road_car, cc);
 }
+
+bool holdsTorque(const std::vector<WheelControl>& wheels) {
+  return std::any_of(wheels.begin(), wheels.end(),
+                     [](const WheelControl& c) { return c.drive_torque != 0.0 || c.brake_torque != 0.0; });
+}
+
+bool holdsPedal(const CarControls& c) { return c.throttle != 0.0 || c.brake != 0.0; }
 
 void resetTo(Simulator& sim, DrivenCars& cars, const State& initial) {
   sim.restore(initial);

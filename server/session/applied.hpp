@@ -55,6 +55,9 @@ void releasePedals(Simulator& sim);     // every road car's throttle and brake t
 // own wheels' torques, or its own road car's pedals, go to zero.
 void releaseDrive(Simulator& sim, const std::vector<int>& wheels);
 void releasePedals(Simulator& sim, int road_car);
+// Whether a command holds something the controls timeout must release.
+bool holdsTorque(const std::vector<WheelControl>& wheels);  // a drive or brake torque
+bool holdsPedal(const CarControls& c);                      // throttle or brake
 void resetTo(Simulator& sim, DrivenCars& cars, const State& initial);
 // An entry of the log applied again to a simulation at its tick (the
 // re-simulator, and a session resumed from a lost owner's log): its effect

@@ -25,10 +25,6 @@ class CreateRate {
   // Takes one create from the client's bucket, or says why not (code
   // TooManySessions, the limit and its flag). per_minute <= 0: no limit.
   OwnerCheck take(const std::string& client, TimePoint now);
-  std::size_t clients() const {
-    std::lock_guard<std::mutex> lk(mutex_);
-    return buckets_.size();
-  }
 
  private:
   struct Bucket {
@@ -39,7 +35,7 @@ class CreateRate {
   void makeRoom(TimePoint now);
 
   double per_minute_;
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   std::unordered_map<std::string, Bucket> buckets_;
 };
 

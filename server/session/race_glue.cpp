@@ -156,19 +156,15 @@ void raceGhosts(RaceGlue& g, Simulator& sim) {
   g.ghosted = any;
 }
 
-std::string raceProgress(const RaceGlue& g) {
-  return nlohmann::json{{"race", nlohmann::json::parse(g.race.progress())},
-                        {"announced", g.announced},
-                        {"ghost_until", g.ghost_until}}
-      .dump();
+nlohmann::json raceProgress(const RaceGlue& g) {
+  return {{"race", g.race.progress()}, {"announced", g.announced}, {"ghost_until", g.ghost_until}};
 }
 
-std::string raceRestore(RaceGlue& g, Simulator& sim, const std::string& progress) {
+std::string raceRestore(RaceGlue& g, Simulator& sim, const nlohmann::json& j) {
   try {
-    const nlohmann::json j = nlohmann::json::parse(progress);
     std::vector<double> ghost_until = j.at("ghost_until").get<std::vector<double>>();
     if (ghost_until.size() != g.ghost_until.size()) return "the race's protections are of another number of cars";
-    if (std::string why = g.race.restore(j.at("race").dump()); !why.empty()) return why;
+    if (std::string why = g.race.restore(j.at("race")); !why.empty()) return why;
     g.announced = j.at("announced").get<bool>();
     g.ghost_until = std::move(ghost_until);
     raceGhosts(g, sim);

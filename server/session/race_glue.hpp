@@ -60,11 +60,11 @@ std::vector<race::RaceEvent> raceRespawnCar(RaceGlue& g, Simulator& sim, const S
 // The model stepped: the scenario's, or a copy with protected cars as
 // ghosts (a new Simulator on the same state: hits under way are dropped).
 void raceGhosts(RaceGlue& g, Simulator& sim);
-// The race's progress and its protections (JSON text) for a session's
+// The race's progress and its protections (JSON) for a session's
 // snapshot, and back in a standby that resumes the session (then the
 // protected cars are ghosts again): laps, gates and best laps survive a
 // failover. raceRestore returns "" or why not.
-std::string raceProgress(const RaceGlue& g);
-std::string raceRestore(RaceGlue& g, Simulator& sim, const std::string& progress);
+nlohmann::json raceProgress(const RaceGlue& g);
+std::string raceRestore(RaceGlue& g, Simulator& sim, const nlohmann::json& progress);
 
 }  // namespace groundsim::session

@@ -14,11 +14,6 @@ int Registry::heldLocked(const std::string& client) const {
   return n + (r == reserved_by_.end() ? 0 : r->second);
 }
 
-int Registry::heldBy(const std::string& client) const {
-  std::lock_guard<std::mutex> lk(mutex_);
-  return heldLocked(client);
-}
-
 OwnerCheck Registry::admit(int max_sessions, const std::string* client, int client_max) {
   std::lock_guard<std::mutex> lk(mutex_);
   if (closed_) return {ErrorCode::Shutdown, "server is shutting down"};

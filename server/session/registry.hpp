@@ -34,8 +34,6 @@ class Registry {
   // The built session takes its reserved place and its id (and its
   // creator's, when admitted with a client: s->creator() names it).
   void insert(std::shared_ptr<HostedSession> s);
-  // Sessions (and creates building) the client holds.
-  int heldBy(const std::string& client) const;
 
   std::shared_ptr<HostedSession> find(const std::string& id) const;
   template <class T>

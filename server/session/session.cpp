@@ -260,19 +260,17 @@ void Session::apply(const Drive& d) {
   const VehicleWheels& vw = vehicles_.at(d.vehicle);
   Applied a = entry(AppliedKind::Drive);
   a.vehicle = d.vehicle;
-  bool any = false;
   for (size_t k = 0; k < vw.wheels.size() && k < d.wheels.size(); ++k) {
     WheelControl c = d.wheels[k];
     // physics applies any angle it is given: hold it to the wheel's lock
     c.steer = std::clamp(c.steer, -vw.max_steer[k], vw.max_steer[k]);
     a.wheels.push_back(c);
-    any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
   }
   applyDrive(sim_, vw.wheels, a.wheels);
+  drive_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, holdsTorque(a.wheels)};
   logApplied(std::move(a));
   last_drive_ = d.received;
   drive_applied_ = clock_.now();
-  drive_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, any};
 }
 
 // Checked by the service (a road car, values in range); the physics clamps
@@ -287,7 +285,7 @@ void Session::apply(const CarDrive& d) {
   a.vehicle = d.vehicle;
   a.controls = cc;
   logApplied(std::move(a));
-  car_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, cc.throttle != 0.0 || cc.brake != 0.0};
+  car_held_.at(static_cast<size_t>(d.vehicle)) = Held{d.received, holdsPedal(cc)};
 }
 
 void Session::apply(const StopCommand& c) {

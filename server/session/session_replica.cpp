@@ -87,15 +87,11 @@ std::string Session::replay(const Applied& a) {
   // and its effect on the session's own settings
   switch (a.kind) {
     // a held command's timeout restarts from the resumption
-    case AppliedKind::Drive: {
-      bool any = false;
-      for (const WheelControl& c : a.wheels) any = any || c.drive_torque != 0.0 || c.brake_torque != 0.0;
-      drive_held_.at(static_cast<size_t>(a.vehicle)) = Held{clock_.now(), any};
+    case AppliedKind::Drive:
+      drive_held_.at(static_cast<size_t>(a.vehicle)) = Held{clock_.now(), holdsTorque(a.wheels)};
       break;
-    }
     case AppliedKind::Controls:
-      car_held_.at(static_cast<size_t>(a.vehicle)) =
-          Held{clock_.now(), a.controls.throttle != 0.0 || a.controls.brake != 0.0};
+      car_held_.at(static_cast<size_t>(a.vehicle)) = Held{clock_.now(), holdsPedal(a.controls)};
       break;
     case AppliedKind::DriveTimeout:
     case AppliedKind::ControlsTimeout:
@@ -167,10 +163,8 @@ std::string Session::resume(const Replica& snapshot, const std::vector<Applied>&
   steps_per_frame_ = stepsPerFrame(setup_.publish_rate, sim_.model().opt.dt);
   if (m.contains("driven") && m["driven"].is_array()) cars_.driven = m["driven"].get<std::vector<bool>>();
   frame_pending_ = m.value("frame_pending", true);
-  if (race_ && m.contains("race")) {
-    if (!m["race"].is_string()) return "the snapshot's race is not text";
-    if (std::string why = raceRestore(*race_, sim_, m["race"].get<std::string>()); !why.empty()) return why;
-  }
+  if (race_ && m.contains("race"))
+    if (std::string why = raceRestore(*race_, sim_, m["race"]); !why.empty()) return why;
   replaying_ = true;
   std::string why;
   for (const Applied& a : log) {

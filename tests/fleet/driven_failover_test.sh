@@ -31,13 +31,7 @@ sid=$(head -n 1 "$tmp/record.out")
 printf 'throttle 0.6\nwait 1.5\nsteer 0.4\nwait 1.5\nsteer -0.3\nwait 2\nthrottle 0.2\nsteer 0.2\nwait 2\nbrake 0.5\nthrottle 0\nwait 6\nquit\n' |
   "$lab" exec "$name" 4 "$client" drive "$sid" --controls car --hold --lcm-url "$url" --token-file "$tmp/tokens.json" \
     >"$tmp/drive.out" 2>"$tmp/drive.err" &
-owner_of() {
-  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
-    awk -v s="$sid" '$1 == s { print $(NF-2), $(NF-1) }'
-}
-owner=""
-for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" ] && break; sleep 0.2; done
-[ -n "$owner" ] || fail "session $sid is listed by no server"
+fleet_wait_owner "$sid"
 # killed between two snapshots (every 1 s of simulated time), at least
 # 0.35 s after the last, so that the takeover has the driver's entries to
 # replay: a kill a few ticks after a snapshot left none, and the test read
@@ -52,14 +46,7 @@ for _ in $(seq 40); do
 done
 echo "owner $owner killed at simulated time ${t:-?} s"
 "$lab" kill "$name" "${owner#s}"
-new=""
-for _ in $(seq 150); do
-  read -r new epoch < <(owner_of) || true
-  [ -n "$new" ] && [ "$new" != "$owner" ] && break
-  new=""
-  sleep 0.1
-done
-[ -n "$new" ] || fail "no server took session $sid over within 15 s"
+fleet_wait_new_owner "$sid" "$owner"
 [ "$epoch" = 2 ] || fail "the new owner holds epoch $epoch, not 2"
 line=$(grep -h "took over session $sid" "$tmp"/s*.log || true)
 echo "$line"

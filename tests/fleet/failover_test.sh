@@ -43,13 +43,8 @@ for _ in $(seq 100); do [ -s "$tmp/log.out" ] && break; sleep 0.1; done
 sid=$(head -n 1 "$tmp/log.out")
 [ -n "$sid" ] || fail "no session was created"
 
-owner_of() {  # SERVER and EPOCH of the session in `groundsim list`
-  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
-    awk -v s="$sid" '$1 == s { print $(NF-2), $(NF-1) }'
-}
-owner=""
-for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" ] && break; sleep 0.2; done
-[ -n "$owner" ] || fail "session $sid is listed by no server"
+owner_of() { fleet_owner_of "$sid"; }  # SERVER and EPOCH of the session in `groundsim list`
+fleet_wait_owner "$sid"
 [ "$epoch" = 1 ] || fail "a new session's epoch is $epoch, not 1"
 host=${owner#s}
 echo "session $sid on $owner (epoch 1); $mode of host $host in 3 s"
@@ -74,14 +69,7 @@ case "$mode" in
   *) fail "unknown mode $mode" ;;
 esac
 
-new=""
-for _ in $(seq 150); do
-  read -r new epoch < <(owner_of) || true
-  [ -n "$new" ] && [ "$new" != "$owner" ] && break
-  new=""
-  sleep 0.1
-done
-[ -n "$new" ] || fail "no server took session $sid over within 15 s of its host's death"
+fleet_wait_new_owner "$sid" "$owner" " of its host's death"
 [ "$epoch" = 2 ] || fail "the new owner $new holds epoch $epoch, not 2"
 t_listed=$(date +%s.%N)
 grep -h "took over session $sid" "$tmp"/s*.log || true

@@ -14,6 +14,13 @@
 #                            pid[i]; waits until they joined (fleet_wait_joined)
 #   fleet_wait_joined        waits until servers s1-s3 (logs $tmp/s<i>.log)
 #                            said they joined; else calls the test's fail
+#   fleet_owner_of SID       "SERVER EPOCH" of session SID in `groundsim list`
+#                            ($client, from host 4); nothing while unlisted
+#   fleet_wait_owner SID     sets owner and epoch once SID is listed (10 s);
+#                            else calls the test's fail
+#   fleet_wait_new_owner SID OLD [WHY]  sets new and epoch once a server
+#                            other than OLD lists SID (15 s); else fail
+#                            "no server took session SID over within 15 s[WHY]"
 
 fleet_lab_begin() {
   local prefix=$1
@@ -55,4 +62,26 @@ fleet_start_servers() {
     pid[$i]=$!
   done
   fleet_wait_joined
+}
+
+fleet_owner_of() {
+  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
+    awk -v s="$1" '$1 == s { print $(NF-2), $(NF-1) }'
+}
+
+fleet_wait_owner() {
+  owner=""
+  for _ in $(seq 50); do read -r owner epoch < <(fleet_owner_of "$1") || true; [ -n "$owner" ] && break; sleep 0.2; done
+  [ -n "$owner" ] || fail "session $1 is listed by no server"
+}
+
+fleet_wait_new_owner() {
+  new=""
+  for _ in $(seq 150); do
+    read -r new epoch < <(fleet_owner_of "$1") || true
+    [ -n "$new" ] && [ "$new" != "$2" ] && break
+    new=""
+    sleep 0.1
+  done
+  [ -n "$new" ] || fail "no server took session $1 over within 15 s${3:-}"
 }

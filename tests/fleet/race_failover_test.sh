@@ -22,13 +22,7 @@ fleet_start_servers --snapshot-interval 0.5
 
 sid=$("$lab" exec "$name" 4 "$client" create "$scenario" --lcm-url "$url" --token-file "$tmp/tokens.json" --timeout 10 | tail -n 1)
 [ -n "$sid" ] || fail "no session was created"
-owner_of() {
-  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
-    awk -v s="$sid" '$1 == s { print $(NF-2), $(NF-1) }'
-}
-owner=""
-for _ in $(seq 50); do read -r owner epoch < <(owner_of) || true; [ -n "$owner" ] && break; sleep 0.2; done
-[ -n "$owner" ] || fail "session $sid is listed by no server"
+fleet_wait_owner "$sid"
 # race events (JSON after "race: ") of TYPE in a server's log
 events() { grep -h "$sid: race: " "$1" | sed 's/.*race: //' | grep "\"type\":\"$2\"" || true; }
 olog="$tmp/$owner.log"
@@ -38,14 +32,7 @@ for _ in $(seq 300); do [ "$(events "$olog" gate | wc -l)" -ge 2 ] && break; sle
 events "$olog" start > "$tmp/starts.json"
 echo "both cars past gate 1 on $owner: killing its host mid-lap"
 "$lab" kill "$name" "${owner#s}"
-new=""
-for _ in $(seq 150); do
-  read -r new epoch < <(owner_of) || true
-  [ -n "$new" ] && [ "$new" != "$owner" ] && break
-  new=""
-  sleep 0.1
-done
-[ -n "$new" ] || fail "no server took session $sid over within 15 s"
+fleet_wait_new_owner "$sid" "$owner"
 grep -h "took over session $sid" "$tmp"/s*.log || true
 nlog="$tmp/$new.log"
 for _ in $(seq 600); do [ "$(events "$nlog" finish | wc -l)" -ge 2 ] && break; sleep 0.1; done

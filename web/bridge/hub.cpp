@@ -334,8 +334,7 @@ void Hub::createRound(Peer* p, std::uint64_t serial, groundsim::request_t r,
     if (rep && rep->ok) return created(here ? p : nullptr, serial, *rep, doc, drive);
     if (!here) return;
     if (!rep) return refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
-    if (!rep->ok && rep->error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS && !assets->empty() &&
-        round + 1 < net::kAssetRounds) {
+    if (again) {
       std::vector<groundsim::asset_want_t> wants;
       if (auto w = wants_.find(rep->request_id); w != wants_.end()) {
         wants = std::move(w->second);

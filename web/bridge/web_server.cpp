@@ -143,7 +143,6 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   void readNext() {
     const double wait = messages_.take(TokenBucket::Clock::now());
     if (wait <= 0) return read();
-    ++paused_;
     pause_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(wait * 1e6) + 1));
     pause_.async_wait([self = shared_from_this()](beast::error_code ec) {
       if (!ec && self->open_) self->read();
@@ -212,7 +211,6 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
   std::uint64_t states_sent_ = 0, states_skipped_ = 0;
   TokenBucket messages_;       // messages read a second (--browser-messages)
   asio::steady_timer pause_;   // waiting for the next read's turn
-  std::uint64_t paused_ = 0;   // reads that waited
 };
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
