@@ -330,12 +330,13 @@ int resimulate(const ReplayOptions& o) {
     // car state (published again, equal but for the epoch) in the file.
     // Compared as the state's publisher's first; only a difference reads
     // the message's own epoch.
+    const std::int64_t at = seq;  // a structured binding: not captured by lambdas under clang 14
     auto sameAs = [&](const char* what, auto encode, const std::string& recorded) {
       if (record::toJson(encode(f)) == recorded) return std::optional<int>();
       const std::int64_t state_epoch = f.epoch;
       const nlohmann::json j = nlohmann::json::parse(recorded, nullptr, false);
       f.epoch = j.is_object() ? j.value("epoch", state_epoch) : state_epoch;
-      std::optional<int> code = differsFrom(what, seq, record::toJson(encode(f)), recorded);
+      std::optional<int> code = differsFrom(what, at, record::toJson(encode(f)), recorded);
       f.epoch = state_epoch;
       return code;
     };
