@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
-# The main job: install what is missing, build, and run the report's
-# plain-ground experiment (S1) in the embedded runner, ending with its
-# summary and a speed plot like the report's figure 2.
+# The main job: install what is missing (only what this runs), build only the
+# embedded runner `groundsim`, and run the report's plain-ground experiment
+# (S1), ending with its summary and a speed plot like the report's figure 2.
+#   scripts/demo.sh [SCENARIO]   (default configs/plain.json)
+# scripts/build.sh builds everything (servers, bridge, page, tests, benchmarks).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/build.sh
+scripts/setup.sh --build-only
+. scripts/lib/install_missing.sh
+install_missing demo gnuplot-nox   # --plot draws with gnuplot
+. scripts/lib/build_dir.sh
+build_dir build groundsim -DCMAKE_BUILD_TYPE=Release
 mkdir -p out
 scenario="${1:-configs/plain.json}"
 name="$(basename "$scenario" .json)"
