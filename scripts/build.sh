@@ -4,4 +4,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 . scripts/lib/build_dir.sh
-build_dir build "" -DCMAKE_BUILD_TYPE=Release
+# tests and benchmarks ON explicitly: scripts/demo.sh configures the same directory without them
+build_dir build "" -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_BUILD_TESTS=ON -DGROUNDSIM_BUILD_BENCH=ON

@@ -10,7 +10,8 @@ scripts/setup.sh --build-only
 . scripts/lib/install_missing.sh
 install_missing demo gnuplot-nox   # --plot draws with gnuplot
 . scripts/lib/build_dir.sh
-build_dir build groundsim -DCMAKE_BUILD_TYPE=Release
+# no tests or benchmarks: their libraries (GoogleTest, Google Benchmark) are not installed by --build-only
+build_dir build groundsim -DCMAKE_BUILD_TYPE=Release -DGROUNDSIM_BUILD_TESTS=OFF -DGROUNDSIM_BUILD_BENCH=OFF
 mkdir -p out
 scenario="${1:-configs/plain.json}"
 name="$(basename "$scenario" .json)"

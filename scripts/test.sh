@@ -48,10 +48,29 @@ sanitized_ctest() {
   exit $rc
 }
 
+# skipped_report DIR: the tests the last ctest run in DIR skipped, each with
+# the reason it printed (its "SKIP: ..." line), so a missing tool is seen
+skipped_report() {
+  local log=$1/Testing/Temporary/LastTest.log
+  [ -f "$log" ] || return 0
+  awk '
+    /^[0-9]+\/[0-9]+ Testing: / { name = $3; reason = "" }
+    /SKIP[: ]/ && name != "" && reason == "" { reason = $0 }
+    /^Test Skipped\./ || /^Test Not Run/ || /Skipped ?$/ { if (name != "") skipped[name] = reason }
+    END { n = 0; for (t in skipped) n++
+          if (n == 0) { print "test.sh: nothing skipped"; exit }
+          print "test.sh: " n " skipped:"
+          for (t in skipped) printf "  %s: %s\n", t, (skipped[t] == "" ? "(no reason printed)" : skipped[t]) }
+  ' "$log"
+}
+
 case "$sanitize" in
   "")
     scripts/build.sh
-    exec ctest --test-dir build "${ctest_args[@]}" "$@"
+    rc=0
+    ctest --test-dir build "${ctest_args[@]}" "$@" || rc=$?
+    skipped_report build
+    exit $rc
     ;;
   address,undefined | undefined,address)
     . scripts/lib/asan_build.sh

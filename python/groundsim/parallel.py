@@ -12,18 +12,26 @@ episode ends for all, and the caller resets. The batched form of the same
 task is make_vec(task, num_envs): rows = environments x agents, with
 infos["active"] masking the rows whose agent has left."""
 
+import warnings
+
 import numpy as np
 
 from ._errors import ExperimentError
 from .registration import task_source
 from .make import make_vec
 
+try:
+    from pettingzoo import ParallelEnv as _PZParallelEnv
+except ImportError:
+    _PZParallelEnv = object
+
 _INFO_KEYS = ("episode_index", "episode_steps", "episode_return", "diverged")
 
 
-class ParallelEnv:
-    """PettingZoo's ParallelEnv contract (a pettingzoo.ParallelEnv when
-    PettingZoo is importable is not needed: the API is duck-typed)."""
+class ParallelEnv(_PZParallelEnv):
+    """PettingZoo's ParallelEnv contract: a pettingzoo.ParallelEnv when
+    PettingZoo is importable (its tests, e.g. parallel_api_test, look at
+    ``unwrapped``), the same API duck-typed otherwise."""
 
     metadata = {"name": "groundsim_parallel_v0", "render_modes": ["rgb_array"], "is_parallelizable": True}
 
@@ -51,6 +59,10 @@ class ParallelEnv:
     def layout(self):
         return self._vec.layout
 
+    @property
+    def unwrapped(self):
+        return self
+
     def observation_space(self, agent):
         return self.observation_spaces[self._agent(agent, "agent")]
 
@@ -58,6 +70,17 @@ class ParallelEnv:
         return self.action_spaces[self._agent(agent, "agent")]
 
     def reset(self, seed=None, options=None):
+        """options: None or a dict; its "randomize" (new ranges) is used,
+        other keys are ignored with a warning naming them: PettingZoo's API
+        test resets with options it made up ({"options": 1})."""
+        if options is not None and not isinstance(options, dict):
+            raise ExperimentError("options", f"options: must be a dict or None, got {type(options).__name__}")
+        if options:
+            unknown = sorted(set(options) - {"randomize"})
+            if unknown:
+                warnings.warn(f"options: ignoring unknown key(s) {unknown}; a parallel env uses 'randomize'",
+                              stacklevel=2)
+            options = {k: v for k, v in options.items() if k == "randomize"} or None
         obs, infos = self._vec.reset(seed=seed, options=options)
         self.agents = list(self.possible_agents)
         return ({a: obs[i] for a, i in self._row.items()},

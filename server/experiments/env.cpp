@@ -94,7 +94,12 @@ State Env::initialState(std::shared_ptr<const Model>* model) const {
 }
 
 void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
-  if (seed) rng_.seed(*seed);
+  // a seeded reset starts a reproducible run: its episodes count from 1
+  // again, so the same seed gives the same infos (Gymnasium's env checker)
+  if (seed) {
+    rng_.seed(*seed);
+    episode_ = 0;
+  }
   const scenario::Randomization& r = ranges_;
   const size_t offsets = static_cast<size_t>(kDrawnPerAgent * agents());
   drawn_.resize(offsets + r.parameters.size());

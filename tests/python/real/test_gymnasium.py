@@ -37,7 +37,11 @@ def test_check_env_passes_on_every_shipped_task(task):
         warnings.simplefilter("always")
         check_env(env, skip_render_check=True)
     env.close()
-    assert not [str(w.message) for w in caught]
+    # observations such as speeds have no bound: an infinite Box, which the
+    # checker warns about (as it does for MuJoCo's environments); nothing else
+    inherent = ("observation space minimum value is -infinity", "observation space maximum value is infinity")
+    found = [str(w.message) for w in caught if not any(i in str(w.message) for i in inherent)]
+    assert not found
 
 
 def test_registry_make_and_make_vec():
@@ -107,7 +111,8 @@ def test_normalize_observation_standardises_what_it_saw():
 
 
 def test_vector_wrappers_on_the_batch():
-    venv = groundsim.make_vec("groundsim/Goal-v0", 4, autoreset_mode="next_step")
+    # the wrapper refuses an env that reports episode statistics itself (docs/experiments.md)
+    venv = groundsim.make_vec("groundsim/Goal-v0", 4, autoreset_mode="next_step", episode_statistics=False)
     period = venv.layout.dt * venv.layout.control_period
     wrapped = vector_wrappers.RecordEpisodeStatistics(
         vector_wrappers.ClipAction(vector_wrappers.NormalizeObservation(venv)))
@@ -127,5 +132,6 @@ def test_vector_wrappers_on_the_batch():
         assert infos["episode"]["r"][i] == pytest.approx(returns[i], rel=1e-5)
         assert infos["episode"]["l"][i] == infos["episode_steps"][i]
         assert infos["episode"]["r"][i] == pytest.approx(infos["episode_return"][i], rel=1e-5)
+
     assert np.isfinite(obs).all()
     assert period > 0

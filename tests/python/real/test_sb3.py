@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import stable_baselines3
+import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.env_checker import check_env
 from stable_baselines3.common.vec_env import VecCheckNan, VecEnv, VecMonitor, VecNormalize
@@ -61,19 +62,21 @@ def mean_return(model, venv, episodes=16):
     return float(np.mean(done_returns))
 
 
-def test_ppo_learns_the_speed_task():
-    """A few thousand steps of SB3's PPO on the speed task (reach and hold
-    a target speed): the trained policy's return beats the untrained one's
-    (the same seed, the same held-out starts), and training is reproducible
-    for a seed."""
+@pytest.mark.parametrize("seed", [0, 1])
+def test_ppo_learns_the_goal_task(seed):
+    """16,384 steps of SB3's PPO on the goal task (drive to a drawn goal):
+    the trained policy's held-out return (16 deterministic episodes from
+    the same seeded starts) beats the untrained one's by a margin. Measured
+    2026-12-06: -48.5 -> -0.5 (seed 0), -45.8 -> 51.5 (seed 1); 3-6 s each."""
     assert stable_baselines3.__version__.startswith("2.")
-    venv = make_sb3_vec("groundsim/Speed-v0", 8, 1)
-    evaluation = make_sb3_vec("groundsim/Speed-v0", 8, 1)
-    model = PPO("MlpPolicy", venv, n_steps=128, batch_size=256, n_epochs=5, learning_rate=1e-3, seed=0,
+    torch.set_num_threads(1)
+    venv = make_sb3_vec("groundsim/Goal-v0", 8, 1)
+    evaluation = make_sb3_vec("groundsim/Goal-v0", 8, 1)
+    model = PPO("MlpPolicy", venv, n_steps=128, batch_size=256, n_epochs=5, learning_rate=1e-3, seed=seed,
                 device="cpu", verbose=0)
     before = mean_return(model, evaluation)
-    model.learn(total_timesteps=8 * 128 * 6)
+    model.learn(total_timesteps=16384)
     after = mean_return(model, evaluation)
-    print(f"speed task, PPO 6144 steps: held-out mean return {before:.3f} -> {after:.3f}")
+    print(f"goal task, PPO 16384 steps, seed {seed}: held-out mean return {before:.3f} -> {after:.3f}")
     assert np.isfinite(after)
-    assert after > before
+    assert after > before + 25.0
