@@ -1,8 +1,12 @@
 #!/bin/sh
 # A recorder killed with SIGKILL leaves a file that is readable up to about
 # its last second and says it is incomplete (issue 23): a 60 s session
-# recorded, the recorder killed 30 s in; read back by `groundsim inspect`
-# and by @mcap/core where web/node_modules has it. Then the LCM log round
+# recorded, the recorder killed 30 s in; read back by `groundsim inspect`,
+# tried with @mcap/core (which refuses a file without a summary) and read by
+# MCAP's own Python library as a stream (tests/recording/mcap_py_check.py
+# --expect-cut: every whole record sound, the same states as our reader,
+# the cut named). Without either reader installed: the other checks, then
+# SKIP (77) naming it. Then the LCM log round
 # trip: lcm-logger's log of the same session (then stopped) converted to
 # MCAP holds every state the logger kept (what it missed listed as lost),
 # and converted back, the same messages.
@@ -10,6 +14,7 @@
 set -eu
 build=$1; src=$2; gs=$build/client/groundsim
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+. "$src/tests/record/mcap_checks.sh"
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
@@ -34,9 +39,31 @@ last=$(sed -n "s|^channel */$sid/state .* \.\. \([0-9.]*\) s.*|\1|p" "$dir/inspe
 echo "readable up to $last s of simulation (killed at $t_kill s, 30 s of wall time)"
 awk -v t="$last" -v k="$t_kill" 'BEGIN { exit !(k > 0 && t >= k - 1.0) }' ||
   { echo "FAIL: only $last s readable of $t_kill"; exit 1; }
-if [ -d "$src/web/node_modules/@mcap/core" ]; then
-  # @mcap/core needs a summary to index a file: an incomplete one it refuses, saying so
-  node "$src/tests/recording/mcap_read.mjs" "$dir/crash.mcap" > /dev/null 2> "$dir/node.err" && echo "note: @mcap/core opened the cut file" || echo "@mcap/core: $(cat "$dir/node.err")"
+# @mcap/core needs a summary to index a file: an incomplete one it refuses, saying so
+modules=""
+for m in "$src/web/node_modules" "$build/web/node_modules"; do [ -d "$m/@mcap/core" ] && modules=$m && break; done
+if [ -n "$modules" ] && command -v node > /dev/null; then
+  GROUNDSIM_MCAP_NODE_MODULES=$modules node "$src/tests/recording/mcap_read.mjs" "$dir/crash.mcap" > /dev/null 2> "$dir/node.err" &&
+    echo "note: @mcap/core opened the cut file" || echo "@mcap/core: $(cat "$dir/node.err")"
+else
+  mcap_note_skip "no node with @mcap/core (npm install in web/): npm's reader was not tried on the cut file"
+fi
+# MCAP's own Python library reads the cut file as a stream (its indexed
+# reader needs the footer): every whole record sound (chunk CRCs, message
+# indexes, every message valid against its schema), the record cut by the
+# kill named; it reads the same states as our reader, as far
+n_ours=$(sed -n "s|^channel */$sid/state *\([0-9]*\) messages.*|\1|p" "$dir/inspect.txt")
+if mcap_py "$dir/crash.mcap" "$dir/py_crash.json" --expect-cut; then
+  python3 - "$dir/py_crash.json" "$sid" "$n_ours" "$last" <<'PY' || { echo "FAIL: MCAP's Python library read the cut file otherwise"; exit 1; }
+import json, sys
+r, sid, n_ours, last = json.load(open(sys.argv[1])), sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+n, (t0, t1) = r["topics"].get(f"/{sid}/state", 0), r["log_times_s"].get(f"/{sid}/state", [0, 0])
+print(f"mcap (Python): {r['end']}; indexed reader {r.get('indexed_reader')}; "
+      f"{n} states to {t1:.2f} s, our reader {n_ours} to {last:.2f} s; scenario attached: {r['attachments']}")
+ok = n == n_ours and abs(t1 - last) < 0.01 and f"scenario/{sid}.json" in r["attachments"]
+ok = ok and r["end"].startswith("cut") and r.get("indexed_reader", "").startswith("refused")
+sys.exit(0 if ok else 1)
+PY
 fi
 # the LCM log of the session (stopped now: its final state ends it),
 # through MCAP and back
@@ -50,6 +77,9 @@ rc=0; "$gs" convert "$dir/bus.lcm" "$dir/bus.mcap" 2> "$dir/convert.err" || rc=$
 [ $rc = 0 ] || grep -q "missing" "$dir/convert.err" || { cat "$dir/convert.err"; echo "FAIL: exit 3 without the missing ones listed"; exit 1; }
 grep "convert\|missing" "$dir/convert.err" | tail -3
 "$gs" inspect "$dir/bus.mcap" | grep -E "^end|/$sid/state"
+# the converted log, complete, read by MCAP's Python library: sound, every
+# message valid against its schema, the messages its ledgers'
+if mcap_py "$dir/bus.mcap" "$dir/py_bus.json"; then mcap_py_ledgers "$dir/py_bus.json"; fi
 "$gs" convert "$dir/bus.mcap" "$dir/back.lcm" 2>&1 | tail -1
 cmp "$dir/bus.lcm" "$dir/back.lcm" > /dev/null 2>&1 && echo "the log came back byte for byte" || {
   # event numbers and receive times differ (the MCAP keeps simulation time): compare the messages
@@ -69,4 +99,4 @@ print(f"LCM log {len(a)} messages, back from MCAP {len(c)}")
 sys.exit(0 if sorted(a) == sorted(c) else 1)
 PY
 } || { echo "FAIL: the messages did not come back"; exit 1; }
-echo PASS
+mcap_checks_done

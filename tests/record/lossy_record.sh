@@ -7,14 +7,17 @@
 # runs on host 1, the recorder on host 2 with --match, a session is created
 # on host 1 after the recorder is ready. Checked: the recorder exits 0
 # (nothing lost), repaired some, the re-request traffic stays under 10% of
-# the stream, and the file (read by the npm @mcap/core reader) holds every
-# state seq from 0 to the last.
+# the stream, and the file holds every state seq from 0 to the last, read
+# by our reader, the npm @mcap/core reader and MCAP's own Python library
+# (tests/recording/mcap_py_check.py, on a file with repaired states);
+# without either of those installed: the other checks, then SKIP (77).
 #   lossy_record.sh BUILD_DIR SOURCE_DIR
 set -eu
 build=$(cd "$1" && pwd); src=$(cd "$2" && pwd)
 if [ "$(id -u)" != 0 ] || ! command -v nft >/dev/null || ! ip netns list >/dev/null 2>&1; then
   echo "SKIP: needs root, ip netns and nftables (apt-get install nftables)" >&2; exit 77
 fi
+. "$src/tests/record/mcap_checks.sh"
 tag=gsr$$; dir=$(mktemp -d)
 cleanup() {
   for h in h1 h2 sw; do ip netns pids $tag$h 2>/dev/null | xargs -r kill -9 2>/dev/null || true; ip netns del $tag$h 2>/dev/null || true; done
@@ -73,11 +76,8 @@ echo "inspect: $n states in the file; ledger received, repaired, lost: $newest"
 grep -q "^end *complete" "$dir/inspect.txt" || { cat "$dir/inspect.txt"; echo "FAIL: the file is not complete"; exit 1; }
 set -- $newest
 [ "$n" = $(($1 + $2)) ] && [ "$3" = 0 ] || { cat "$dir/inspect.txt"; echo "FAIL: the file's states do not match its ledger"; exit 1; }
-# ...and by another implementation, the npm @mcap/core reader
-modules=""
-for m in "$src/web/node_modules" "$build/web/node_modules"; do [ -d "$m/@mcap/core" ] && modules=$m && break; done
-if [ -n "$modules" ] && command -v node > /dev/null; then
-  GROUNDSIM_MCAP_NODE_MODULES=$modules node "$src/tests/recording/mcap_read.mjs" "$dir/rec.mcap" > "$dir/read.json"
+# ...and by other implementations: the npm @mcap/core reader...
+if mcap_node "$dir/rec.mcap" "$dir/read.json"; then
   node -e '
     const r = JSON.parse(require("fs").readFileSync(process.argv[1])); const sid = process.argv[2];
     const n = r.topics["/" + sid + "/state"];
@@ -87,7 +87,19 @@ if [ -n "$modules" ] && command -v node > /dev/null; then
     console.log("states in the file", n, "seq 0 ..", want - 1, "ledger", JSON.stringify(ledger).slice(0, 200));
     if (n !== want || ledger.state_first !== "0" || ledger.state_lost !== "") { console.log("FAIL: the file does not hold every state"); process.exit(1); }
   ' "$dir/read.json" "$sid"
-else
-  echo "note: no node_modules with @mcap/core (npm install in web/): the file was read by our reader only"
 fi
-echo PASS
+# ...and MCAP's own Python library: the file sound with the repaired states
+# written late into their chunks (CRCs, message indexes, statistics), every
+# message valid against its schema, every state seq 0..newest once, the
+# ledgers' received + repaired
+if mcap_py "$dir/rec.mcap" "$dir/py.json"; then
+  mcap_py_ledgers "$dir/py.json"
+  python3 - "$dir/py.json" "$sid" <<'PY' || { echo "FAIL: MCAP's Python library does not read every state seq"; exit 1; }
+import json, sys
+r, sid = json.load(open(sys.argv[1])), sys.argv[2]
+l = r["metadataRecords"][f"ledger/{sid}"]
+print(f"mcap (Python): state seqs {r['sequences'][f'/{sid}/state']}, {l['state_repaired_count']} of them repaired")
+sys.exit(0 if r["sequences"][f"/{sid}/state"] == f"0-{l['state_newest']}" and l["state_lost"] == "" else 1)
+PY
+fi
+mcap_checks_done

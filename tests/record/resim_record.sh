@@ -12,13 +12,16 @@
 # LCM bytes). Then copies of the file with one state's position nudged by one
 # unit in the last place, and with one applied command left out, each report
 # the first difference: the nudged state's seq and field, and the first state
-# after the dropped command.
+# after the dropped command. The recording is also checked by MCAP's own
+# Python library (tests/recording/mcap_py_check.py; not installed: the other
+# checks, then SKIP, 77).
 #   resim_record.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
 set -eu
 build=$1; src=$2; gs=$build/client/groundsim; tamper=$build/tests/record/mcap_tamper
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 . "$(dirname "$0")/resim_lib.sh"
+. "$(dirname "$0")/mcap_checks.sh"
 start_server --quiet
 "$gs" record --all --raw --exact --duration 7 --out "$dir/run.mcap" 2> "$dir/rec.err" &
 rec=$!
@@ -44,6 +47,10 @@ sleep 0.7
 wait $rec || true
 grep "^record" "$dir/rec.err" | tail -4
 "$gs" inspect "$dir/run.mcap" | grep -E "^end|/applied"
+# MCAP's own Python library on a file with the raw LCM bytes (channels lcm/...,
+# read, not decoded) and the players' commands: sound, every JSON message
+# valid against its schema, the streams' messages the ledgers'
+if mcap_py "$dir/run.mcap" "$dir/py.json"; then mcap_py_ledgers "$dir/py.json"; fi
 
 for s in "$a" "$b"; do
   expect_identical "$dir/run.mcap" "$s"
@@ -85,4 +92,4 @@ differs_expected dropped "$a" "a dropped command"
 grep -q "applied commands $first\.\.$first are missing" "$dir/dropped.txt" || fail "the missing command is not named"
 grep -q "^differs: session $a, state seq [0-9]* (t [0-9.e-]* s, tick [0-9]*): [a-z_]" "$dir/dropped.txt" ||
   fail "no state difference named after the dropped command"
-echo PASS
+mcap_checks_done

@@ -9,14 +9,19 @@
 #     ledgers, scenario, indexes) is at most 25% of the LCM log of the
 #     messages it holds;
 #   - the file says its precision (fields-1), opens in npm's @mcap/core with
-#     its counts per channel equal to the ledger, and re-simulates to the
-#     same states at that precision (`replay --resimulate`).
+#     its counts per channel equal to the ledger, passes MCAP's own Python
+#     library (tests/recording/mcap_py_check.py: CRCs, indexes, statistics,
+#     every message valid against its schema; its messages the ledger's, and
+#     so for the converted state stream), and re-simulates to the same
+#     states at that precision (`replay --resimulate`). Without either
+#     reader installed: the other checks, then SKIP (77) naming it.
 # The exact encoding's size (--exact) is printed beside, not checked.
 #   size_record.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
 set -eu
 build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); gs=$build/client/groundsim
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+. "$src/tests/record/mcap_checks.sh"
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
 for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/state.lcm" > /dev/null 2>&1 &
@@ -72,11 +77,7 @@ sys.exit(0 if alone <= 0.25 and whole <= 0.25 else 1)
 PY
 grep -q "^precision *fields-1 " "$dir/inspect.txt" || { cat "$dir/inspect.txt"; fail "the file does not say fields-1"; }
 # npm's @mcap/core: the file opens, and its counts per channel equal the ledger
-modules=""
-for m in "$src/web/node_modules" "$build/web/node_modules"; do [ -d "$m/@mcap/core" ] && modules=$m && break; done
-if [ -n "$modules" ] && command -v node > /dev/null; then
-  GROUNDSIM_MCAP_NODE_MODULES=$modules node "$src/tests/recording/mcap_read.mjs" "$dir/run.mcap" > "$dir/read.json" ||
-    fail "@mcap/core could not read the file"
+if mcap_node "$dir/run.mcap" "$dir/read.json"; then
   node -e '
     const r = JSON.parse(require("fs").readFileSync(process.argv[1])); const sid = process.argv[2];
     const l = r.metadataRecords["ledger/" + sid];
@@ -87,12 +88,17 @@ if [ -n "$modules" ] && command -v node > /dev/null; then
     };
     if (!l || !ok("state", "state_") || !ok("car_state", "car_state_")) { console.log("FAIL: counts differ from the ledger"); process.exit(1); }
   ' "$dir/read.json" "$sid"
-else
-  echo "note: no node_modules with @mcap/core (npm install in web/): not read by it"
+fi
+# MCAP's own Python library: the file sound (CRCs, indexes, statistics),
+# every message valid against its schema, the messages the ledgers' (and
+# the same for the state stream converted from lcm-logger's log)
+if mcap_py "$dir/run.mcap" "$dir/py.json"; then
+  mcap_py_ledgers "$dir/py.json"
+  mcap_py "$dir/state.mcap" "$dir/py_state.json" && mcap_py_ledgers "$dir/py_state.json"
 fi
 # the states re-simulate, compared at the recorded precision
 "$gs" replay --resimulate "$dir/run.mcap" > "$dir/replay.txt" 2>&1 || { cat "$dir/replay.txt"; fail "replay --resimulate"; }
 cat "$dir/replay.txt"
 grep -q "^identical: session $sid" "$dir/replay.txt" || fail "not identical"
 grep -q "^compared at the recording's precision only: fields-1" "$dir/replay.txt" || fail "the precision is not named"
-echo PASS
+mcap_checks_done
