@@ -25,8 +25,9 @@ echo "wheel built in $(( $(date +%s) - start )) s: $(cd "$work/wheelhouse" && ls
 wheel=$(ls "$work"/wheelhouse/groundsim-*.whl)
 "$py" -m pip install -q "$wheel"
 # the wheel holds the module, the package and its tasks
-"$py" -m zipfile -l "$wheel" | grep -q 'groundsim/_core\.'
-"$py" -m zipfile -l "$wheel" | grep -q 'groundsim/data/tasks/goal.json'
+listing=$("$py" -m zipfile -l "$wheel")
+grep -q 'groundsim/_core\.' <<<"$listing"
+grep -q 'groundsim/data/tasks/goal.json' <<<"$listing"
 cd "$work"
 unset PYTHONPATH
 "$py" - "$work/venv" <<'PY'
@@ -43,7 +44,8 @@ obs, rew, term, trunc, _ = env.step(np.zeros(env.action_space.shape, np.float32)
 assert obs.shape == (2, env.layout.obs_size) and np.isfinite(obs).all()
 print("groundsim", groundsim.__version__, "imported from", where, "with numpy", np.__version__)
 PY
-"$py" -m pip show groundsim | grep -q '^Name: groundsim'
+shown=$("$py" -m pip show groundsim)
+grep -q '^Name: groundsim' <<<"$shown"
 "$py" -m pip uninstall -y -q groundsim
 ! "$py" -c 'import groundsim' 2>/dev/null
 echo "pip install, import, step and uninstall: OK"
