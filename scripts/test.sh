@@ -48,28 +48,32 @@ sanitized_ctest() {
   exit $rc
 }
 
-# skipped_report DIR: the tests the last ctest run in DIR skipped, each with
-# the reason it printed (its "SKIP: ..." line), so a missing tool is seen
+# skipped_report DIR OUTPUT: the tests the ctest run whose output is in
+# OUTPUT skipped (its "did not run" list), each with the reason it printed
+# (the first SKIP or "skipped" line of its block in DIR's LastTest.log)
 skipped_report() {
-  local log=$1/Testing/Temporary/LastTest.log
-  [ -f "$log" ] || return 0
-  awk '
-    /^[0-9]+\/[0-9]+ Testing: / { name = $3; reason = "" }
-    /SKIP[: ]/ && name != "" && reason == "" { reason = $0 }
-    /^Test Skipped\./ || /^Test Not Run/ || /Skipped ?$/ { if (name != "") skipped[name] = reason }
-    END { n = 0; for (t in skipped) n++
-          if (n == 0) { print "test.sh: nothing skipped"; exit }
-          print "test.sh: " n " skipped:"
-          for (t in skipped) printf "  %s: %s\n", t, (skipped[t] == "" ? "(no reason printed)" : skipped[t]) }
-  ' "$log"
+  local log=$1/Testing/Temporary/LastTest.log names
+  names=$(sed -n 's/^[[:space:]]*[0-9]* - \(.*\) (Skipped)$/\1/p' "$2")
+  if [ -z "$names" ]; then
+    echo "test.sh: nothing skipped"
+    return 0
+  fi
+  echo "test.sh: $(wc -l <<<"$names") skipped:"
+  local name reason
+  while read -r name; do
+    reason=$(awk -v t="$name" '
+      /^[0-9]+\/[0-9]+ Testing: / { inside = ($3 == t) }
+      inside && !/^Command:/ && (/SKIP/ || /skipped/) { print; exit }' "$log" 2>/dev/null)
+    echo "  $name: ${reason:-(no reason printed)}"
+  done <<<"$names"
 }
 
 case "$sanitize" in
   "")
     scripts/build.sh
     rc=0
-    ctest --test-dir build "${ctest_args[@]}" "$@" || rc=$?
-    skipped_report build
+    ctest --test-dir build "${ctest_args[@]}" "$@" 2>&1 | tee build/ctest-output.log || rc=$?
+    skipped_report build build/ctest-output.log
     exit $rc
     ;;
   address,undefined | undefined,address)
