@@ -11,11 +11,12 @@ gtest_discover_tests(web_foxglove_tests TEST_PREFIX web. PROPERTIES LABELS web)
 # (foxglove.sdk.v1), against the real groundsim-server and groundsim-web in
 # a network namespace of their own (netns_run.sh). No browser; node and the
 # page's npm packages (web/package.json) only.
-if(NOT GROUNDSIM_WEB_PAGE)
-  return()
-endif()
 find_program(NODE_EXECUTABLE node)
 function(groundsim_foxglove_test name script)
+  if(NOT GROUNDSIM_WEB_PAGE)
+    groundsim_skipped_test(web.${name} "no node/npm: the page's npm packages are not installed (scripts/setup-web.sh)" web)
+    return()
+  endif()
   add_test(NAME web.${name}
     COMMAND ${PROJECT_SOURCE_DIR}/tests/integration/netns_run.sh
             ${NODE_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/${script} ${ARGN})
