@@ -20,6 +20,7 @@ TASKS = {
     "groundsim/Speed-v0": "speed.json",
     "groundsim/FastCar-v0": "fast_car.json",
     "groundsim/Race-v0": "race.json",  # two agents: make_parallel, or make_vec's rows
+    "groundsim/GridRace-v0": "grid_race.json",  # eight agents on a grid, 2.5 m abreast
 }
 _SHORT = {path.rsplit(".", 1)[0]: env_id for env_id, path in TASKS.items()}
 
@@ -66,7 +67,7 @@ def make_vec_entry(num_envs=1, task="groundsim/Goal-v0", **kwargs):
 
 
 # several agents: PettingZoo's API (make_parallel), not Gymnasium's registry
-_MULTI_AGENT = {"groundsim/Race-v0"}
+_MULTI_AGENT = {"groundsim/Race-v0", "groundsim/GridRace-v0"}
 
 
 def register_envs():

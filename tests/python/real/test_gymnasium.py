@@ -17,7 +17,7 @@ from gymnasium.wrappers import vector as vector_wrappers
 import groundsim
 
 NEEDS = ("gymnasium",)
-SINGLE = [t for t in groundsim.task_ids() if t != "groundsim/Race-v0"]
+SINGLE = [t for t in groundsim.task_ids() if t not in groundsim.registration._MULTI_AGENT]
 
 
 def test_the_real_gymnasium_is_the_one_in_use():
