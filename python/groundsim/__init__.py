@@ -18,7 +18,8 @@ from ._errors import ExperimentError, RemoteError, ScenarioError, ScenarioIssue
 from ._gym import HAVE_GYMNASIUM, AutoresetMode, Box
 from .env import Env, make
 from .parallel import ParallelEnv, make_parallel
-from .registration import register_envs, task_ids
+from ._tasks import task_ids
+from .registration import register_envs
 from .make import make_remote_vec, make_vec
 from .vector import VecEnv
 from .video import record_video

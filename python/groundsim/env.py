@@ -11,7 +11,7 @@ import numpy as np
 from ._errors import ExperimentError
 from ._gym import Env as _GymEnv
 from ._gym import HAVE_GYMNASIUM
-from .registration import task_source
+from ._tasks import task_source
 from .make import make_vec
 
 _INFO_KEYS = ("episode_index", "episode_steps", "episode_return", "diverged")

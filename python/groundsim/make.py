@@ -10,7 +10,7 @@ from collections.abc import Mapping
 from . import _core
 from ._episodes import autoreset_mode_of
 from ._errors import ExperimentError
-from .registration import task_source
+from ._tasks import task_source
 from .vector import VecEnv, _index
 from .video import render_options
 

@@ -17,7 +17,7 @@ import warnings
 import numpy as np
 
 from ._errors import ExperimentError
-from .registration import task_source
+from ._tasks import task_source
 from .make import make_vec
 
 try:

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._errors import ExperimentError
 from ._gym import AutoresetMode
-from .registration import task_source
+from ._tasks import task_source
 from .make import make_vec
 
 try:
