@@ -4,6 +4,7 @@
 // a wall and on a box, pushing, and a wheel climbing a kerb.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -60,6 +61,21 @@ json sedan(const std::string& name, double x, double y, double speed) {
 // Linear and angular momentum (z, about the origin) and kinetic energy of
 // the two sedans: conserved / never increased through an impact on a
 // frictionless plane.
+//
+// On a frictionless plane every ground force is vertical, so p_x, p_y and
+// L_z are conserved exactly by the law. The contact between bodies keeps
+// them to round-off (ReportCarsCrashConservesHorizontalMomentumExactly,
+// 1e-6). The sedans do not, for a reason outside the contact: the road
+// car's suspension (road_car.cpp) moves each 20 kg wheel carrier along its
+// strut with M a + m_u sum n s'' = F_ext, leaving out the carriers'
+// Coriolis and centripetal terms (2 s' w x n, s a x n, s w x (w x n)) and
+// the travel's shift of the mass matrix, so a road car that pitches or
+// rolls changes its own horizontal momentum with no horizontal force on
+// it: one sedan dropped 0.3 m, pitched 4 and rolled 3 degrees, at 15 m/s,
+// alone on this plane gains 29.5 N s (1.3e-3) in 2 s, and the loss scales
+// with wheel_mass (1.09 N s at 20 kg, 0.245 N s at 5 kg, head-on). Through
+// this crash it loses 1.09 N s (4.8e-5) head-on and 2.72 N s (1.2e-4)
+// offset; the bound below is that model's, 3e-4.
 void crash(double offset) {
   json doc = {{"name", "crash"},
               {"physics", {{"dt", 0.002}}},
@@ -84,9 +100,10 @@ void crash(double offset) {
   std::printf("crash offset %.2f m: p_x %.6g -> %.6g N s, p_y %.4g, L_z %.6g -> %.6g N m s, KE %.6g -> max %.6g J, "
               "end %.6g J, struck car %.3f m/s\n",
               offset, p0.x(), p1.x(), p1.y(), L0.z(), L1.z(), ke0, ke_max, r.sim->energy().kinetic, r.vel("b").x());
-  EXPECT_NEAR(p1.x(), p0.x(), 0.01 * p0.norm());
-  EXPECT_NEAR(p1.y(), p0.y(), 0.01 * p0.norm());
-  EXPECT_NEAR(L1.z(), L0.z(), 0.01 * std::max(std::abs(L0.z()), p0.norm() * 1.0));
+  const double road_car_leak = 3e-4;  // see above: the suspension's, not the contact's
+  EXPECT_NEAR(p1.x(), p0.x(), road_car_leak * p0.norm());
+  EXPECT_NEAR(p1.y(), p0.y(), road_car_leak * p0.norm());
+  EXPECT_NEAR(L1.z(), L0.z(), road_car_leak * p0.norm() * 1.0);  // p times a 1 m lever
   // (the suspension settles in the first steps: 1e-6 of slack)
   EXPECT_LE(ke_max, ke0 * (1.0 + 1e-6)) << "kinetic energy grew";
   // the struck car moves off: momentum went across
@@ -95,6 +112,44 @@ void crash(double offset) {
 
 TEST(Collision, HeadOnCrashConservesMomentumAndLosesEnergy) { crash(0.0); }
 TEST(Collision, OffsetCrashConservesAngularMomentum) { crash(0.9); }
+
+// The report's cars are rigid bodies joined by springs: every internal
+// force and every contact force between bodies comes in equal and opposite
+// pairs, and on a frictionless plane (contact.friction 0) the ground's
+// forces are vertical. So p_x, p_y and L_z (about the vertical axis through
+// the origin) are conserved exactly, gravity and ground notwithstanding:
+// an offset crash with the bodies' friction on (mu 0.5) holds them to
+// round-off (measured 2e-14 of p). 1e-6, as the boxes' test.
+TEST(Collision, ReportCarsCrashConservesHorizontalMomentumExactly) {
+  json doc = {{"name", "report crash"},
+              {"physics", {{"dt", 5e-5}}},
+              {"contact", {{"friction", 0.0}}},
+              {"ground", {{"type", "plane"}}},
+              {"vehicles",
+               {{{"name", "a"}, {"initial", {{"position", {0.0, 0.0, 0.0}}, {"speed", 3.0}}}},
+                {{"name", "b"}, {"initial", {{"position", {5.5, 0.7, 0.0}}}}}}}};
+  SceneRun r = load(doc);
+  const Model& m = r.m();
+  const Vec3 p0 = linearMomentum(m, r.sim->state());
+  const Vec3 L0 = angularMomentum(m, r.sim->state());
+  double dp = 0.0, dL = 0.0;  // the largest departures, sampled every step
+  int ended = 0;
+  for (int k = 0; k < 40000; ++k) {  // 2 s: contact from about 0.5 s
+    ASSERT_TRUE(step(r, 1)) << r.sim->state().health_reason;
+    ended += static_cast<int>(r.sim->takeEndedHits().size());
+    const Vec3 p = linearMomentum(m, r.sim->state()), L = angularMomentum(m, r.sim->state());
+    dp = std::max({dp, std::abs(p.x() - p0.x()), std::abs(p.y() - p0.y())});
+    dL = std::max(dL, std::abs(L.z() - L0.z()));
+  }
+  ASSERT_GE(ended + static_cast<int>(r.sim->hits().size()), 1) << "the cars never touched";
+  std::printf("report cars' crash: p_x %.9g, largest change of p_x, p_y %.3g N s, of L_z %.3g N m s; struck car "
+              "%.3f m/s, %.3f m/s sideways\n",
+              p0.x(), dp, dL, r.vel("b").x(), r.vel("b").y());
+  EXPECT_GT(r.vel("b").x(), 0.5) << "momentum went across";
+  EXPECT_GT(std::abs(r.vel("b").y()), 1e-3) << "the offset hit pushes sideways too";
+  EXPECT_LE(dp, 1e-6 * p0.norm());
+  EXPECT_LE(dL, 1e-6 * p0.norm() * 1.0);  // p times a 1 m lever
+}
 
 // Two boxes head-on, afloat without gravity: the linear spring-dashpot's
 // restitution e = exp(-zeta pi / sqrt(1 - zeta^2)) and contact time
