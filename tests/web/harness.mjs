@@ -239,6 +239,38 @@ export async function caughtUp(page, session, margin = 0.5) {
   }, 120000, 200);
   return behind;
 }
+// The simulated time of the page's newest state.
+export const simTime = (page) => page.evaluate(() => (window.groundsim.lastState ? window.groundsim.lastState.t : null));
+
+// Waits until the page has received states `span` s of simulated time past
+// its newest one now (a duration on the session's clock, not the wall's: a
+// loaded machine or a slow server only makes it take longer); returns the
+// simulated times [from, to].
+export async function simWait(page, span, what = `${span} s of simulated time`, timeoutMs = 120000) {
+  const from = await simTime(page);
+  const to = await until(what, async () => {
+    const t = await simTime(page);
+    return t !== null && t >= from + span && t;
+  }, timeoutMs, 20);
+  return [from, to];
+}
+
+// Pauses the page's session as its driver does (P) and waits for a state
+// that shows it paused; returns that state's simulated time, where the
+// session's clock now stands until it resumes.
+export async function pause(page) {
+  await page.keyboard.press('p');
+  return until('the session to pause', () => page.evaluate(() => {
+    const s = window.groundsim.lastState;
+    return s && s.status === 2 && { t: s.t, seq: s.seq };
+  }), 60000, 20).then((s) => s.t);
+}
+// Resumes it (P again) and waits for a running state.
+export async function resume(page) {
+  await page.keyboard.press('p');
+  await until('the session to resume', () => page.evaluate(() => window.groundsim.lastState.status === 1), 60000, 20);
+}
+
 export async function hold(page, key, ms) {
   await page.keyboard.down(key);
   await page.waitForTimeout(ms);
