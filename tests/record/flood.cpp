@@ -20,9 +20,13 @@
 //
 // --go FILE: heartbeats start at once, the sessions once FILE exists (a
 // recorder then sees them begin: seq 0 is owed). --report FILE: JSON with
-// each session's sent count (seqs 0 .. sent-1), written when the sessions
-// end. It then goes on heartbeating and answering re-requests for --linger
-// s, or until SIGINT/SIGTERM.
+// each session's sent count (seqs 0 .. sent-1) and "ring", written when
+// the sessions end. It then goes on heartbeating and answering
+// re-requests for --linger s, or until SIGINT/SIGTERM, and at exit writes
+// the report again with "answers" (the re-requests and what they were
+// answered with) and "resent": per session, the ranges of seqs the ring
+// resent (status OK), which record_flood_check holds the ledger's
+// repaired seqs against (issue 35: a repair the ring never sent is none).
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -32,6 +36,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -189,6 +194,8 @@ int main(int argc, char** argv) {
   groundsim::net::ResendRing ring;
   std::atomic<long long> requests{0}, resent_ok{0}, resent_gone{0}, resent_limited{0}, resent_unknown{0};
   std::atomic<long long> publish_failures{0};
+  // per session (by id), the seqs the ring resent: 0/1, grown on demand (under ring_mutex)
+  std::map<std::string, std::vector<char>> resent_seqs;
   std::mutex publish_mutex;  // LCM publishes from two threads
   const auto publish = [&](const std::string& channel, const std::vector<std::uint8_t>& b) {
     std::lock_guard<std::mutex> lk(publish_mutex);
@@ -204,6 +211,13 @@ int main(int argc, char** argv) {
     {
       std::lock_guard<std::mutex> lk(ring_mutex);
       answer = ring.answer(req.client_id, events ? "" : req.session_id, req.from_seq, req.to_seq);
+      if (!events)
+        for (const auto& m : answer) {
+          if (m.status != groundsim::net::ResendRing::Status::Ok || m.seq < 0) continue;
+          std::vector<char>& v = resent_seqs[req.session_id];
+          if (v.size() <= static_cast<std::size_t>(m.seq)) v.resize(static_cast<std::size_t>(m.seq) + 1, 0);
+          v[static_cast<std::size_t>(m.seq)] = 1;
+        }
     }
     ++requests;
     groundsim::resent_t r{};
@@ -362,7 +376,9 @@ int main(int argc, char** argv) {
                "sent %lld per session, %.0f rounds behind at most); bursts: %.0f states; %lld publish failures\n",
                o.sessions, sent, publish_wall, static_cast<double>(sent) / publish_wall, sched,
                static_cast<long long>(sessions[0].next), behind_max, burst_msgs, publish_failures.load());
-  if (!o.report.empty()) {
+  // the report: at the sessions' end, and again at exit with the answers
+  const auto writeReport = [&](bool final) {
+    if (o.report.empty()) return;
     std::ofstream f(o.report + ".tmp");
     f << "{\"publish_s\": " << publish_wall << ", \"rate\": " << o.rate << ", \"burst_every\": " << o.burst_every
       << ", \"burst_s\": " << o.burst_s << ", \"burst_factor\": " << o.burst_factor
@@ -371,10 +387,38 @@ int main(int argc, char** argv) {
       << ", \"ring\": " << (o.ring ? "true" : "false") << ", \"sessions\": {";
     for (std::size_t i = 0; i < sessions.size(); ++i)
       f << (i ? ", " : "") << '"' << sessions[i].id << "\": " << sessions[i].next;
-    f << "}}\n";
+    f << "}";
+    if (final) {
+      f << ", \"answers\": {\"requests\": " << requests.load() << ", \"resent\": " << resent_ok.load()
+        << ", \"gone\": " << resent_gone.load() << ", \"limited\": " << resent_limited.load()
+        << ", \"unknown\": " << resent_unknown.load() << "}, \"resent\": {";
+      std::lock_guard<std::mutex> lk(ring_mutex);
+      bool first = true;
+      for (const auto& [id, v] : resent_seqs) {
+        f << (first ? "" : ", ") << '"' << id << "\": \"";
+        first = false;
+        bool comma = false;
+        for (std::size_t a = 0; a < v.size();) {
+          if (!v[a]) {
+            ++a;
+            continue;
+          }
+          std::size_t b = a;
+          while (b + 1 < v.size() && v[b + 1]) ++b;
+          f << (comma ? "," : "") << a;
+          if (b > a) f << '-' << b;
+          comma = true;
+          a = b + 1;
+        }
+        f << '"';
+      }
+      f << "}";
+    }
+    f << "}\n";
     f.close();
     std::rename((o.report + ".tmp").c_str(), o.report.c_str());
-  }
+  };
+  writeReport(false);
   // heartbeats and answers go on: the recorder asks for the tail and its gaps
   const auto linger_end = Clock::now() + std::chrono::duration<double>(o.linger);
   while (!g_stop && Clock::now() < linger_end) {
@@ -383,6 +427,7 @@ int main(int argc, char** argv) {
   }
   g_stop = true;
   lcm_thread.join();
+  writeReport(true);
   std::fprintf(stderr, "record_flood: resend requests %lld; resent %lld, gone %lld, limited %lld, unknown %lld\n",
                requests.load(), resent_ok.load(), resent_gone.load(), resent_limited.load(), resent_unknown.load());
   return 0;

@@ -12,7 +12,16 @@
 //   - every seq the subscriber heard is in the file or listed lost, and the
 //     subscriber's own heard + missed equals what was published;
 //   - the applied log's END entry is in the file, or named missing or
-//     lost, or its frame (the last state) is listed lost.
+//     lost, or its frame (the last state) is listed lost;
+//   - repair (issue 35: the check used to pass with a dead ring, and the
+//     no-repair run checked the same): every seq the ledger lists repaired
+//     is one the flood's ring resent (its final report's "resent" ranges).
+// Over all sessions, the recorder must have missed some seqs live (the
+// script stalls it while the flood goes on: else repair is untested), and
+//   - with the ring ("ring": true): the ring answered re-requests and
+//     some of those seqs were repaired;
+//   - without it: nothing was resent and nothing is listed repaired, so
+//     every seq missed live is listed lost.
 // Prints the totals; exit 1 with a FAIL line per finding.
 //
 //   record_flood_check FILE.mcap FLOOD.json COUNTER.json
@@ -90,6 +99,15 @@ int main(int argc, char** argv) {
   }
   std::map<std::string, std::int64_t> sent;
   for (auto& [id, n] : flood["sessions"].items()) sent[id] = n.get<std::int64_t>();
+  // the flood's final report: whether its ring answered, and what it resent
+  if (!flood.contains("ring") || !flood["ring"].is_boolean() || !flood.contains("answers") ||
+      !flood.contains("resent")) {
+    std::printf("FAIL: the flood's report has no \"ring\", \"answers\" or \"resent\": it did not exit cleanly\n");
+    return 1;
+  }
+  const bool ring = flood["ring"].get<bool>();
+  const long long answers_resent = flood["answers"]["resent"].get<long long>();
+  const long long answers_requests = flood["answers"]["requests"].get<long long>();
 
   groundsim::recording::McapReader reader(argv[1]);
   if (!reader.complete()) fail("the file is not complete: " + reader.endNote());
@@ -134,7 +152,7 @@ int main(int argc, char** argv) {
   if (outside) fail(std::to_string(outside) + " state messages with a seq never published");
 
   long long t_sent = 0, t_rec = 0, t_rep = 0, t_lost = 0, t_file = 0, t_heard = 0, t_heard_lost = 0,
-            t_counter_missed = 0, t_heard_not_recv = 0;
+            t_counter_missed = 0, t_heard_not_recv = 0, t_resent = 0;
   int sessions_lossy = 0;
   const auto& csessions = counter["sessions"];
   for (const auto& [sid, n] : sent) {
@@ -178,6 +196,23 @@ int main(int argc, char** argv) {
     if (file_dups[sid]) fail(sid + ": " + std::to_string(file_dups[sid]) + " states written twice");
     if (file_states[sid] != nrec + nrep)
       fail(sid + ": " + std::to_string(file_states[sid]) + " states in the file, the ledger says " + std::to_string(nrec + nrep));
+    // every repair is a seq the ring resent
+    Set resent(static_cast<std::size_t>(n), 0);
+    long long nresent = 0;
+    if (flood["resent"].contains(sid) &&
+        !parseRanges(flood["resent"][sid].get<std::string>(), n, resent, nresent))
+      fail(sid + ": the flood's resent seqs are not ranges of 0.." + std::to_string(n - 1));
+    long long repaired_not_resent = 0;
+    std::int64_t first_unsent = -1;
+    for (std::int64_t i = 0; i < n; ++i)
+      if (rep[static_cast<std::size_t>(i)] && !resent[static_cast<std::size_t>(i)]) {
+        if (first_unsent < 0) first_unsent = i;
+        ++repaired_not_resent;
+      }
+    if (repaired_not_resent)
+      fail(sid + ": " + std::to_string(repaired_not_resent) + " seqs listed repaired that the ring never resent, first " +
+           std::to_string(first_unsent));
+    t_resent += nresent;
     // the END entry of the applied log (one entry, seq 0, with the last frame)
     const bool end_listed_missing = kv.count("applied_end_missing") > 0;
     const std::string applied_lost = get(kv, "applied_lost");
@@ -232,6 +267,20 @@ int main(int argc, char** argv) {
               t_heard, t_counter_missed, t_heard_not_recv, t_heard_lost);
   if (t_rec + t_rep + t_lost != t_sent) fail("the ledgers' received + repaired + lost is not what was published");
   if (t_rec == 0) fail("the recorder received nothing live: the check proves nothing");
+  // repair where the ring answers, none where it does not
+  const long long missed_live = t_rep + t_lost;
+  std::printf("repair: ring %s; %lld re-requests answered with %lld states (%lld distinct seqs); the recorder missed "
+              "%lld live: %lld repaired, %lld lost\n",
+              ring ? "on" : "off", answers_requests, answers_resent, t_resent, missed_live, t_rep, t_lost);
+  if (missed_live == 0)
+    fail("the recorder missed nothing live (it is stalled while the flood goes on): repair was not exercised");
+  if (ring) {
+    if (answers_resent == 0) fail("the ring resent nothing, though the recorder missed " + std::to_string(missed_live));
+    if (t_rep == 0) fail("the ring answers, yet none of the " + std::to_string(missed_live) + " seqs missed live was repaired");
+  } else {
+    if (answers_resent != 0 || t_resent != 0) fail("the flood ran without its ring, yet resent " + std::to_string(answers_resent));
+    if (t_rep != 0) fail("no ring answers, yet " + std::to_string(t_rep) + " seqs are listed repaired");
+  }
   if (failures.empty()) std::printf("accounting: every state published is in the file or listed lost; none silent\n");
   return failures.empty() ? 0 : 1;
 }

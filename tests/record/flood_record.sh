@@ -13,7 +13,10 @@
 # received, repaired or lost in the ledger, exactly once; the file holds
 # exactly the received and repaired ones; every seq the subscriber heard
 # is in the file or listed lost; the subscriber's heard + missed is what
-# was published. Accounting only: how much is lost depends on the
+# was published; every seq listed repaired is one the flood's ring resent.
+# The recorder is stalled while the flood goes on, so it must miss seqs
+# live: with the ring some of them are repaired, without it (--no-ring)
+# none is and all are listed lost. How much is lost depends on the
 # machine, and is printed, never asserted.
 #   flood_record.sh BUILD_DIR SOURCE_DIR [N=100] [R=2000] [D=5]   (inside tests/integration/netns_run.sh)
 # FLOOD_OPTS: more record_flood options (e.g. --no-ring); REPAIR_WAIT: record's
