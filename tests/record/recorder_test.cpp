@@ -6,12 +6,17 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <set>
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include <random>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -53,7 +58,27 @@ groundsim::state_t state(const std::string& session, std::int64_t seq) {
   return m;
 }
 
-std::string tempPath(const char* name) { return ::testing::TempDir() + name; }
+// A directory of this test process's own, removed when it ends: two
+// checkouts on one machine run these tests at the same time (a fixed
+// /tmp/recorder_gaps.mcap was written by both).
+const std::filesystem::path& processTempDir() {
+  struct Dir {
+    std::filesystem::path path;
+    Dir() {
+      path = std::filesystem::temp_directory_path() /
+             ("groundsim-recorder-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
+      std::filesystem::create_directories(path);
+    }
+    ~Dir() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
+}
+
+std::string tempPath(const char* name) { return (processTempDir() / name).string(); }
 
 TEST(Recorder, GapsAreAskedForRepairedOrLostAndAllListed) {
   setPrecision(Precision::Exact);  // each double read back as sent

@@ -7,7 +7,10 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <random>
 #include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -33,6 +36,26 @@ MessageError refusal(const std::string& text) {
 std::string scenarioWithGround(const std::string& ground) {
   return R"({"name": "t", "duration": 1, "ground": )" + ground +
          R"(, "vehicle": {"name": "car", "initial": {"position": [0, 0, 0]}}})";
+}
+
+// A directory of this test process's own, removed when it ends: two
+// checkouts on one machine run these tests at the same time (the folders
+// were named by gtest's random seed, which is not unique between them).
+const std::filesystem::path& processTempDir() {
+  struct Dir {
+    std::filesystem::path path;
+    Dir() {
+      path = std::filesystem::temp_directory_path() /
+             ("groundsim-bridge-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
+      std::filesystem::create_directories(path);
+    }
+    ~Dir() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
 }
 
 }  // namespace
@@ -233,8 +256,7 @@ TEST(ShippedScenarios, EveryConfigIsListedWithItsDescriptionAndCapacity) {
 
 TEST(ShippedScenarios, ACarThatCannotBeCopiedHostsOnePlayerAndABrokenFileIsNotOffered) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("groundsim-shipped-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  fs::remove_all(dir);
+  const fs::path dir = processTempDir() / "shipped";
   fs::create_directories(dir / "sub");
   std::ofstream(dir / "plane.json") << scenarioWithGround(R"({"type":"plane"})");
   // a task naming its car: copies are renamed (car-1, car-2 ...), so it hosts only its own
@@ -268,8 +290,7 @@ TEST(ShippedScenarios, TheMostCarsWithinTheBudgetAreFoundByBisection) {
   const double work1 = groundsim::scenario::estimateModelSize(one).work_per_step;
   doc["duration"] = budget.max_work / (2.5 * work1 * steps_per_s);
   ASSERT_LT(doc["duration"].get<double>() * steps_per_s, budget.max_steps);
-  const fs::path dir = fs::temp_directory_path() / ("groundsim-budget-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  fs::remove_all(dir);
+  const fs::path dir = processTempDir() / "budget";
   fs::create_directories(dir);
   std::ofstream(dir / "long.json") << doc.dump();
   const ShippedList list = listShippedScenarios(dir.string(), 1.0, 8);

@@ -6,7 +6,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -17,11 +20,32 @@
 namespace groundsim::web {
 namespace {
 
+// A directory of this test process's own, removed when it ends: two
+// checkouts on one machine run these tests at the same time (the folders
+// were /tmp/recordings_<test>, shared between them).
+const std::filesystem::path& processTempDir() {
+  struct Dir {
+    std::filesystem::path path;
+    Dir() {
+      path = std::filesystem::temp_directory_path() /
+             ("groundsim-recordings-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
+      std::filesystem::create_directories(path);
+    }
+    ~Dir() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
+}
+
 // Two sessions at 100 Hz for 60 s, each in its own chunks, as the recorder writes them.
 // (a folder per test: ctest runs them in parallel)
 std::string folder() {
-  const std::string dir = ::testing::TempDir() + "recordings_" +
-                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string dir =
+      (processTempDir() / ("recordings_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
+          .string();
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   recording::WriterOptions o;
@@ -115,8 +139,9 @@ TEST(Recordings, HostileRequestsNameTheParameter) {
 // (as the server publishes it: with its asset manifest) attached, the
 // asset files attached only when `with_assets`, 3 states and 3 events.
 std::string recordedScene(const std::string& config, bool with_assets) {
-  const std::string dir = ::testing::TempDir() + "scene_" +
-                          ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string dir =
+      (processTempDir() / ("scene_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
+          .string();
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string path = std::string(GROUNDSIM_CONFIG_DIR) + "/" + config;
