@@ -9,6 +9,9 @@
 // placed it (on the ground: its centre half its 1 m height up). Between
 // the two, datagrams that are no contact_state_t on the session's contact
 // channel are logged and dropped by the bridge, which serves on.
+// The players' pages run without drawing (?render=0: what is checked there
+// is the hits they show, their HUD and states); the spectator's is drawn.
+// Durations are the session's (simulated time), waits are for conditions.
 import dgram from 'node:dgram';
 import { fileURLToPath } from 'node:url';
 import * as h from './harness.mjs';
@@ -19,7 +22,7 @@ const { url, bridge } = await h.startServices({ bridgeArgs: ['--configs', data] 
 let bridgeLog = '';
 bridge.stderr.on('data', (d) => { bridgeLog += d; });
 await h.launch();
-const one = await h.newPage(url), two = await h.newPage(url);
+const one = await h.newPage(`${url}?render=0`), two = await h.newPage(`${url}?render=0`);
 const session = await h.createAndDrive(one, 'push.json', 2);
 await h.until('the session in the lobby', () => two.evaluate((id) => !!document.querySelector(`tr[data-session="${id}"]`), session));
 await two.click(`tr[data-session="${session}"] button[data-act="drive"]`);
@@ -37,12 +40,12 @@ const shown = (page) => page.evaluate(() => ({
   hud: document.getElementById('hud-hits').textContent,
   cars: window.groundsim.lastState.vehicles.map((v) => v.p),
 }));
-// the car in front at rest, its driver idle
+// the car in front at rest, its driver idle, for 1.5 s of simulated time
 const start = await pos(two, 1), start0 = await pos(two, 0);
-await one.waitForTimeout(1500);
+const [ti, tj] = await h.simWait(two, 1.5);
 const still = await pos(two, 1);
 const drift = Math.hypot(still[0] - start[0], still[1] - start[1]);
-console.log(`car 1 idle for 1.5 s: moved ${drift.toFixed(3)} m`);
+console.log(`car 1 idle for ${(tj - ti).toFixed(2)} s: moved ${drift.toFixed(3)} m`);
 if (drift > 0.2) await h.fail(`car 1 moves by itself (${drift} m in 1.5 s): the push would prove nothing`);
 
 // player one holds W until its page shows the hit, then lets go
@@ -81,10 +84,11 @@ const moved = await h.until('car 1 to be pushed more than 1 m', async () => {
 const idle = await two.evaluate(() => JSON.parse(window.groundsim.lastControls));
 console.log(`car 1 pushed ${moved.toFixed(2)} m; player two's controls ${JSON.stringify(idle)}`);
 if (idle.throttle !== 0 || idle.brake !== 0) await h.fail(`player two's car was driven: ${JSON.stringify(idle)}`);
-// the ended hit arrives as the server's event too
-const events = await h.until('the ended hit as an event', () => one.evaluate(() => window.groundsim.hitEvents), 30000)
+// the ended hit arrives as the server's event too: without it, a failure
+const events = await h.until('the ended hit as an event', () => one.evaluate(() => window.groundsim.hitEvents), 60000)
   .catch(() => 0);
 console.log(`"hit: " events on player one's page: ${events}`);
+if (!(events > 0)) await h.fail('the server\'s hit event never reached player one\'s page');
 
 // bad datagrams on the contact channel (LCM's small-message framing: magic,
 // sequence number, channel, payload): counted, logged and dropped
@@ -95,16 +99,39 @@ const lcmPublish = (channel, payload, seqno) => new Promise((resolve) => {
   sock.send(Buffer.concat([head, Buffer.from(`${channel}\0`), payload]), 7667, '239.255.76.67', () => { sock.close(); resolve(); });
 });
 const channel = `GROUNDSIM_CONTACT_${session}`;
+// contact_state_t's fingerprint as the server sends it (the first 8 bytes of
+// a real message on the channel): a constant here went stale when the type
+// changed (protocol 2), and the two datagrams below were then refused for
+// their fingerprint, never reaching the decoder's bounds they are about
+const fingerprint = await new Promise((resolve, reject) => {
+  const sock = dgram.createSocket({ type: 'udp4', reuseAddr: true });
+  const timer = setTimeout(() => { sock.close(); reject(new Error(`no message on ${channel} in 60 s`)); }, 60000);
+  sock.on('message', (buf) => {
+    if (buf.length < 8 || buf.readUInt32BE(0) !== 0x4c433032) return;  // small messages only
+    const end = buf.indexOf(0, 8);
+    if (end < 0 || buf.toString('latin1', 8, end) !== channel || buf.length < end + 9) return;
+    clearTimeout(timer);
+    sock.close();
+    resolve(Buffer.from(buf.subarray(end + 1, end + 9)));
+  });
+  sock.bind(7667, () => sock.addMembership('239.255.76.67'));
+});
+console.log(`contact_state_t's fingerprint on the bus: ${fingerprint.toString('hex')}`);
 await lcmPublish(channel, Buffer.alloc(0), 1);
 await lcmPublish(channel, Buffer.from('not a contact_state_t'), 2);
 await lcmPublish(channel, Buffer.from(Array.from({ length: 300 }, (_, i) => (i * 37 + 11) & 255)), 3);
-// contact_state_t's fingerprint (a released type never changes), then a
-// session id whose length runs past the datagram, and an object count of 2^31 - 1
-const fingerprint = Buffer.from('7d9d2a9ee58581c9', 'hex'), word = (n) => { const b = Buffer.alloc(4); b.writeInt32BE(n); return b; };
+// contact_state_t's fingerprint, then a session id whose length runs past
+// the datagram, and an object count of 2^31 - 1
+const word = (n) => { const b = Buffer.alloc(4); b.writeInt32BE(n); return b; };
 await lcmPublish(channel, Buffer.concat([fingerprint, Buffer.alloc(16), word(1000), Buffer.from('s1')]), 4);
 await lcmPublish(channel, Buffer.concat([fingerprint, Buffer.alloc(16), word(3), Buffer.from('s1\0'), Buffer.alloc(8), word(0x7fffffff)]), 5);
 await h.until('the bridge to log the bad datagrams', () => (bridgeLog.match(/undecodable message on GROUNDSIM_CONTACT_/g) || []).length >= 5, 15000)
   .catch(() => h.fail(`the bridge did not report the bad contact datagrams: ${bridgeLog.slice(-2000)}`));
+// the last two (the right fingerprint) refused by the decoder, not for their fingerprint
+const refusals = bridgeLog.match(/undecodable message on GROUNDSIM_CONTACT_[^\n]*/g);
+for (const r of refusals) console.log(r);
+if (refusals.filter((r) => /fingerprint/.test(r)).length !== 2)
+  await h.fail(`expected the two foreign datagrams refused for their fingerprint and the others decoded and refused: ${JSON.stringify(refusals)}`);
 const before = await one.evaluate(() => window.groundsim.contacts);
 await h.until('contact states after the bad datagrams', async () => (await one.evaluate(() => window.groundsim.contacts)) > before + 5, 30000);
 console.log('5 bad contact datagrams logged and dropped; contact states still arrive');
