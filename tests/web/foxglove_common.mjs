@@ -11,12 +11,13 @@ import { createRequire } from 'node:module';
 import * as h from './harness.mjs';
 
 const env = process.env;
-export const { LCM_URL, CONFIGS, pass, fail, cleanup, sleep, cli } = h;
+export const { LCM_URL, CONFIGS, pass, fail, skip, cleanup, sleep, cli } = h;
 export const require = createRequire(`${env.GROUNDSIM_WEB_NODE_MODULES}/`);
 export const WebSocket = require('ws');
 
-// these tests poll their clients more often than a page
-export const until = (what, fn, timeoutMs = 30000, everyMs = 50) => h.until(what, fn, timeoutMs, everyMs);
+// these tests poll their clients more often than a page; the ceiling only
+// ends a hung test (a loaded machine or a sanitized build is slower)
+export const until = (what, fn, timeoutMs = 60000, everyMs = 50) => h.until(what, fn, timeoutMs, everyMs);
 
 // groundsim-server, then groundsim-web with a Foxglove port; returns the
 // page's http URL and the Foxglove ws URL.
