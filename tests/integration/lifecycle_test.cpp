@@ -1,13 +1,18 @@
 // End-to-end tests of a session's life over time: the real-time command
 // timeout, idle reclamation, pause/resume and the real-time factor. The real
 // groundsim-server and `groundsim` clients over UDP multicast; CTest runs each
-// test in its own network namespace (netns_run.sh). Timing enters only as
-// generous bounds: the assertions are about behaviour (what moves, what stops,
-// which event says why), never about numbers copied from a run.
+// test in its own network namespace (netns_run.sh). The assertions are about
+// behaviour (what moves, what stops, which event says why), never about
+// numbers copied from a run, and never about how fast the machine is: each
+// wait is for a condition (a state at a simulation time, an event), with a
+// generous wall-clock ceiling that only ends a hung test; clients that keep
+// a session active run until the test has seen what it waits for and then
+// stops them (issue 35: a loaded machine ran 0.29 s of simulation a second).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <map>
@@ -175,21 +180,25 @@ class Lifecycle : public ::testing::Test {
   std::string token_file_;
 };
 
+// The timeout is 2 s of wall time (it is a real-time mode's), 40 times the
+// interval of `drive`'s repeated commands: a loaded machine that delays the
+// driver or the server's receiving thread by a few hundred milliseconds
+// does not time the driven session out.
 TEST_F(Lifecycle, CommandTimeoutReleasesTheTorque) {
-  startServer({"--command-timeout", "0.5"});
+  startServer({"--command-timeout", "2"});
   Bus bus;
   ASSERT_TRUE(bus.good());
   const std::string held = create();      // one command, then silence
   const std::string driven = create();    // the same command, repeated by `drive`
   const std::string coasting = create();  // never driven
-  // `drive` repeats its command 20 times a second for 8 s, then releases
-  Process driver(argv({"drive", driven}, true), "throttle 2\nwait 8\nquit\n");
+  // `drive` repeats its command 20 times a second until it is stopped (SIGINT: it releases)
+  Process driver(argv({"drive", driven}, true), "throttle 2\nwait 3600\nquit\n");
   // one command, left in force when the client exits
   const Result once = cli({"drive", held, "--hold"}, true, "throttle 2\nquit\n");
   ASSERT_EQ(once.status, 0) << once.err;
 
   const groundsim::event_t* timeout =
-      bus.waitEvent(held, groundsim::event_t::ERR_COMMAND_TIMEOUT, "", 10);
+      bus.waitEvent(held, groundsim::event_t::ERR_COMMAND_TIMEOUT, "", 60);
   ASSERT_NE(timeout, nullptr) << "no ERR_COMMAND_TIMEOUT for the session whose commands stopped";
   EXPECT_EQ(timeout->severity, +groundsim::event_t::SEVERITY_WARNING);
   const double te = timeout->utime * 1e-6;  // the held session's simulation time at the timeout
@@ -198,7 +207,8 @@ TEST_F(Lifecycle, CommandTimeoutReleasesTheTorque) {
   const double t1 = te + 0.3, t2 = te + 2.0;
   ASSERT_TRUE(bus.pumpUntil([&] {
     return bus.latestT(held) > t2 && bus.latestT(driven) > t2 && bus.latestT(coasting) > t2;
-  }, 20));
+  }, 120));
+  driver.signal(SIGINT);  // seen: it releases and exits
   auto speed = [&](const std::string& id, double t) { return bus.at(id, t)->vehicles.at(0).speed; };
 
   // the command was in force until the timeout: the held car got ahead of the coasting one
@@ -217,23 +227,33 @@ TEST_F(Lifecycle, CommandTimeoutReleasesTheTorque) {
   EXPECT_EQ(driver.wait(30).status, 0);
 }
 
+// The owner's drive commands (20 a second, zero torque, per-wheel so that
+// the client sends at once) keep each session alive until the test stops
+// them: the idle clock starts when the test says, not when a loaded
+// machine's clients get round to it. The one wall-clock race left is a
+// client starting within the 4 s after its session's `create`.
 TEST_F(Lifecycle, IdleSessionIsReclaimed) {
-  startServer({"--idle-timeout", "2"});
+  startServer({"--idle-timeout", "4"});
   Bus bus;
   ASSERT_TRUE(bus.good());
   const std::string idle = create({"--mode", "lockstep"});
+  Process idle_keeper(argv({"drive", idle, "--controls", "wheels"}, true), "wait 3600\nquit\n");
   const std::string kept = create();
-  // the owner's drive commands (20 a second, zero torque) keep `kept` alive for 6 s
-  Process keeper(argv({"drive", kept}, true), "wait 6\nquit\n");
+  Process keeper(argv({"drive", kept, "--controls", "wheels"}, true), "wait 3600\nquit\n");
+  ASSERT_TRUE(idle_keeper.waitForError("sending", 60)) << idle_keeper.wait(1).err;
+  ASSERT_TRUE(keeper.waitForError("sending", 60)) << keeper.wait(1).err;
   const Result before = list();
   EXPECT_TRUE(row(before.out, idle).found) << before.out;
   EXPECT_TRUE(row(before.out, kept).found) << before.out;
 
-  // the idle one is stopped with a reason, publishes a last state, and leaves the list
-  const groundsim::event_t* gone = bus.waitEvent(idle, groundsim::event_t::ERR_NONE, "reclaimed", 15);
+  // once its owner falls silent the idle one is stopped with a reason,
+  // publishes a last state, and leaves the list
+  idle_keeper.signal(SIGINT);
+  EXPECT_EQ(idle_keeper.wait(60).status, 0);
+  const groundsim::event_t* gone = bus.waitEvent(idle, groundsim::event_t::ERR_NONE, "reclaimed", 60);
   ASSERT_NE(gone, nullptr) << "no event saying the idle session was reclaimed";
   EXPECT_NE(gone->reason.find("without its owner"), std::string::npos) << gone->reason;
-  ASSERT_TRUE(bus.pumpUntil([&] { return !bus.states(idle).empty(); }, 5));
+  ASSERT_TRUE(bus.pumpUntil([&] { return !bus.states(idle).empty(); }, 60));
   const groundsim::state_t& last = bus.states(idle).back().state;
   EXPECT_EQ(last.status, +groundsim::state_t::STATUS_STOPPED);
   EXPECT_NE(last.status_reason.find("reclaimed"), std::string::npos) << last.status_reason;
@@ -243,8 +263,9 @@ TEST_F(Lifecycle, IdleSessionIsReclaimed) {
   EXPECT_TRUE(row(after.out, kept).found) << after.out;
   EXPECT_EQ(bus.event(kept, groundsim::event_t::ERR_NONE, "reclaimed"), nullptr);
   // and once the owner falls silent it goes the same way
-  EXPECT_EQ(keeper.wait(30).status, 0);
-  EXPECT_NE(bus.waitEvent(kept, groundsim::event_t::ERR_NONE, "reclaimed", 15), nullptr);
+  keeper.signal(SIGINT);
+  EXPECT_EQ(keeper.wait(60).status, 0);
+  EXPECT_NE(bus.waitEvent(kept, groundsim::event_t::ERR_NONE, "reclaimed", 60), nullptr);
   EXPECT_FALSE(row(list().out, kept).found);
 }
 
@@ -253,14 +274,14 @@ TEST_F(Lifecycle, PauseFreezesSimulatedTime) {
   Bus bus;
   ASSERT_TRUE(bus.good());
   const std::string id = create();
-  ASSERT_TRUE(bus.pumpUntil([&] { return bus.latestT(id) > 0.5; }, 20));
+  ASSERT_TRUE(bus.pumpUntil([&] { return bus.latestT(id) > 0.5; }, 60));
 
   const Result paused = cli({"pause", id}, true);
   ASSERT_EQ(paused.status, 0) << paused.err;
   // subscribers see the pause
   ASSERT_TRUE(bus.pumpUntil([&] {
     return !bus.states(id).empty() && bus.states(id).back().state.status == groundsim::state_t::STATUS_PAUSED;
-  }, 5));
+  }, 60));
   const double frozen = bus.latestT(id);
   const Row r1 = row(list().out, id);
   ASSERT_TRUE(r1.found);
@@ -277,18 +298,26 @@ TEST_F(Lifecycle, PauseFreezesSimulatedTime) {
     EXPECT_EQ(bus.states(id)[i].state.status, +groundsim::state_t::STATUS_PAUSED);
   }
 
+  // before the request: the session cannot resume before this instant
+  const auto wall0 = Clock::now();
   const Result resumed = cli({"resume", id}, true);
   ASSERT_EQ(resumed.status, 0) << resumed.err;
-  const auto wall0 = Clock::now();
-  bus.pump(1.5);
+  // it goes on: 0.5 s of simulated time, however long that takes the machine
+  ASSERT_TRUE(bus.pumpUntil([&] { return bus.latestT(id) > frozen + 0.5; }, 120))
+      << "frozen at t=" << frozen << ", now " << bus.latestT(id);
   const Row r3 = row(list().out, id);
+  const double wall = secondsSince(wall0);
   ASSERT_TRUE(r3.found);
   EXPECT_EQ(r3.status, "running");
-  // it goes on from where it stopped (no jump to catch up on the pause), at about 1x
+  // from where it stopped: no jump to catch up on the pause. Real time
+  // never runs ahead of the wall clock, so the time it advanced is at most
+  // the wall time since just before the resume (plus a step; 0.1 s of
+  // slack); a slow machine only advances less. Printed, not asserted: the
+  // factor it achieved.
   const double advanced = r3.t - r2.t;
+  std::printf("resumed: %.3f s simulated in %.3f s of wall time\n", advanced, wall);
   EXPECT_GT(advanced, 0.5) << "resumed at t=" << r2.t << ", now " << r3.t;
-  EXPECT_LT(advanced, secondsSince(wall0) + 0.5) << "resumed at t=" << r2.t << ", now " << r3.t;
-  EXPECT_GT(bus.latestT(id), frozen + 0.5);
+  EXPECT_LT(advanced, wall + 0.1) << "resumed at t=" << r2.t << ", now " << r3.t;
   EXPECT_EQ(bus.states(id).back().state.status, +groundsim::state_t::STATUS_RUNNING);
 }
 
