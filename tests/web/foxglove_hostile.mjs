@@ -71,7 +71,7 @@ const errors = () => h.statuses.filter((s) => s.level === 2);
 for (const [msg, expect] of hostile) {
   const before = errors().length;
   if (Buffer.isBuffer(msg)) h.ws.send(msg); else h.send(msg);
-  await f.until(`a status for ${String(JSON.stringify(msg)).slice(0, 60)}`, () => errors().length > before, 5000);
+  await f.until(`a status for ${String(JSON.stringify(msg)).slice(0, 60)}`, () => errors().length > before);
   const s = errors().at(-1);
   if (s.level !== 2 || !s.message.includes(expect))
     await f.fail(`for ${String(JSON.stringify(msg)).slice(0, 80)}: expected an error with "${expect}", got ${JSON.stringify(s)}`);
