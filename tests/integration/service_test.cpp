@@ -355,14 +355,20 @@ TEST_F(Service, TheLiveEstimateWarnsWhenItPassesTheTolerance) {
   bool warned = false;
   // the windows of a 4 s run are 1/16 s long: a few hundred steps each at
   // the chosen step; step on until the warning (or the session's end)
-  for (int round = 0; round < 40 && !warned; ++round) {
-    if (step(id, 400).status != 0) break;
-    for (std::string r; !(r = events.waitFor(groundsim::event_t::ERR_NONE + 0, 0.5)).empty();) {
+  const auto hear = [&](double wait_s) {
+    for (std::string r; !warned && !(r = events.waitFor(groundsim::event_t::ERR_NONE + 0, wait_s)).empty();) {
       if (r.rfind("accuracy:", 0) != 0) continue;
       said.push_back(r);
       warned = warned || r.find("max_refinements") != std::string::npos;
     }
+  };
+  for (int round = 0; round < 40 && !warned; ++round) {
+    if (step(id, 400).status != 0) break;
+    hear(0.5);  // what came meanwhile; what comes later is heard after a later round
   }
+  // the events of the last rounds, however late a loaded machine publishes
+  // them: the steps are done, so waiting longer only ends a hung test
+  if (!warned) hear(60);
   std::string all;
   for (const std::string& r : said) all += r + "\n";
   ASSERT_EQ(said.size(), 3u) << all;
