@@ -7,7 +7,9 @@
 // 150 draw calls and 500k triangles; the same probe with the terrain hidden
 // does see the clear colour (the check can fail). The car is drawn as a
 // sedan (body, glass, head and brake lights) with its name above it, its
-// brake lights dark under throttle and lit while braking.
+// brake lights dark under throttle and lit while braking (each read from a
+// frame drawn after the server applied the pedal: waited for, not a fixed
+// 1.5 s of wall time).
 import * as h from './harness.mjs';
 
 const { url } = await h.startServices();
@@ -15,7 +17,12 @@ await h.launch();
 const page = await h.newPage(url, { width: 1280, height: 720 });
 await h.createAndDrive(page, 'sedan_hills.json');
 await h.until('the ground near the car', () => page.evaluate(() => window.groundsim.groundGrids > 0));
-await page.waitForTimeout(500);
+// frames drawn with it (the terrain's shaders compiled)
+const drawnAfter = async (what) => {
+  const f0 = await page.evaluate(() => window.groundsim.frames);
+  await h.until(what, () => page.evaluate((f) => window.groundsim.frames > f + 1, f0), 120000, 50);
+};
+await drawnAfter('frames drawn with the ground');
 
 const probe = (dx, dy) => page.evaluate(([dx, dy]) => {
   const g = window.groundsim, p = g.lastState.vehicles[0].p;
@@ -46,15 +53,16 @@ const car = () => page.evaluate(() => {
   return { kind: v.kind, parts, label: !!(v.label && v.label.visible), lit: v.brakeLit, glow: v.tail.emissiveIntensity };
 });
 await page.keyboard.down('w');
-await page.waitForTimeout(1500);
+await h.until('the throttle applied', () => page.evaluate(() => window.groundsim.car && window.groundsim.car.cars[0].throttle > 0.5), 60000, 50);
+await drawnAfter('a frame drawn under throttle');
 const driving = await car();
 // S with W still held: brake and throttle both applied, in the forward
 // gear (S alone stops the car in well under a frame of a loaded software
 // renderer, then engages reverse, which releases the brake)
 await page.keyboard.down('s');
-await h.until('the brake applied', () => page.evaluate(() => window.groundsim.car && window.groundsim.car.cars[0].brake > 0.05), 10000, 50);
+await h.until('the brake applied', () => page.evaluate(() => window.groundsim.car && window.groundsim.car.cars[0].brake > 0.05), 60000, 50);
 // the next frame drawn shows it (a software renderer under load draws one every few seconds)
-await h.until('the brake lights lit', () => page.evaluate(() => window.groundsim.vehicles[0].brakeLit), 20000, 50).catch(() => {});
+await h.until('the brake lights lit', () => page.evaluate(() => window.groundsim.vehicles[0].brakeLit), 60000, 50).catch(() => {});
 const braking = await car();
 await page.keyboard.up('s');
 await page.keyboard.up('w');
