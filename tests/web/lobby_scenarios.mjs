@@ -28,7 +28,10 @@ function shipped(dir, prefix = '') {
 
 const { url } = await h.startServices();
 await h.launch();
-const page = await h.newPage(url, { width: 1280, height: 900 });
+// the pages run without drawing the 3D view (?render=0: the lobby is DOM
+// and 2D canvases; what is checked is the DOM and the pages' state)
+const quiet = `${url}?render=0`;
+const page = await h.newPage(quiet, { width: 1280, height: 900 });
 const rows = await page.evaluate(() => [...document.querySelectorAll('#lobby-scenarios tr')].map((tr) => ({
   id: tr.dataset.config, cells: [...tr.children].map((td) => td.textContent), visible: tr.offsetParent !== null,
 })));
@@ -110,9 +113,6 @@ console.log(`circuit card picture: ${(100 * pic.grey).toFixed(1)} % asphalt grey
 if (!(pic.grey > 0.03 && pic.green > 0.2 && pic.colours > 20)) await h.fail(`the circuit's picture: ${JSON.stringify(pic)}`);
 
 // the name, kept across a reload
-// from here the pages run without drawing (?render=0: four browsers share a
-// software renderer on a busy machine; what is checked is the DOM and app state)
-const quiet = `${url}?render=0`;
 await page.fill('#player-name', 'Ann');
 await page.goto(quiet);
 await h.until('the page to reconnect', () => page.evaluate(() => window.groundsim && window.groundsim.configs.length > 0));
@@ -170,7 +170,8 @@ console.log(`copied: ${copied}`);
 if (copied !== want) await h.fail(`copy link gave "${copied}", want ${want}`);
 const friend = await h.newPage(copied, { width: 960, height: 540 });
 await h.until('the link to open the session', () => friend.evaluate((id) => window.groundsim.session === id && window.groundsim.role === 'spectate' && window.groundsim.states > 2, session), 60000);
-const shared = await page.evaluate(async () => { document.getElementById('btn-share').click(); await new Promise((r) => setTimeout(r, 300)); return window.groundsim.shared; });
+await page.evaluate(() => { window.groundsim.shared = null; document.getElementById('btn-share').click(); });
+const shared = await h.until('the share button\'s link', () => page.evaluate(() => window.groundsim.shared), 60000, 50).catch(() => null);
 if (shared !== want) await h.fail(`the in-game share button gave ${shared}`);
 console.log(`names above Ann's cars: ${JSON.stringify(labels)}; the link opened spectating ${session}`);
 for (const p of [bob, cid, friend, lp]) await p.context().close();
