@@ -25,7 +25,7 @@ fleet_start_servers --snapshot-interval 1
 "$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --exact --out "$tmp/rec.mcap" \
   --lcm-url "$url" --token-file "$tmp/tokens.json" --timeout 10 >"$tmp/record.out" 2>"$tmp/record.err" &
 recorder=$!
-for _ in $(seq 100); do [ -s "$tmp/record.out" ] && break; sleep 0.1; done
+for _ in $(seq 600); do [ -s "$tmp/record.out" ] && break; sleep 0.1; done
 sid=$(head -n 1 "$tmp/record.out")
 [ -n "$sid" ] || fail "no session was created"
 printf 'throttle 0.6\nwait 1.5\nsteer 0.4\nwait 1.5\nsteer -0.3\nwait 2\nthrottle 0.2\nsteer 0.2\nwait 2\nbrake 0.5\nthrottle 0\nwait 6\nquit\n' |
@@ -37,13 +37,17 @@ fleet_wait_owner "$sid"
 # replay: a kill a few ticks after a snapshot left none, and the test read
 # that as a replay that did not happen (the listing's T may lag by a
 # heartbeat, 0.25 s, which only moves the kill later)
-sleep 2.5
-for _ in $(seq 40); do
-  t=$("$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
-    awk -v s="$sid" '$1 == s { print $5 }') || true
-  [ -n "$t" ] && python3 -c "import sys; f = float(sys.argv[1]) % 1.0; sys.exit(0 if 0.35 <= f <= 0.7 else 1)" "$t" && break
+# (the window is looked for from 2.35 s of simulated time on, however long
+# a loaded machine takes to get there; ceiling: 10 minutes of tries)
+fleet_wait_session_t "$sid" 2.35
+t=""; seen=""
+for _ in $(seq 3000); do
+  t=$(fleet_session_t "$sid") || true
+  [ -n "$t" ] && python3 -c "import sys; f = float(sys.argv[1]) % 1.0; sys.exit(0 if 0.35 <= f <= 0.7 else 1)" "$t" &&
+    { seen=1; break; }
   sleep 0.05
 done
+[ -n "$seen" ] || fail "the listing never showed the session between 0.35 and 0.7 s past a snapshot (last t '$t')"
 echo "owner $owner killed at simulated time ${t:-?} s"
 "$lab" kill "$name" "${owner#s}"
 fleet_wait_new_owner "$sid" "$owner"
@@ -52,7 +56,7 @@ line=$(grep -h "took over session $sid" "$tmp"/s*.log || true)
 echo "$line"
 entries=$(echo "$line" | sed -n 's/.*, \([0-9]*\) applied entries replayed.*/\1/p')
 [ -n "$entries" ] && [ "$entries" -gt 0 ] || fail "the takeover replayed no applied entry (the driver's controls): '$line'"
-for _ in $(seq 400); do kill -0 $recorder 2>/dev/null || break; sleep 0.1; done
+for _ in $(seq 1800); do kill -0 $recorder 2>/dev/null || break; sleep 0.1; done
 kill -0 $recorder 2>/dev/null && { kill $recorder; fail "the recording did not end with the session"; }
 wait $recorder || fail "groundsim record exited $?"
 # the recorder counts what the new owner published again (its ledger's

@@ -16,11 +16,15 @@
 #                            said they joined; else calls the test's fail
 #   fleet_owner_of SID       "SERVER EPOCH" of session SID in `groundsim list`
 #                            ($client, from host 4); nothing while unlisted
-#   fleet_wait_owner SID     sets owner and epoch once SID is listed (10 s);
-#                            else calls the test's fail
+#   fleet_session_t SID      the simulated time of SID in `groundsim list`
+#   fleet_wait_session_t SID T  waits until SID has run T s of simulated time
+#                            (however long the machine takes); else fail
+#   fleet_wait_owner SID     sets owner and epoch once SID is listed; else
+#                            calls the test's fail
 #   fleet_wait_new_owner SID OLD [WHY]  sets new and epoch once a server
-#                            other than OLD lists SID (15 s); else fail
-#                            "no server took session SID over within 15 s[WHY]"
+#                            other than OLD lists SID; else fail
+#                            "no server took session SID over within 120 s[WHY]"
+# Their wall-clock limits (60-120 s) only end a hung test.
 
 fleet_lab_begin() {
   local prefix=$1
@@ -49,7 +53,7 @@ fleet_lab_begin() {
 fleet_wait_joined() {
   local i
   for i in 1 2 3; do
-    for _ in $(seq 100); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
+    for _ in $(seq 600); do grep -q "^fleet: server s$i joined" "$tmp/s$i.log" && break; sleep 0.1; done
     grep -q "^fleet: server s$i joined" "$tmp/s$i.log" || fail "server s$i did not join the fleet"
   done
 }
@@ -69,19 +73,36 @@ fleet_owner_of() {
     awk -v s="$1" '$1 == s { print $(NF-2), $(NF-1) }'
 }
 
+# the simulated time of session $1 in `groundsim list` (empty: not listed)
+fleet_session_t() {
+  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null | awk -v s="$1" '$1 == s { print $5 }'
+}
+
+# waits until session $1 has run $2 s of simulated time (ceiling: 10 minutes
+# of tries, only for a hung session), however long a loaded machine takes
+fleet_wait_session_t() {
+  local t=""
+  for _ in $(seq 1200); do
+    t=$(fleet_session_t "$1") || true
+    [ -n "$t" ] && awk -v t="$t" -v w="$2" 'BEGIN { exit !(t >= w) }' && return 0
+    sleep 0.2
+  done
+  fail "session $1 did not reach $2 s of simulated time (listed at '${t}')"
+}
+
 fleet_wait_owner() {
   owner=""
-  for _ in $(seq 50); do read -r owner epoch < <(fleet_owner_of "$1") || true; [ -n "$owner" ] && break; sleep 0.2; done
+  for _ in $(seq 300); do read -r owner epoch < <(fleet_owner_of "$1") || true; [ -n "$owner" ] && break; sleep 0.2; done
   [ -n "$owner" ] || fail "session $1 is listed by no server"
 }
 
 fleet_wait_new_owner() {
   new=""
-  for _ in $(seq 150); do
+  for _ in $(seq 1200); do
     read -r new epoch < <(fleet_owner_of "$1") || true
     [ -n "$new" ] && [ "$new" != "$2" ] && break
     new=""
     sleep 0.1
   done
-  [ -n "$new" ] || fail "no server took session $1 over within 15 s${3:-}"
+  [ -n "$new" ] || fail "no server took session $1 over within 120 s${3:-}"
 }

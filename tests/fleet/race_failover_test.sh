@@ -26,7 +26,7 @@ fleet_wait_owner "$sid"
 # race events (JSON after "race: ") of TYPE in a server's log
 events() { grep -h "$sid: race: " "$1" | sed 's/.*race: //' | grep "\"type\":\"$2\"" || true; }
 olog="$tmp/$owner.log"
-for _ in $(seq 300); do [ "$(events "$olog" gate | wc -l)" -ge 2 ] && break; sleep 0.1; done
+for _ in $(seq 1800); do [ "$(events "$olog" gate | wc -l)" -ge 2 ] && break; sleep 0.1; done
 [ "$(events "$olog" gate | wc -l)" -ge 2 ] || fail "the cars did not pass gate 1 on $owner"
 [ "$(events "$olog" finish | wc -l)" -eq 0 ] || fail "a car finished before the kill: not mid-lap"
 events "$olog" start > "$tmp/starts.json"
@@ -35,7 +35,7 @@ echo "both cars past gate 1 on $owner: killing its host mid-lap"
 fleet_wait_new_owner "$sid" "$owner"
 grep -h "took over session $sid" "$tmp"/s*.log || true
 nlog="$tmp/$new.log"
-for _ in $(seq 600); do [ "$(events "$nlog" finish | wc -l)" -ge 2 ] && break; sleep 0.1; done
+for _ in $(seq 1800); do [ "$(events "$nlog" finish | wc -l)" -ge 2 ] && break; sleep 0.1; done
 events "$nlog" lap > "$tmp/laps.json"
 events "$nlog" finish > "$tmp/finishes.json"
 python3 - "$tmp/starts.json" "$tmp/laps.json" "$tmp/finishes.json" <<'PY' || fail "the new owner's laps"
