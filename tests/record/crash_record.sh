@@ -10,25 +10,56 @@
 # trip: lcm-logger's log of the same session (then stopped) converted to
 # MCAP holds every state the logger kept (what it missed listed as lost),
 # and converted back, the same messages.
+# "30 s in" is 30 s of the session's simulated time, however long a loaded
+# machine takes (it was 30 s of wall time), and the recorder is killed
+# while it has read everything the bus sent it (its socket's queue empty):
+# what it wrote before its last second is then what the file must hold.
+# Every wait is for a condition, with a ceiling that only ends a hung test.
 #   crash_record.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
 set -eu
 build=$1; src=$2; gs=$build/client/groundsim
+# requests wait 10 s for the reply (the CLI's 2 s is missed by a loaded server now and then)
+rq() { cmd=$1; shift; "$gs" "$cmd" --timeout 10 "$@"; }
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 . "$src/tests/record/mcap_checks.sh"
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
-for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+for _ in $(seq 600); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
 logger=$!
 "$gs" record --create "$src/configs/plain.json" --session-duration 60 --publish-rate 200 \
   --out "$dir/crash.mcap" > "$dir/rec.out" 2> "$dir/rec.err" &
 rec=$!
-for _ in $(seq 100); do [ -s "$dir/rec.out" ] && break; sleep 0.1; done
+for _ in $(seq 600); do [ -s "$dir/rec.out" ] && break; sleep 0.1; done
 sid=$(tail -1 "$dir/rec.out")
 [ -n "$sid" ] || { cat "$dir/rec.err"; echo "FAIL: no session"; exit 1; }
-sleep 30
-# the session's simulation time when the recorder dies (under a sanitizer
-# the server may run behind the wall clock)
-t_kill=$("$gs" list 2>/dev/null | awk -v s="$sid" '$1 == s {print $5}')
+session_t() { rq list 2>/dev/null | awk -v s="$sid" '$1 == s {print $5}'; }
+# the bytes waiting in the recorder's UDP sockets (/proc/net/udp's rx_queue, hex)
+rec_queued() {
+  q=0
+  for fd in /proc/$rec/fd/*; do
+    ino=$(readlink "$fd" 2>/dev/null | sed -n 's/^socket:\[\([0-9]*\)\]$/\1/p')
+    [ -n "$ino" ] || continue
+    r=$(awk -v i="$ino" 'NR > 1 && $10 == i {split($5, a, ":"); print a[2]}' /proc/net/udp)
+    [ -n "$r" ] && q=$((q + 0x$r))
+  done
+  echo $q
+}
+# 30 s of the session's simulated time (ceiling: 20 minutes)
+t_now=0
+for _ in $(seq 2400); do
+  t_now=$(session_t); t_now=${t_now:-0}
+  awk -v t="$t_now" 'BEGIN { exit !(t >= 30) }' && break
+  sleep 0.5
+done
+awk -v t="$t_now" 'BEGIN { exit !(t >= 30) }' || { echo "FAIL: the session never reached 30 s (at $t_now s)"; exit 1; }
+# the session's simulation time when the recorder dies, read while the
+# recorder has nothing queued (ceiling: 60 s of trying)
+t_kill=""
+for _ in $(seq 600); do
+  if [ "$(rec_queued)" = 0 ]; then t_kill=$(session_t); break; fi
+  sleep 0.1
+done
+[ -n "$t_kill" ] || { echo "FAIL: the recorder never caught up with the bus ($(rec_queued) bytes queued)"; exit 1; }
 kill -9 $rec
 wait $rec 2>/dev/null || true
 "$gs" inspect "$dir/crash.mcap" > "$dir/inspect.txt" || { cat "$dir/inspect.txt"; echo "FAIL: inspect"; exit 1; }
@@ -36,7 +67,7 @@ cat "$dir/inspect.txt"
 grep -q "^end *incomplete" "$dir/inspect.txt" || { echo "FAIL: the file does not say it is incomplete"; exit 1; }
 # the state channel's log time (simulation time at real time) reaches 29 s
 last=$(sed -n "s|^channel */$sid/state .* \.\. \([0-9.]*\) s.*|\1|p" "$dir/inspect.txt")
-echo "readable up to $last s of simulation (killed at $t_kill s, 30 s of wall time)"
+echo "readable up to $last s of simulation (killed at $t_kill s)"
 awk -v t="$last" -v k="$t_kill" 'BEGIN { exit !(k > 0 && t >= k - 1.0) }' ||
   { echo "FAIL: only $last s readable of $t_kill"; exit 1; }
 # @mcap/core needs a summary to index a file: an incomplete one it refuses, saying so
@@ -67,8 +98,8 @@ PY
 fi
 # the LCM log of the session (stopped now: its final state ends it),
 # through MCAP and back
-"$gs" stop "$sid" > /dev/null
-sleep 1
+rq stop "$sid" > /dev/null
+sleep 1  # what the logger misses of the end is listed by the convert (exit 3), not a failure
 kill $logger; wait $logger 2>/dev/null || true
 # exit 3: lcm-logger itself missed datagrams (a loaded machine): the convert
 # says so and lists them in the ledger; the round trip below still holds

@@ -6,6 +6,11 @@
 //   mcap_tamper IN OUT drop TOPIC SEQ    that message left out
 //   mcap_tamper IN - find TOPIC TEXT     prints the JSON seq of the first message
 //                                        on TOPIC whose text holds TEXT
+//   mcap_tamper IN - find-alone TOPIC TEXT
+//                                        the same, and exit 3 when the message of
+//                                        the next JSON seq on TOPIC has the same
+//                                        "tick" (an applied command superseded in
+//                                        its tick changes nothing when left out)
 // Prints the old and new value (nudge). Exit 1 when the message is not found.
 #include <charconv>
 #include <cmath>
@@ -27,15 +32,27 @@ int main(int argc, char** argv) {
   }
   const std::string in = argv[1], out = argv[2], what = argv[3], topic = argv[4];
   McapReader r(in);
-  if (what == "find") {
+  if (what == "find" || what == "find-alone") {
     const std::string text = argv[5];
     long long found = -1;
+    std::map<long long, long long> ticks;  // find-alone: every message's seq -> tick on TOPIC
     r.readMessages([&](const McapMessage& m) {
-      if (found >= 0 || r.channels().at(m.channel).topic != topic || m.data.find(text) == std::string::npos) return;
-      found = nlohmann::json::parse(m.data).value("seq", -1LL);
+      if (r.channels().at(m.channel).topic != topic) return;
+      if (what == "find-alone") {
+        const auto j = nlohmann::json::parse(m.data);
+        ticks[j.value("seq", -1LL)] = j.value("tick", -1LL);
+      }
+      if (found < 0 && m.data.find(text) != std::string::npos) found = nlohmann::json::parse(m.data).value("seq", -1LL);
     });
     if (found < 0) return 1;
     std::printf("%lld\n", found);
+    // the next command applied in the same tick supersedes this one
+    const auto next = ticks.find(found + 1);
+    if (what == "find-alone" && next != ticks.end() && next->second == ticks[found]) {
+      std::fprintf(stderr, "mcap_tamper: seq %lld is superseded by seq %lld in its tick %lld on %s\n", found,
+                   found + 1, next->second, topic.c_str());
+      return 3;
+    }
     return 0;
   }
   const long long seq = std::stoll(argv[5]);

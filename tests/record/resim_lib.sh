@@ -2,10 +2,11 @@
 # refine_resim.sh); sourced once build, gs, dir and fail() are set.
 
 # start_server [ARGS...]: a server on the namespace's bus, its output in
-# $dir/server.out, once a client's `list` is answered (or 5 s have passed)
+# $dir/server.out, once a client's `list` is answered (or 60 s have passed:
+# a ceiling for a hung start, not a verdict)
 start_server() {
   "$build/server/lcm/groundsim-server" "$@" > "$dir/server.out" 2>&1 &
-  for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+  for _ in $(seq 600); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 }
 
 # expect_identical FILE SESSION: `groundsim replay --resimulate` of the
