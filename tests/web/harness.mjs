@@ -131,13 +131,14 @@ export async function createAndDrive(page, config, cars = 1) {
   return page.evaluate(() => window.groundsim.session);
 }
 
-// The `groundsim` command line client on the same bus.
+// The `groundsim` command line client on the same bus (60 s: a ceiling for a
+// hung request only; a loaded machine answers late).
 // Its tokens file goes to a directory of this test, not the user's.
 const stateHome = mkdtempSync(`${tmpdir()}/groundsim-web-test-`);
 export function cli(...args) {
   const r = spawnSync(CLI, [...args, '--lcm-url', LCM_URL],
-    { encoding: 'utf8', timeout: 20000, env: { ...process.env, XDG_STATE_HOME: stateHome } });
-  if (r.status !== 0) throw new Error(`groundsim ${args.join(' ')}: exit ${r.status}: ${r.stderr}`);
+    { encoding: 'utf8', timeout: 60000, env: { ...process.env, XDG_STATE_HOME: stateHome } });
+  if (r.status !== 0) throw new Error(`groundsim ${args.join(' ')}: exit ${r.status}${r.signal ? ` (${r.signal})` : ''}${r.error ? ` (${r.error.message})` : ''}: ${r.stderr}`);
   return r.stdout;
 }
 
