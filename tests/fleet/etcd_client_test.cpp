@@ -285,7 +285,12 @@ TEST(EtcdClient, TriesTheNextEndpointOnRefusalOrTimeoutAndIsBounded) {
   auto t0 = Clock::now();
   c.put("/k", "v");  // refused, timed out, then answered
   EXPECT_EQ(c.get("/k")->value, "v");
-  EXPECT_LT(secondsSince(t0), 5.0);
+  // bounded: the silent endpoint's attempt times out (said below) instead of
+  // waiting for an answer that never comes. The time is printed; the
+  // ceiling only catches a wait without a bound (a loaded or sanitized
+  // machine takes several times the 3 x 300 ms)
+  std::printf("put and get past a refusing and a silent endpoint: %.3f s\n", secondsSince(t0));
+  EXPECT_LT(secondsSince(t0), 30.0);
 
   // every endpoint down: an error listing each, within the bound
   etcd.kill();
@@ -300,7 +305,8 @@ TEST(EtcdClient, TriesTheNextEndpointOnRefusalOrTimeoutAndIsBounded) {
     EXPECT_NE(what.find(silent.endpoint() + ": waiting for the answer: timeout"), std::string::npos) << what;
     EXPECT_NE(what.find(etcd.endpoint()), std::string::npos) << what;
   }
-  EXPECT_LT(secondsSince(t0), 5.0) << "3 endpoints x 300 ms";
+  std::printf("every endpoint down: the error after %.3f s (3 endpoints x 300 ms)\n", secondsSince(t0));
+  EXPECT_LT(secondsSince(t0), 30.0) << "3 endpoints x 300 ms: bounded";
   // back: the same client works again
   etcd.start();
   EXPECT_EQ(c.get("/k")->value, "v");
