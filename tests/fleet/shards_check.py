@@ -18,10 +18,17 @@ n, shards, steps = 12, 3, 60
 local = groundsim.make_vec(task, n, num_threads=2)
 remote = groundsim.make_remote_vec(task, n, lcm_url=URL, shards=shards, timeout=10)
 
-time.sleep(1.5)  # the other servers' heartbeats (1 Hz) list their new sessions
-listing = subprocess.run([os.environ["GROUNDSIM"], "list", "--lcm-url", URL, "--timeout", "5"],
-                         capture_output=True, text=True, check=True).stdout.splitlines()[1:]
-servers = {row.split()[-3] for row in listing if row.split()[2] == "vectorised"}
+# the other servers' heartbeats (1 Hz) list their new sessions: listed
+# again until the shards are on as many servers (or 60 s have passed: a
+# ceiling for a hung fleet, not a verdict on its speed)
+deadline = time.monotonic() + 60
+while True:
+    listing = subprocess.run([os.environ["GROUNDSIM"], "list", "--lcm-url", URL, "--timeout", "5"],
+                             capture_output=True, text=True, check=True).stdout.splitlines()[1:]
+    servers = {row.split()[-3] for row in listing if row.split()[2] == "vectorised"}
+    if len(servers) >= shards or time.monotonic() > deadline:
+        break
+    time.sleep(0.25)
 print(f"{shards} shards on servers {sorted(servers)}")
 assert len(servers) == shards, listing
 
@@ -74,7 +81,7 @@ if marker:
     env = groundsim.make_remote_vec(task, n, lcm_url=URL, shards=shards, timeout=10)
     env.reset(seed=5)
     open(marker, "w").close()
-    deadline, longest, seen = time.perf_counter() + 30, 0.0, None
+    deadline, longest, seen = time.perf_counter() + 120, 0.0, None  # a ceiling: the step time is printed
     while time.perf_counter() < deadline and seen is None:
         t = time.perf_counter()
         _, _, term, trunc, _ = env.step(seq[0])
@@ -82,7 +89,7 @@ if marker:
         blocks = [trunc[i:i + n // shards].all() for i in range(0, n, n // shards)]
         if sum(blocks) == 1 and trunc.sum() == n // shards:
             seen = blocks.index(True)
-    assert seen is not None, "no shard came back truncated within 30 s of its server's death"
+    assert seen is not None, "no shard came back truncated within 120 s of its server's death"
     for _ in range(20):  # and it goes on
         env.step(seq[0])
     print(f"shard {seen} lost and created again: the longest step took {longest:.2f} s, no exception")
