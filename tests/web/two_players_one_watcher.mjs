@@ -4,11 +4,13 @@
 // for its own car only: player one first, then player two. The watcher sees
 // both cars drawn and, in its states, car 0 moving while car 1 waits, then
 // car 1 moving too. Each player is refused a third car; the watcher cannot drive.
+// The players' pages run without drawing (?render=0: their keys and states
+// are what counts); the watcher's view is drawn and checked.
 import * as h from './harness.mjs';
 
 const { url } = await h.startServices();
 await h.launch();
-const one = await h.newPage(url), two = await h.newPage(url), watcher = await h.newPage(url);
+const one = await h.newPage(`${url}?render=0`), two = await h.newPage(`${url}?render=0`), watcher = await h.newPage(url);
 const session = await h.createAndDrive(one, 'plain.json', 2);
 for (const p of [two, watcher])
   await h.until('the session in the lobby', () => p.evaluate((id) => !!document.querySelector(`tr[data-session="${id}"]`), session));
@@ -30,12 +32,12 @@ console.log(`pages behind the server: ${behind.map((b) => b.toFixed(2))} s`);
 // contacts, +-0.3 m/s, and one sample of its speed holds the whole swing
 const speeds = () => h.meanRolling(watcher, [0, 1], 4.0);
 const rest = await speeds();
-// each holds W until the watcher sees its car 1.5 m/s faster (at most 30 s);
+// each holds W until the watcher sees its car 1.5 m/s faster (at most 60 s);
 // released, it coasts, still 1 m/s faster over the next 4 s
 const faster = (k) => async () => (await h.rolling(watcher, k)) > rest[k] + 1.5;
-await h.holdUntil(one, 'w', 'car 0 to speed up', faster(0)).catch(() => {});
+await h.holdUntil(one, 'w', 'car 0 to speed up', faster(0), 60000).catch(() => {});
 const afterOne = await speeds();
-await h.holdUntil(two, 'w', 'car 1 to speed up', faster(1)).catch(() => {});
+await h.holdUntil(two, 'w', 'car 1 to speed up', faster(1), 60000).catch(() => {});
 const afterTwo = await speeds();
 const fmt = (v) => v.map((x) => x.toFixed(3)).join(', ');
 console.log(`watcher sees (mean m/s over 4 s): rest ${fmt(rest)}, after player one ${fmt(afterOne)}, after player two ${fmt(afterTwo)}`);
