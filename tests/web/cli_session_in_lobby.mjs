@@ -4,12 +4,14 @@
 // actual ground: the bridge fetched the scenario from the server (op 9), so
 // the page got the car's layout and a ground grid. The lobby offers no
 // "drive" for it: the bridge holds no token for it.
+// The pages run without drawing (?render=0): the lobby is DOM and the
+// layout and ground grid the page's state.
 import * as h from './harness.mjs';
 import { CONFIGS } from './harness.mjs';
 
 const { url } = await h.startServices();
 await h.launch();
-const page = await h.newPage(url);
+const page = await h.newPage(`${url}?render=0`);
 const id = h.cli('create', `${CONFIGS}/parabola.json`, '--duration', '-1').trim().split('\n').pop().trim();
 console.log(`groundsim create: ${id}`);
 const row = await h.until('the session in the lobby', () => page.evaluate((sid) => {
@@ -21,7 +23,7 @@ console.log(`lobby row: ${row.text.replace(/\s+/g, ' ')}`);
 if (!row.text.includes('parabola')) await h.fail('the lobby row does not name the scenario');
 if (row.drive) await h.fail('the lobby offers to drive a session whose token the bridge does not hold');
 
-const spectator = await h.newPage(`${url}?session=${id}`);
+const spectator = await h.newPage(`${url}?render=0&session=${id}`);
 await h.until('states of the session', () => spectator.evaluate(() => window.groundsim.states > 2));
 await h.until('its ground', () => spectator.evaluate(() => window.groundsim.groundGrids > 0));
 const info = await spectator.evaluate(() => ({ role: window.groundsim.role, ground: window.groundsim.layout && window.groundsim.layout.ground, note: window.groundsim.note }));

@@ -3,11 +3,12 @@
 // controls without a car, driving a session it holds no token for. Each is
 // answered with an error naming the field, and afterwards the same
 // connection and a fresh page still work (a session is created and driven).
+// The pages run without drawing (?render=0).
 import * as h from './harness.mjs';
 
 const { url, bridge } = await h.startServices();
 await h.launch();
-const page = await h.newPage(url);
+const page = await h.newPage(`${url}?render=0`);
 const answers = await page.evaluate(async (wsUrl) => {
   const ws = new WebSocket(wsUrl);
   const got = [];
@@ -38,6 +39,6 @@ for (const want of ['/op', '/throttle', '/extra', '/session', '/role', '/config'
 if (errors.length !== 15) await h.fail(`expected 15 refusals, got ${errors.length}`);
 if (!answers.some((a) => a.op === 'pong' && a.t === 42)) await h.fail('the connection stopped answering after bad input');
 if (bridge.exitCode !== null) await h.fail(`the bridge exited (${bridge.exitCode})`);
-const fresh = await h.newPage(url);
+const fresh = await h.newPage(`${url}?render=0`);
 await h.createAndDrive(fresh, 'plain.json');
 await h.pass(`${errors.length} refusals, bridge still serving`);
