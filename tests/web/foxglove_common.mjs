@@ -27,7 +27,7 @@ export async function startServices(bridgeArgs = []) {
   const ws = await until('the bridge to print its Foxglove URL', () => {
     const m = bridge.output.match(/foxglove (ws:\/\/127\.0\.0\.1:\d+\/)/);
     return m && m[1];
-  }, 15000);
+  }, 60000);
   return { http: url, ws, server, bridge };
 }
 

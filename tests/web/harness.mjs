@@ -93,7 +93,7 @@ export async function startBridge(bridgeArgs = []) {
   const url = await until('the bridge to print its URL', () => {
     const m = bridge.output.match(/open (http:\/\/127\.0\.0\.1:\d+\/)/);
     return m && m[1];
-  }, 15000);
+  }, 60000);
   return { url, bridge };
 }
 

@@ -164,7 +164,7 @@ const labels = await h.until('the players\' names above the cars', () => page.ev
 await lp.click(`${circuit} .session[data-session="${session}"] button[data-act="link"]`);
 const copied = await h.until('the copied link', () => lp.evaluate(async () => {
   try { return await navigator.clipboard.readText(); } catch (e) { return null; }
-}), 10000, 100);
+}), 60000, 100);
 const want = `${new URL(url).origin}/?session=${session}`;
 console.log(`copied: ${copied}`);
 if (copied !== want) await h.fail(`copy link gave "${copied}", want ${want}`);
@@ -176,7 +176,7 @@ if (shared !== want) await h.fail(`the in-game share button gave ${shared}`);
 console.log(`names above Ann's cars: ${JSON.stringify(labels)}; the link opened spectating ${session}`);
 for (const p of [bob, cid, friend, lp]) await p.context().close();
 await page.click('#btn-lobby');
-await h.until('the lobby', () => page.evaluate(() => !window.groundsim.session), 20000, 50);
+await h.until('the lobby', () => page.evaluate(() => !window.groundsim.session), 60000, 50);
 
 // a scenario of a subfolder, by its id
 await h.createAndDrive(page, 'tasks/speed.json');

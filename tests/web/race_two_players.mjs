@@ -65,7 +65,7 @@ await h.holdUntil(bob, 'a', 'Bob\'s car into Ann\'s', async () => {
   const s = await hitsOn(bob);
   if (s.hits.includes(pair)) crashed = s;
   return !!crashed;
-}, 20000).catch(() => {});
+}, 60000).catch(() => {});
 await ann.keyboard.up('w');
 await bob.keyboard.up('w');
 if (!crashed) await h.fail(`no hit between the two cars on Bob's page: ${JSON.stringify(await hitsOn(bob))}`);

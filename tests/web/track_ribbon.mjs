@@ -60,7 +60,7 @@ async function checkOnGround(x, y) {
     }
     g.groundPending = false;
     return { nodes, under, lo, hi, worst, zmin, zmax };
-  }, [x, y]), 30000, 100);
+  }, [x, y]), 60000, 100);
 }
 
 // the ribbon against the race layout's centre line
@@ -153,7 +153,7 @@ if (shots) await page.screenshot({ path: `${shots}/ribbon-circuit.png` });
 
 // ---- the rally stage ----------------------------------------------------------------
 await page.click('#btn-lobby');
-await h.until('the lobby', () => page.evaluate(() => !window.groundsim.session), 20000, 50);
+await h.until('the lobby', () => page.evaluate(() => !window.groundsim.session), 60000, 50);
 await h.createAndDrive(page, 'race/rally_stage.json');
 const z = await checkTrack('rally stage', [[100, 0], [600, 0], [1300, 0]]);
 const climb = Math.max(...z) - Math.min(...z);
