@@ -18,6 +18,10 @@
 #     ledger: a state the subscriber heard is never missing silently;
 #   - one session's states read alone read at most 1.5 times its share of
 #     the file (the issue: one session of 100 under 5%; @mcap/core only).
+# The recording ends once every session has ended (was: D + 5 s of wall
+# time, which a loaded machine's sessions, behind real time, outlasted, so
+# the logger heard states the recorder never waited for); waits are for
+# conditions, with ceilings that only end a hung test.
 #   subscriber_record.sh BUILD_DIR SOURCE_DIR [N=8] [R=1000] [D=6]   (inside tests/integration/netns_run.sh)
 set -eu
 build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); N=${3:-8}; R=${4:-1000}; D=${5:-6}; gs=$build/client/groundsim
@@ -25,23 +29,33 @@ build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); N=${3:-8}; R=${4:-1000}; D=${5:-
 dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 "$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) --client-sessions 0 --client-creates 0 > "$dir/server.out" 2>&1 &
-for _ in $(seq 50); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
+for _ in $(seq 600); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
 lcm-logger --quiet -c 'GROUNDSIM_STATE_.*' "$dir/bus.lcm" > /dev/null 2>&1 &
 logger=$!
-"$gs" record --all --out "$dir/all.mcap" --duration $((D + 5)) 2> "$dir/rec.err" &
+"$gs" record --all --out "$dir/all.mcap" 2> "$dir/rec.err" &
 rec=$!
-for _ in $(seq 100); do grep -qs "record: recording" "$dir/rec.err" && break; sleep 0.1; done
+for _ in $(seq 600); do grep -qs "record: recording" "$dir/rec.err" && break; sleep 0.1; done
 for i in $(seq $N); do
-  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D > /dev/null ||
+  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D --timeout 10 > /dev/null ||
     fail "create $i"
 done
 # bursts: two sessions in fast mode (stepped as fast as the server can:
 # their states come faster than real time) while the others run
 sleep 2
 for i in 1 2; do
-  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D --mode fast > /dev/null ||
+  "$gs" create "$src/configs/plain.json" --preset balanced --publish-rate $R --duration $D --mode fast --timeout 10 > /dev/null ||
     fail "create fast $i"
 done
+# every session ended (none listed running; ceiling: 10 minutes), then the
+# recorder stops: it accounts for every seq published before the stop
+running=1
+for _ in $(seq 2400); do
+  running=$("$gs" list --timeout 10 2>/dev/null | awk 'NR > 1 && $4 == "running"' | wc -l) || running=1
+  [ "$running" = 0 ] && break
+  sleep 0.25
+done
+[ "$running" = 0 ] || fail "sessions still running after 10 minutes"
+kill -INT $rec
 rc=0; wait $rec || rc=$?
 kill $logger; wait $logger 2>/dev/null || true
 grep "^record: .* messages received" "$dir/rec.err"
