@@ -20,6 +20,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include "physics/build/vehicle.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
 #include "protocol/names.hpp"
@@ -43,7 +44,7 @@ struct DriveOpts {
   double torque_step = 0.5;   // N m per key press
   double max_torque = 5.0;    // N m the keyboard reaches
   double brake = 5.0;         // N m of the brake key
-  double max_steer = 0.6;     // rad at full turn
+  double max_steer = kFullLockRad;  // rad at full turn
   double hz = 20.0;
   bool hold = false;
   std::string controls = "auto";  // auto | car | wheels

@@ -8,6 +8,8 @@
 #include <groundsim/controls_t.hpp>
 #include <groundsim/drive_t.hpp>
 
+#include "physics/build/vehicle.hpp"
+
 namespace groundsim::web {
 
 // What a player's keys or gamepad produce, every value normalized.
@@ -26,7 +28,7 @@ struct Controls {
 struct ControlScale {
   double drive_torque = 1.2;  // N m  per wheel at full throttle
   double brake_torque = 6.0;  // N m  per wheel at full brake
-  double steer = 0.6;         // rad  front wheels at full lock (the server clamps to each wheel's limit)
+  double steer = kFullLockRad;  // rad  front wheels at full lock (the server clamps to each wheel's limit)
 };
 
 // drive_t for one vehicle of four wheels (front-left, front-right, rear-left,

@@ -1,3 +1,4 @@
+/* global GROUNDSIM_FULL_LOCK */  // the full lock (rad), defined at bundle time from kFullLockRad (web/CMakeLists.txt)
 // The page: wires the views together and runs the loop that draws at the
 // display's rate (renderer.setAnimationLoop). Each concern is a module:
 // app.js (shared state, window.groundsim), render.js (renderer, sky, sun,
@@ -374,7 +375,7 @@ function drawState(s, wallDt) {
     const rc = car(i);
     // brake lights: the car state's applied brake, else the own controls, else (replay) the deceleration
     const braking = rc ? null : own ? input.c.brake > 0.05 : app.replay ? !!v.braking : null;
-    vehicle.update(v, simDt, own ? input.c.steer * 0.6 : null, rc, braking);
+    vehicle.update(v, simDt, own ? input.c.steer * GROUNDSIM_FULL_LOCK : null, rc, braking);
     skids.update(i, vehicle, v, rc);
   });
   if (app.objects) app.objects.update(s.objects);

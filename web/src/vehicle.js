@@ -1,3 +1,4 @@
+/* global GROUNDSIM_FULL_LOCK */  // the full lock (rad), defined at bundle time from kFullLockRad (web/CMakeLists.txt)
 // One vehicle as drawn: a low-poly body for its kind (a road car as a sedan
 // with cabin, glass, head and brake lights; the report's car and other
 // multi-wheel vehicles as a rounded chassis tub), in the car's own colour
@@ -18,7 +19,7 @@ const UP = new THREE.Vector3(0, 0, 1), Y = new THREE.Vector3(0, 1, 0);
 // The report's car, for sessions whose scenario is unknown (a replay).
 export function defaultLayout(name) {
   const wheel = (x, y, steer) => ({ offset: [x, y, 0], rotation: [1, 0, 0, 0], axis: [0, 1, 0], radius: 1,
-    steerable: steer, max_steer: 0.6, pivot: [x, y, 0], radial_stiffness: 0 });
+    steerable: steer, max_steer: GROUNDSIM_FULL_LOCK, pivot: [x, y, 0], radial_stiffness: 0 });
   return { name, lone_wheel: false, wheels: [wheel(1.5, 1, true), wheel(1.5, -1, true), wheel(-1.5, 1, false), wheel(-1.5, -1, false)],
     points: [], springs: [], body_min: [-1.5, -1.25, 0], body_max: [1.5, 1.25, 0] };
 }
@@ -29,7 +30,7 @@ export function defaultLayout(name) {
 export function sedanLayout(name) {
   const hubZ = 0.32 - 0.55, half = 0.775;
   const wheel = (x, y, front) => ({ offset: [x, y, hubZ], rotation: [1, 0, 0, 0], axis: [0, 1, 0], radius: 0.32,
-    steerable: front, max_steer: front ? 0.6 : 0, pivot: [x, y, hubZ], radial_stiffness: 0, strut: true });
+    steerable: front, max_steer: front ? GROUNDSIM_FULL_LOCK : 0, pivot: [x, y, hubZ], radial_stiffness: 0, strut: true });
   return { name, lone_wheel: false, road_car: true, mass: 1500,
     wheels: [wheel(1.2, half, true), wheel(1.2, -half, true), wheel(-1.5, half, false), wheel(-1.5, -half, false)],
     points: [], springs: [], body_min: [-2.3, -half - 0.1, hubZ + 0.05], body_max: [2.1, half + 0.1, hubZ + 1.1] };

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "physics/build/vehicle.hpp"
 #include "physics/checks/telemetry.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
@@ -49,7 +50,7 @@ struct Predictor {
   std::vector<int> bodies;       // the vehicle's bodies: its chassis first
   std::vector<std::vector<int>> vbodies;  // every vehicle's, the same way
   // web/bridge/controls.hpp's ControlScale (the bridge's defaults; set by gs_scale)
-  double drive_torque = 1.2, brake_torque = 6.0, steer = 0.6;
+  double drive_torque = 1.2, brake_torque = 6.0, steer = kFullLockRad;
   std::vector<State> ring;
   long long kRing = 0;
   long long steps = 0;           // steps taken since create: ring[k % kRing] is the state before step k

@@ -15,6 +15,12 @@ namespace groundsim {
 
 enum class WheelCoupling { RimSprings, Bearing };
 
+// The front wheels' angle at full lock: the vehicle's default max_steer, and
+// what a full turn of every control path asks for (groundsim drive, the
+// bridge's ControlScale, the page's predictor; the page's JavaScript gets
+// it from this line at bundle time: web/CMakeLists.txt, GROUNDSIM_FULL_LOCK).
+inline constexpr double kFullLockRad = 0.6;  // rad
+
 struct CarParams {
   int rim_points = 20;              // -      points per wheel rim
   double wheel_radius = 1.0;        // m
@@ -29,7 +35,7 @@ struct CarParams {
   WheelCoupling coupling = WheelCoupling::RimSprings;
   double bearing_stiffness = 1e5;   // N/m    per bearing spring
   double bearing_damping = 20.0;    // N s/m  per bearing spring
-  double max_steer = 0.6;           // rad    front wheels
+  double max_steer = kFullLockRad;  // rad    front wheels
   double steer_rate = 1.0;          // rad/s  fastest steering change
   bool body_contact = true;         // -      axle points touch the ground too (rollover)
   // Deformable tyre: the rim is a ring of free point masses, laced to a
