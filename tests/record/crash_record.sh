@@ -20,7 +20,10 @@ set -eu
 build=$1; src=$2; gs=$build/client/groundsim
 # requests wait 10 s for the reply (the CLI's 2 s is missed by a loaded server now and then)
 rq() { cmd=$1; shift; "$gs" "$cmd" --timeout 10 "$@"; }
-dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+dir=$(mktemp -d)
+# the background jobs (server, recorders, loggers) are ended on exit: $(jobs -p)
+# in a command substitution lists none in dash, and the servers outlived the test
+trap 'jobs -p > "$dir/.jobs"; kill $(cat "$dir/.jobs") 2>/dev/null || true; rm -rf "$dir"' EXIT
 . "$src/tests/record/mcap_checks.sh"
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &
 for _ in $(seq 600); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done

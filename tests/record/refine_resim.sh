@@ -10,7 +10,10 @@
 #   refine_resim.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
 set -eu
 build=$1; src=$2; gs=$build/client/groundsim; tamper=$build/tests/record/mcap_tamper
-dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+dir=$(mktemp -d)
+# the background jobs (server, recorders, loggers) are ended on exit: $(jobs -p)
+# in a command substitution lists none in dash, and the servers outlived the test
+trap 'jobs -p > "$dir/.jobs"; kill $(cat "$dir/.jobs") 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; tail -n 20 "$dir/server.out"; exit 1; }
 export XDG_STATE_HOME="$dir"   # the tokens of this test's sessions
 python3 - "$src/configs/sedan_slalom.json" "$dir/slalom.json" <<'PY'

@@ -19,7 +19,10 @@
 #   size_record.sh BUILD_DIR SOURCE_DIR     (inside tests/integration/netns_run.sh)
 set -eu
 build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); gs=$build/client/groundsim
-dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+dir=$(mktemp -d)
+# the background jobs (server, recorders, loggers) are ended on exit: $(jobs -p)
+# in a command substitution lists none in dash, and the servers outlived the test
+trap 'jobs -p > "$dir/.jobs"; kill $(cat "$dir/.jobs") 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 . "$src/tests/record/mcap_checks.sh"
 "$build/server/lcm/groundsim-server" --quiet > "$dir/server.out" 2>&1 &

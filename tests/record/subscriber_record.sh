@@ -26,7 +26,10 @@
 set -eu
 build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); N=${3:-8}; R=${4:-1000}; D=${5:-6}; gs=$build/client/groundsim
 . "$src/tests/record/mcap_checks.sh"
-dir=$(mktemp -d); trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$dir"' EXIT
+dir=$(mktemp -d)
+# the background jobs (server, recorders, loggers) are ended on exit: $(jobs -p)
+# in a command substitution lists none in dash, and the servers outlived the test
+trap 'jobs -p > "$dir/.jobs"; kill $(cat "$dir/.jobs") 2>/dev/null || true; rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 "$build/server/lcm/groundsim-server" --quiet --max-sessions $((N + 4)) --client-sessions 0 --client-creates 0 > "$dir/server.out" 2>&1 &
 for _ in $(seq 600); do "$gs" list > /dev/null 2>&1 && break; sleep 0.1; done
