@@ -11,6 +11,8 @@
 //   round trip and more frames: the relay really delays, and the first
 //   check is not passed by a fast link.
 // - After W is released the prediction converges to the server's states:
+//   (from when the server applied the release: its road car's throttle
+//   back to 0, later than the page predicts on a loaded machine)
 //   the local run at each state's time within 2 cm of it; on screen (the
 //   nearest frame's drawn pose carried to the state's time along its
 //   velocity) within 25 cm while corrections fade, and at rest within 1 cm.
@@ -19,7 +21,10 @@
 //   drawn states (interpolation, bounded extrapolation), while the relay
 //   adds 0-40 ms of jitter each way. (Against the wall time between frames
 //   it failed a loaded machine: a page that falls 0.5 s behind its states
-//   moves its playback clock to them at once, by design.)
+//   moves its playback clock to them at once, by design.) A frame drawn
+//   more than the extrapolation bound (0.2 s) past the newest state the
+//   page had is a stall of the link or the page, which the bound turns
+//   into a catch-up step by design: the steps next to one are not judged.
 // - The lag notice is hidden at 120 ms, shown when the relay's delay rises
 //   to 150 ms each way (300 ms), hidden again when it falls back.
 // Durations are the session's (simulated time) and waits are for
@@ -49,7 +54,14 @@ await h.launch();
 async function instrument(page) {
   await page.evaluate(() => {
     const g = window.groundsim;
-    const rec = window.__rec = { frames: [], presses: [], states: [], errors: [] };
+    const rec = window.__rec = { frames: [], presses: [], states: [], errors: [], cars: [] };
+    // every road car message: the server's applied throttle at its t
+    let car = g.car;
+    Object.defineProperty(g, 'car', { configurable: true, get: () => car, set: (m) => {
+      car = m;
+      if (m && m.cars && m.cars[0]) rec.cars.push({ t: m.t, throttle: m.cars[0].throttle });
+      if (rec.cars.length > 3000) rec.cars.shift();
+    } });
     const fwd = (v) => {
       const [w, x, y, z] = v.q;
       const fx = 1 - 2 * (y * y + z * z), fy = 2 * (x * y + w * z), n = Math.hypot(fx, fy) || 1;
@@ -59,7 +71,8 @@ async function instrument(page) {
       const k = g.role === 'drive' ? g.vehicle : 0, v = s && s.vehicles[k];
       if (!v) return;
       const d = g.prediction && g.prediction.active ? { ...g.prediction.drawn, off: g.prediction.offset } : null;
-      rec.frames.push({ now, fwd: fwd(v), p: v.p.slice(), t: d ? d.t : s.t, speed: Math.hypot(...v.v), v: v.v.slice(), off: d ? d.off : 0 });
+      rec.frames.push({ now, fwd: fwd(v), p: v.p.slice(), t: d ? d.t : s.t, speed: Math.hypot(...v.v), v: v.v.slice(), off: d ? d.off : 0,
+        newest: g.lastState ? g.lastState.t : null });
       if (rec.frames.length > 3000) rec.frames.shift();
     });
     g.stateListeners.push((m) => {
@@ -165,8 +178,17 @@ if (!(withP.frames < withoutP.frames || !withP.stateFirst))
   await h.fail(`with prediction the car moved no sooner (${withP.frames} frames, ${withP.ms} ms, after a state showing it) than without (${withoutP.frames}, ${withoutP.ms} ms)`);
 
 // --- convergence after the release: drawn (predicted) pose at each later state's time ---
+// from when the server let go (its road car's applied throttle back to 0):
+// a loaded machine's key takes longer to get there than the page predicts,
+// and until then the local run rightly differs from the server's
+const serverRelease = await h.until('the server to apply the release', () => a.page.evaluate(() => {
+  const c = window.__rec.cars, i = c.findLastIndex((x) => x.throttle > 0);
+  return i >= 0 && i + 1 < c.length && c[i + 1].t;
+}), 60000, 50);
+const from = Math.max(releasedAt, serverRelease);
+console.log(`released at t = ${releasedAt.toFixed(3)} s as predicted, ${serverRelease.toFixed(3)} s at the server`);
 // states up to 1.5 s of simulated time past the release
-await h.until('1.5 s of states after the release', () => a.page.evaluate((from) => window.__rec.states.some((x) => x.t > from + 1.5), releasedAt), 60000, 50);
+await h.until('1.5 s of states after the release', () => a.page.evaluate((from) => window.__rec.states.some((x) => x.t > from + 1.5), from), 60000, 50);
 const conv = await a.page.evaluate((from) => {
   const rec = window.__rec;
   const drawn = rec.frames.filter((f) => f.t > from);
@@ -187,7 +209,7 @@ const conv = await a.page.evaluate((from) => {
   const press = rec.presses[rec.presses.length - 1];
   const held = rec.errors.filter((x) => x.now > press && x.now < press + 1500).map((x) => x.e);
   return { at, worst, n, lastErr: Math.max(...errs), heldErr: Math.max(...held), info: window.groundsim.prediction };
-}, releasedAt);
+}, from);
 console.log(`after the release: drawn vs server at ${conv.n} states, worst ${(100 * conv.worst).toFixed(1)} cm; ` +
   `prediction error at correction ${(100 * conv.lastErr).toFixed(1)} cm (while W was held: up to ${(100 * conv.heldErr).toFixed(1)} cm); ` +
   `lead ${(1000 * conv.info.lead).toFixed(0)} ms (at most ${(1000 * conv.info.maxLead).toFixed(0)}), ${conv.info.corrections} corrections, ${conv.info.snaps} snaps, ` +
@@ -213,17 +235,23 @@ if (!(rest < 0.01)) await h.fail(`at rest the drawn car is ${rest} m from the se
 await h.until('30 frames at the spectator', () => watcher.evaluate(() => window.__rec.frames.length > 30), 60000);
 const jumps = await watcher.evaluate(() => {
   const f = window.__rec.frames;
-  let worst = null;
+  // a frame drawn more than the page's extrapolation bound (0.2 s) past its
+  // newest state stood still for want of states (a stalled link or page):
+  // the step after it is the catch-up the bound implies, not judged
+  const starved = (x) => x.newest !== null && x.t - x.newest > 0.2 + 1e-6;
+  let worst = null, judged = 0, skipped = 0;
   for (let i = 1; i < f.length; ++i) {
+    if (starved(f[i]) || starved(f[i - 1])) { ++skipped; continue; }
+    ++judged;
     const d = Math.hypot(...f[i].p.map((x, k) => x - f[i - 1].p[k])), dt = Math.abs(f[i].t - f[i - 1].t);
     const allowed = Math.max(0.5, 2 * Math.max(f[i].speed, f[i - 1].speed) * dt);
     if (!worst || d / allowed > worst.ratio) worst = { ratio: d / allowed, d, allowed, dt, wall: (f[i].now - f[i - 1].now) / 1000 };
   }
-  return { frames: f.length, worst };
+  return { frames: f.length, worst, judged, skipped };
 });
-console.log(`spectator: ${jumps.frames} frames, largest step ${jumps.worst.d.toFixed(3)} m of ${jumps.worst.allowed.toFixed(3)} m allowed ` +
+console.log(`spectator: ${jumps.frames} frames (${jumps.skipped} steps after a frame starved of states not judged), largest step ${jumps.worst.d.toFixed(3)} m of ${jumps.worst.allowed.toFixed(3)} m allowed ` +
   `(${jumps.worst.dt.toFixed(3)} s of simulated time, ${jumps.worst.wall.toFixed(3)} s of wall time between the frames)`);
-if (!(jumps.frames > 30)) await h.fail(`the spectator drew too few frames (${jumps.frames})`);
+if (!(jumps.judged > 30)) await h.fail(`too few of the spectator's steps to judge (${jumps.judged} of ${jumps.frames} frames)`);
 if (!(jumps.worst.ratio <= 1)) await h.fail(`the spectated car jumped ${jumps.worst.d} m between frames (allowed ${jumps.worst.allowed} m)`);
 
 // --- the lag notice ---
