@@ -12,6 +12,13 @@
 // The pages run without drawing (?render=0): two software renderers on a
 // busy 2-core machine would starve the server; what is checked is the
 // pages' state and DOM.
+// The two players' keys reach the server at the same simulated instant
+// whatever the machine's load: both press W with the session paused (from
+// a reset), and Bob's steer goes in with it paused again past gate 1 (a
+// pause that came after the cars reached the first corner is tried again
+// from a reset). Pressed at the same wall time instead, the keys of two
+// pages on a loaded machine came seconds of simulated time apart: the cars
+// were not alongside and Bob steered into a wall.
 import * as h from './harness.mjs';
 
 const { url } = await h.startServices();
@@ -40,32 +47,59 @@ for (const p of [ann, bob]) await p.evaluate(() => {
 });
 await h.until('the race layout on both pages', async () => (await Promise.all([ann, bob].map((p) => p.evaluate(() => window.groundsim.race.active)))).every(Boolean), 30000);
 
-// both hold W until both cars passed gate 1 on both pages
-const raceSeen = (p) => p.evaluate(() => {
-  const ev = window.groundsim.race.events;
+// both hold W until both cars passed gate 1 on both pages (the events of
+// this run: from its resume on)
+const raceSeen = (p, from) => p.evaluate((from) => {
+  const ev = window.groundsim.race.events.filter((e) => e.t >= from);
   const has = (type, car, gate) => ev.some((e) => e.type === type && e.car === car && (gate === undefined || e.gate === gate));
   return { start: [has('start', 0), has('start', 1)], gate1: [has('gate', 0, 1), has('gate', 1, 1)] };
-});
-await ann.keyboard.down('w');
-await bob.keyboard.down('w');
-const passed = await h.until('both cars past gate 1 on both pages', async () => {
-  const s = await Promise.all([ann, bob].map(raceSeen));
-  return s.every((x) => x.start.every(Boolean) && x.gate1.every(Boolean)) && s;
-}, 90000, 50).catch(async (e) => h.fail(`${e.message}: ${JSON.stringify(await Promise.all([ann, bob].map(raceSeen)))}`));
-console.log(`race events on both pages: ${JSON.stringify(passed)}`);
-
-// Bob steers into Ann, both still on the throttle
+}, from);
+const sent = (p) => p.evaluate(() => JSON.parse(window.groundsim.lastControls || '{}'));
 const hitsOn = (p) => p.evaluate(() => ({
   hits: window.groundsim.hits.shown.map((x) => [x.a, x.b].sort().join('+')),
   hud: document.getElementById('hud-hits').textContent,
 }));
 const pair = 'sedan-1+sedan-2';
-let crashed = null;
-await h.holdUntil(bob, 'a', 'Bob\'s car into Ann\'s', async () => {
+let passed = null, crashed = null;
+for (let tries = 1; !passed; ++tries) {
+  // from the grid, the clock stopped while both press W
+  await ann.keyboard.press('r');
+  await h.until('the race reset on both pages', async () => (await Promise.all([ann, bob].map((p) => p.evaluate(() =>
+    window.groundsim.lastState.t < 1.0 && window.groundsim.lastState.status === 1)))).every(Boolean), 60000, 20);
+  const t0 = await h.pause(ann);
+  await ann.keyboard.down('w');
+  await bob.keyboard.down('w');
+  await h.until('full throttle sent by both', async () => (await Promise.all([ann, bob].map(sent))).every((c) => c.throttle === 1), 60000, 20);
+  await h.resume(ann);
+  const seen = await h.until('both cars past gate 1 on both pages', async () => {
+    const s = await Promise.all([ann, bob].map((p) => raceSeen(p, t0)));
+    return s.every((x) => x.start.every(Boolean) && x.gate1.every(Boolean)) && s;
+  }, 90000, 50).catch(async (e) => h.fail(`${e.message}: ${JSON.stringify(await Promise.all([ann, bob].map((p) => raceSeen(p, t0))))}`));
+  // stopped again: both cars still on the straight (the first corner's wall is past x = 75 m)
+  await h.pause(ann);
+  const at = await ann.evaluate(() => window.groundsim.lastState.vehicles.map((v) => v.p.slice(0, 2)));
+  console.log(`try ${tries}: paused with the cars at ${JSON.stringify(at.map((p) => p.map((x) => +x.toFixed(1))))}`);
+  if (at.every((p) => p[0] > 42.85 && p[0] < 65)) passed = seen;
+  else if (tries >= 5) await h.fail(`in ${tries} tries the pause past gate 1 never found both cars on the straight: ${JSON.stringify(at)}`);
+  else {
+    await ann.keyboard.up('w');
+    await bob.keyboard.up('w');
+    await h.resume(ann);
+  }
+}
+console.log(`race events on both pages: ${JSON.stringify(passed)}`);
+
+// Bob steers into Ann, both still on the throttle: his full lock sent with
+// the clock stopped, then it runs
+await bob.keyboard.down('a');
+await h.until('Bob\'s full left lock sent', async () => (await sent(bob)).steer === 1, 60000, 20);
+await h.resume(ann);
+await h.until('Bob\'s car into Ann\'s', async () => {
   const s = await hitsOn(bob);
   if (s.hits.includes(pair)) crashed = s;
   return !!crashed;
-}, 60000).catch(() => {});
+}, 60000, 50).catch(() => {});
+await bob.keyboard.up('a');
 await ann.keyboard.up('w');
 await bob.keyboard.up('w');
 if (!crashed) await h.fail(`no hit between the two cars on Bob's page: ${JSON.stringify(await hitsOn(bob))}`);
