@@ -144,8 +144,9 @@ class WsSession : public Peer, public std::enable_shared_from_this<WsSession> {
     const double wait = messages_.take(TokenBucket::Clock::now());
     if (wait <= 0) return read();
     pause_.expires_after(std::chrono::microseconds(static_cast<std::int64_t>(wait * 1e6) + 1));
+    // then takes its token (a read here, without one, let twice the rate in)
     pause_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (!ec && self->open_) self->read();
+      if (!ec && self->open_) self->readNext();
     });
   }
 
