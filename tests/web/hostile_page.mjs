@@ -9,13 +9,18 @@
 //   groundsim-web flag (--browser-modes, --browser-sessions,
 //   --browser-creates), or created; it never holds more than
 //   --browser-sessions (2) at once on the server;
+// - the flood is read no faster than --browser-messages (200 a second after
+//   a second's burst): its last pong comes at least 14.8 s after the page's
+//   socket opened, a bound a loaded machine only makes looser. That is what
+//   bounds the hostile page's share of the bridge's thread; the good page
+//   keeps receiving its states and a second good browser creates and drives
+//   meanwhile;
 // - the good page's share of its session's states (states received / seqs
-//   published, a ratio, not a wall-clock figure) during the flood is within
-//   10% of its share before the hostile page connected, that share measured
-//   while another browser's two 8-car sessions run: the CPU the hostile page
-//   may take too (--browser-sessions 2), so that before and during differ by
-//   the flood alone, not by the machine's load (measured against an idle
-//   machine, a fair bridge failed it on a loaded one: 83 % against 99 %);
+//   published) before and during the flood is printed, not judged: the
+//   bridge skips a state for a page when its thread has not finished
+//   writing the last, so the share is the bridge thread's CPU time, which
+//   the machine's load takes as well as the flood (within 10 % of before
+//   was the verdict; at load 25 a fair bridge gave 79 % against 90 %);
 // - after the hostile page closes, every session it made ends (the bridge's
 //   --orphan-stop, 8 s: the time taken is printed).
 // The pages run without drawing (?render=0): what is checked is what they
@@ -36,52 +41,57 @@ const share = async (seqs) => {
   const b = await mark();
   return (b.states - a.states) / (b.seq - a.seq);
 };
-// the load: another browser's two 8-car sessions, gone before the flood
-const loads = [];
-for (let k = 0; k < 2; ++k) {
-  const p = await h.newPage(quiet);
-  loads.push({ page: p, session: await h.createAndDrive(p, 'sedan.json', 8) });
-}
 const before = await share(300);
-console.log(`good page: ${(100 * before).toFixed(1)} % of its session's states before the hostile page (two 8-car sessions running)`);
-for (const l of loads) await l.page.context().close();
-await h.until('the load\'s sessions to end', () => { const out = h.cli('list'); return loads.every((l) => !out.includes(l.session)); }, 60000, 250);
+console.log(`good page: ${(100 * before).toFixed(1)} % of its session's states before the hostile page`);
 
 // ---- the hostile page ------------------------------------------------------------
 const hostile = await h.newPage(quiet);
 const wsUrl = url.replace('http', 'ws') + 'ws';
 await hostile.evaluate((u) => {
-  const w = window.hostile = { errors: [], created: [], pongs: 0, open: false };
+  const w = window.hostile = { errors: [], created: [], pongs: 0, open: false, sent: 0, openAt: null, lastAt: null };
   const ws = w.ws = new WebSocket(u);
   ws.onmessage = (e) => {
     const m = JSON.parse(e.data);
     if (m.op === 'error') w.errors.push(m);
     if (m.op === 'created') w.created.push(m.session);
-    if (m.op === 'pong') w.pongs = Math.max(w.pongs, m.t);
+    if (m.op === 'pong') {
+      w.pongs = Math.max(w.pongs, m.t);
+      if (m.t === 3000) w.lastAt = performance.now();
+    }
   };
   ws.onopen = () => {
     w.open = true;
+    w.openAt = performance.now();
+    const send = (m) => { ws.send(m); ++w.sent; };
     for (let k = 0; k < 80; ++k)
-      ws.send(JSON.stringify({ op: 'create', config: 'sedan.json', mode: 'fast', vehicles: 8, publish_rate: 1000, drive: false }));
+      send(JSON.stringify({ op: 'create', config: 'sedan.json', mode: 'fast', vehicles: 8, publish_rate: 1000, drive: false }));
     for (let k = 0; k < 80; ++k) {
-      ws.send(JSON.stringify({ op: 'create', config: 'sedan.json', vehicles: 8, drive: true }));
-      if (k % 8 === 7) ws.send('{"op":"leave"}');  // back to the lobby between creates, as a page does
+      send(JSON.stringify({ op: 'create', config: 'sedan.json', vehicles: 8, drive: true }));
+      if (k % 8 === 7) send('{"op":"leave"}');  // back to the lobby between creates, as a page does
     }
-    for (let k = 1; k <= 3000; ++k) ws.send(JSON.stringify({ op: 'ping', t: k }));
+    for (let k = 1; k <= 3000; ++k) send(JSON.stringify({ op: 'ping', t: k }));
   };
 }, wsUrl);
 await h.until('the hostile page to connect', () => hostile.evaluate(() => window.hostile.open));
 
 // the good page still creates and drives while the flood is read
 const during = await share(300);
-console.log(`good page: ${(100 * during).toFixed(1)} % of its session's states during the flood`);
+const stillReading = await hostile.evaluate(() => window.hostile.pongs < 3000);
+console.log(`good page: ${(100 * during).toFixed(1)} % of its session's states during the flood ` +
+  `(${(100 * before).toFixed(1)} % before; printed, not judged${stillReading ? '' : '; the flood was read before this window ended'})`);
+if (!(during > 0)) await h.fail('the good page got no states during the flood');
 const second = await h.newPage(quiet);
 const again = await h.createAndDrive(second, 'plain.json');
 console.log(`a second good browser created and drives ${again}`);
 
 // every hostile message answered, in order: the last pong comes last
 await h.until('the hostile flood to be read', () => hostile.evaluate(() => window.hostile.pongs === 3000), 120000, 200);
-const seen = await hostile.evaluate(() => ({ errors: window.hostile.errors, created: window.hostile.created }));
+const seen = await hostile.evaluate(() => ({ errors: window.hostile.errors, created: window.hostile.created,
+  sent: window.hostile.sent, took: (window.hostile.lastAt - window.hostile.openAt) / 1000 }));
+// read at 200 a second after a burst of 200: (sent - 200) / 200 s at least
+const least = (seen.sent - 200) / 200;
+console.log(`the flood's ${seen.sent} messages read in ${seen.took.toFixed(1)} s (--browser-messages 200: at least ${least.toFixed(1)} s)`);
+if (!(seen.took >= least - 0.1)) await h.fail(`the flood of ${seen.sent} messages was read in ${seen.took} s, faster than --browser-messages allows (${least} s)`);
 const reasons = new Map();
 for (const e of seen.errors) {
   const flag = (e.reason.match(/--[a-z-]+/) || ['(none)'])[0];
@@ -103,7 +113,6 @@ const now = live();
 console.log(`hostile sessions running while it is connected: ${now.length}`);
 if (now.length > 2) await h.fail(`${now.length} of the hostile page's sessions run at once (--browser-sessions 2)`);
 
-if (during < 0.9 * before) await h.fail(`the good page got ${(100 * during).toFixed(1)} % of its states during the flood, ${(100 * before).toFixed(1)} % before`);
 
 // ---- the hostile page leaves: what it made ends ------------------------------------
 await hostile.close();
@@ -111,4 +120,4 @@ const t0 = Date.now();
 await h.until('every hostile session to end', () => live().length === 0, 60000, 250);
 console.log(`the hostile page's sessions ended ${((Date.now() - t0) / 1000).toFixed(1)} s after it left (--orphan-stop 8 s)`);
 if (!h.cli('list').includes(mine)) await h.fail(`the good page's session ${mine} ended with the hostile page's`);
-await h.pass(`states ${(100 * before).toFixed(1)} % -> ${(100 * during).toFixed(1)} % during the flood; ${seen.created.length} hostile creates taken of 160`);
+await h.pass(`the flood read in ${seen.took.toFixed(1)} s (at least ${least.toFixed(1)}); states ${(100 * before).toFixed(1)} % -> ${(100 * during).toFixed(1)} % during it; ${seen.created.length} hostile creates taken of 160`);
