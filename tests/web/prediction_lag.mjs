@@ -260,16 +260,18 @@ if (!(jumps.worst.ratio <= 1)) await h.fail(`the spectated car jumped ${jumps.wo
 // --- the lag notice ---
 const notice = () => a.page.evaluate(() => ({ shown: !document.getElementById('lag-notice').classList.contains('hidden'),
   text: document.getElementById('lag-notice').textContent, rtt: window.groundsim.net.rtt }));
-// at 120 ms it is hidden (a loaded machine may add a moment's queueing to
-// the measured round trip past the 200 ms mark: it must clear again)
-await h.until('no lag notice at 120 ms', async () => !(await notice()).shown, 60000)
+// at 120 ms it is hidden (a loaded machine may add queueing to the
+// measured round trip past the 200 ms mark, where the notice rightly
+// shows: it must clear within 2 minutes, the one wait here that needs the
+// machine to add less than 80 ms to the relay's round trip at some moment)
+await h.until('no lag notice at 120 ms', async () => !(await notice()).shown, 120000)
   .catch(async () => h.fail(`lag notice shown at 120 ms: ${JSON.stringify(await notice())}`));
 relay.delayMs = 150;
 const lagging = await h.until('the lag notice', async () => { const n = await notice(); return n.shown && n; }, 60000)
   .catch(async () => h.fail(`no lag notice at 300 ms: ${JSON.stringify(await notice())}`));
 console.log(`relay 150 ms each way: notice "${lagging.text}"`);
 relay.delayMs = DELAY_MS;
-await h.until('the lag notice to go', async () => !(await notice()).shown, 60000)
+await h.until('the lag notice to go', async () => !(await notice()).shown, 120000)
   .catch(async () => h.fail(`the lag notice stayed at 120 ms: ${JSON.stringify(await notice())}`));
 relay.close();
 await h.pass(`W to motion ${withP.frames} frames (${withP.ms.toFixed(0)} ms) with prediction, ${withoutP.frames} frames ` +
