@@ -25,6 +25,7 @@
 #include <groundsim/scenario_t.hpp>
 #include <groundsim/state_t.hpp>
 
+#include "support/temp_dir.hpp"
 #include "protocol/channels.hpp"
 #include "record/message_json.hpp"
 #include "record/recorder.hpp"
@@ -58,25 +59,7 @@ groundsim::state_t state(const std::string& session, std::int64_t seq) {
   return m;
 }
 
-// A directory of this test process's own, removed when it ends: two
-// checkouts on one machine run these tests at the same time (a fixed
-// /tmp/recorder_gaps.mcap was written by both).
-const std::filesystem::path& processTempDir() {
-  struct Dir {
-    std::filesystem::path path;
-    Dir() {
-      path = std::filesystem::temp_directory_path() /
-             ("groundsim-recorder-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-      std::filesystem::create_directories(path);
-    }
-    ~Dir() {
-      std::error_code ec;
-      std::filesystem::remove_all(path, ec);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
-}
+using groundsim::test::processTempDir;
 
 std::string tempPath(const char* name) { return (processTempDir() / name).string(); }
 

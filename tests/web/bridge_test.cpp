@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/temp_dir.hpp"
 #include "bridge/browser_limits.hpp"
 #include "bridge/browser_message.hpp"
 #include "bridge/controls.hpp"
@@ -38,25 +39,7 @@ std::string scenarioWithGround(const std::string& ground) {
          R"(, "vehicle": {"name": "car", "initial": {"position": [0, 0, 0]}}})";
 }
 
-// A directory of this test process's own, removed when it ends: two
-// checkouts on one machine run these tests at the same time (the folders
-// were named by gtest's random seed, which is not unique between them).
-const std::filesystem::path& processTempDir() {
-  struct Dir {
-    std::filesystem::path path;
-    Dir() {
-      path = std::filesystem::temp_directory_path() /
-             ("groundsim-bridge-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-      std::filesystem::create_directories(path);
-    }
-    ~Dir() {
-      std::error_code ec;
-      std::filesystem::remove_all(path, ec);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
-}
+using groundsim::test::processTempDir;
 
 }  // namespace
 

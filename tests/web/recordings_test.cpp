@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/temp_dir.hpp"
 #include "bridge/recordings.hpp"
 #include "recording/mcap_writer.hpp"
 #include "scenario/assets.hpp"
@@ -20,25 +21,7 @@
 namespace groundsim::web {
 namespace {
 
-// A directory of this test process's own, removed when it ends: two
-// checkouts on one machine run these tests at the same time (the folders
-// were /tmp/recordings_<test>, shared between them).
-const std::filesystem::path& processTempDir() {
-  struct Dir {
-    std::filesystem::path path;
-    Dir() {
-      path = std::filesystem::temp_directory_path() /
-             ("groundsim-recordings-test-" + std::to_string(::getpid()) + "-" + std::to_string(std::random_device{}()));
-      std::filesystem::create_directories(path);
-    }
-    ~Dir() {
-      std::error_code ec;
-      std::filesystem::remove_all(path, ec);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
-}
+using groundsim::test::processTempDir;
 
 // Two sessions at 100 Hz for 60 s, each in its own chunks, as the recorder writes them.
 // (a folder per test: ctest runs them in parallel)
