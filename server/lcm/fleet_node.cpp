@@ -13,13 +13,26 @@ using fleet::Compare;
 using fleet::Op;
 using Result = fleet::Compare::Result;
 
-std::string ownerValue(const std::string& server, std::int64_t epoch) {
-  return nlohmann::json{{"server", server}, {"epoch", epoch}}.dump();
+// An owners/ value: the server and epoch, and for a session made by a
+// create (epoch 1) that create's placement ("<client>/<request>").
+std::string ownerValue(const std::string& server, std::int64_t epoch, const std::string& placement = "") {
+  nlohmann::json j{{"server", server}, {"epoch", epoch}};
+  if (!placement.empty()) j["create"] = placement;
+  return j.dump();
 }
 
-std::string ownerOf(const std::string& value) {
+struct Owner {
+  std::string server, placement;
+};
+
+Owner ownerOf(const std::string& value) {
   const nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
-  return j.is_object() ? j.value("server", std::string()) : std::string();
+  if (!j.is_object()) return {};
+  const auto text = [&](const char* field) {
+    const auto it = j.find(field);
+    return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  return Owner{text("server"), text("create")};
 }
 
 void log(const std::string& line) { std::fprintf(stderr, "groundsim-server: fleet: %s\n", line.c_str()); }
@@ -64,17 +77,20 @@ std::string FleetNode::key(const std::string& kind, const std::string& rest) con
 
 // ---- ownership --------------------------------------------------------------
 
-std::int64_t FleetNode::claim(const std::string& id) {
+std::int64_t FleetNode::claim(const std::string& id, const std::string& placement) {
   if (draining_) throw std::runtime_error("server " + options_.server_id + " is draining");
   const std::int64_t lease = membership_->leaseId();
   if (lease == 0 || fenced_) throw std::runtime_error("server " + options_.server_id + " cannot reach the fleet's etcd");
+  const std::string value = ownerValue(options_.server_id, 1, placement);
   const fleet::TxnResult t =
       client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
-                  {Op::put(key("owners", id), ownerValue(options_.server_id, 1), lease), Op::put(key("epochs", id), "1")});
+                  {Op::put(key("owners", id), value, lease), Op::put(key("epochs", id), "1")});
   if (!t.succeeded) return 0;
   std::lock_guard<std::mutex> lk(mutex_);
   my_epochs_[id] = 1;
+  my_values_[id] = value;
   owners_[id] = options_.server_id;
+  realised_.insert(key("creates", placement));
   return 1;
 }
 
@@ -138,37 +154,43 @@ std::int64_t FleetNode::claimsLease() {
 // Sessions per server, from what this server knows without asking etcd (a
 // create's path holds no etcd read for it): the owners as last scanned
 // (every 250 ms) and the placements it made or read since (every server
-// hears every create, so it sees every placement). A session placed and
-// already scanned counts twice for a while, as the creates/ keys did when
-// they were read from etcd: a burst of creates is counted before its
-// sessions exist.
+// hears every create, so it sees every placement) whose session is not among
+// them yet. A session's owners/ value names the create that made it, so a
+// burst of creates is counted before its sessions exist, and each once
+// however long its clients take.
 std::map<std::string, int> FleetNode::loads() {
   const auto now = Clock::now();
   std::map<std::string, int> n;
   std::lock_guard<std::mutex> lk(mutex_);
   std::erase_if(placed_, [&](const auto& kv) { return now - kv.second.at > kCreateRetry; });
   for (const auto& [sid, server] : owners_) ++n[server];
-  for (const auto& [k, p] : placed_) ++n[p.server];
+  for (const auto& [k, p] : placed_)
+    if (!realised_.count(k)) ++n[p.server];
   return n;
 }
 
 std::map<std::string, int> FleetNode::loadsFromEtcd() {
   std::map<std::string, int> n;
-  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/", true)) ++n[ownerOf(kv.value)];
-  for (const fleet::Kv& kv : client_.range(options_.prefix + "/creates/", true)) ++n[kv.value];
+  std::set<std::string> realised;
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/", true)) {
+    const Owner o = ownerOf(kv.value);
+    ++n[o.server];
+    if (!o.placement.empty()) realised.insert(key("creates", o.placement));
+  }
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/creates/", true))
+    if (!realised.count(kv.key)) ++n[kv.value];
   return n;
 }
 
-// The local view lags etcd by up to a scan period: near a server's limit
-// (the counts hold sessions being built twice, so "full" is 2 x max) it may
-// miss the last placements' claims, and a create placed on a full server is
-// refused. Within a few sessions of it, the counts are read from etcd.
+// The local view lags etcd by up to a scan period: near a server's limit it
+// may miss the last placements' claims, and a create placed on a full server
+// is refused. Within a few sessions of it, the counts are read from etcd.
 bool FleetNode::nearFull(const std::map<std::string, int>& loads, const std::string& server) const {
   for (const fleet::Member& m : membership_->members()) {
     if (m.id != server || !m.info.is_object()) continue;
     const double max = m.info.value("capacity", nlohmann::json::object()).value("max_sessions", 0.0);
     const auto it = loads.find(server);
-    return it != loads.end() && it->second >= 2 * max - 8;
+    return it != loads.end() && it->second >= max - 4;
   }
   return false;
 }
@@ -194,7 +216,7 @@ std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loa
     const double max = cap.value("max_sessions", 0.0);
     const auto it = loads.find(m.id);
     const double count = it == loads.end() ? 0.0 : it->second;
-    if (max <= 0 || count >= 2 * max) continue;  // full (counts include sessions being built twice)
+    if (max <= 0 || count >= max) continue;  // full
     rows.push_back(Row{m.id, count / max});
   }
   const bool packed = options_.placement == "packed";
@@ -365,19 +387,24 @@ void FleetNode::run() {
       for (; released < releases.size(); ++released) {
         const std::string& id = releases[released];
         std::int64_t epoch = 0;
+        std::string value;
         {
           std::lock_guard<std::mutex> lk(mutex_);
           auto it = my_epochs_.find(id);
           if (it != my_epochs_.end()) epoch = it->second;
           my_epochs_.erase(id);
+          if (auto v = my_values_.find(id); v != my_values_.end()) {
+            value = v->second;
+            my_values_.erase(v);
+          }
         }
         session::Replica gone;
         gone.kind = session::Replica::Kind::Released;
         gone.session_id = id;
         gone.epoch = epoch;
         out_.publishReplica(gone);
-        if (epoch > 0)
-          client_.txn({Compare::valueIs(key("owners", id), Result::Equal, ownerValue(options_.server_id, epoch))},
+        if (epoch > 0 && !value.empty())
+          client_.txn({Compare::valueIs(key("owners", id), Result::Equal, value)},
                       {Op::del(key("owners", id)), Op::del(key("epochs", id))});
       }
       if (Clock::now() >= next_scan) {
@@ -429,8 +456,12 @@ void FleetNode::scan() {
   members_seen_ = std::move(members);
   if (joined && !fenced_) service_.replicateAgain();
   std::map<std::string, std::string> owners;
-  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/"))
-    owners[kv.key.substr(options_.prefix.size() + 8)] = ownerOf(kv.value);
+  std::set<std::string> realised;
+  for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/")) {
+    const Owner o = ownerOf(kv.value);
+    owners[kv.key.substr(options_.prefix.size() + 8)] = o.server;
+    if (!o.placement.empty()) realised.insert(key("creates", o.placement));
+  }
   std::vector<std::string> lost;  // sessions hosted here that another server owns now
   std::vector<std::pair<std::string, Standby>> orphans;
   struct Ask {
@@ -444,6 +475,7 @@ void FleetNode::scan() {
     std::lock_guard<std::mutex> lk(mutex_);
     ask_again = ask_again_;
     owners_ = owners;
+    realised_ = std::move(realised);
     for (const auto& [sid, epoch] : my_epochs_) {
       auto it = owners.find(sid);
       if (it != owners.end() && it->second != options_.server_id) lost.push_back(sid);
@@ -474,6 +506,7 @@ void FleetNode::scan() {
       std::lock_guard<std::mutex> lk(mutex_);
       disowned_.insert(sid);
       my_epochs_.erase(sid);
+      my_values_.erase(sid);
     }
     service_.disown(sid);
   }
@@ -493,15 +526,17 @@ void FleetNode::tryTakeOver(const std::string& sid, Standby s) {
   std::int64_t epoch = 0;
   if (e) epoch = std::atoll(e->value.c_str());
   epoch = std::max(epoch, s.epoch) + 1;
+  const std::string value = ownerValue(options_.server_id, epoch);
   const fleet::TxnResult t = client_.txn(
       {Compare::version(key("owners", sid), Result::Equal, 0),
        Compare::modRevision(key("epochs", sid), Result::Equal, e ? e->mod_revision : 0)},
-      {Op::put(key("owners", sid), ownerValue(options_.server_id, epoch), lease),
+      {Op::put(key("owners", sid), value, lease),
        Op::put(key("epochs", sid), std::to_string(epoch))});
   if (!t.succeeded) return;  // another standby was first
   {
     std::lock_guard<std::mutex> lk(mutex_);
     my_epochs_[sid] = epoch;
+    my_values_[sid] = value;
     standby_.erase(sid);
     disowned_.erase(sid);
   }
@@ -526,13 +561,16 @@ void FleetNode::tryTakeOver(const std::string& sid, Standby s) {
 
 void FleetNode::onRegistered(std::int64_t lease) {
   std::map<std::string, std::int64_t> mine;
+  std::map<std::string, std::string> values;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     mine = my_epochs_;
+    values = my_values_;
   }
   for (const auto& [sid, epoch] : mine) {
     try {
-      const std::string value = ownerValue(options_.server_id, epoch);
+      const auto v = values.find(sid);
+      const std::string value = v != values.end() ? v->second : ownerValue(options_.server_id, epoch);
       const std::optional<fleet::Kv> kv = client_.get(key("owners", sid));
       if (kv && kv->value == value) {
         if (kv->lease == lease) continue;  // the lease was resumed, keys and all
@@ -553,6 +591,7 @@ void FleetNode::onRegistered(std::int64_t lease) {
       std::lock_guard<std::mutex> lk(mutex_);
       disowned_.insert(sid);
       my_epochs_.erase(sid);
+      my_values_.erase(sid);
     }
     service_.disown(sid);
   }
@@ -564,15 +603,19 @@ void FleetNode::drain(std::chrono::milliseconds timeout) {
   draining_ = true;
   membership_->setDraining(true);
   std::map<std::string, std::int64_t> mine;
+  std::map<std::string, std::string> values;
   {
     std::lock_guard<std::mutex> lk(mutex_);
     mine = my_epochs_;
+    values = my_values_;
     for (const auto& [sid, e] : mine) disowned_.insert(sid);  // silent from now on
   }
   for (const auto& [sid, epoch] : mine) {
     service_.disown(sid);
+    const auto v = values.find(sid);
+    const std::string value = v != values.end() ? v->second : ownerValue(options_.server_id, epoch);
     try {  // the owner key goes, the epoch stays: a standby resumes the session at a higher epoch
-      client_.txn({Compare::valueIs(key("owners", sid), Result::Equal, ownerValue(options_.server_id, epoch))},
+      client_.txn({Compare::valueIs(key("owners", sid), Result::Equal, value)},
                   {Op::del(key("owners", sid))});
     } catch (const std::exception& e) {
       log(std::string("drain: etcd: ") + e.what());
@@ -594,7 +637,10 @@ void FleetNode::drain(std::chrono::milliseconds timeout) {
   }
   {
     std::lock_guard<std::mutex> lk(mutex_);
-    for (const auto& [sid, e] : mine) my_epochs_.erase(sid);
+    for (const auto& [sid, e] : mine) {
+      my_epochs_.erase(sid);
+      my_values_.erase(sid);
+    }
   }
   log("drained: " + std::to_string(mine.size()) + " session(s) handed over");
 }

@@ -7,7 +7,8 @@
 //
 // etcd keys under the prefix (default /groundsim):
 //   servers/<id>   the membership (fleet/membership.hpp), bound to its lease
-//   owners/<sid>   {"server", "epoch"}: who owns session sid, bound to the
+//   owners/<sid>   {"server", "epoch"[, "create"]}: who owns session sid (and
+//                  the create that made it), bound to the
 //                  owner's lease (it vanishes with the owner)
 //   epochs/<sid>   the last epoch given for sid (no lease: it outlives owners)
 //   creates/<client>/<request>  the server a create was placed on (10 s lease):
@@ -62,7 +63,7 @@ class FleetNode final : public session::Ownership {
   ~FleetNode() override;
 
   // ---- session::Ownership (workers; the receive thread) ----
-  std::int64_t claim(const std::string& id) override;
+  std::int64_t claim(const std::string& id, const std::string& placement) override;
   void release(const std::string& id) override;
 
   // ---- the receive thread ----
@@ -173,6 +174,7 @@ class FleetNode final : public session::Ownership {
   std::vector<Unknown> unknowns_;  // at most kMaxUnknowns: a flood of made-up ids is not all answered
   static constexpr std::size_t kMaxUnknowns = 1024;
   std::map<std::string, std::string> owners_;        // sid -> owning server, as last scanned
+  std::set<std::string> realised_;  // creates/ keys whose session is in owners_ (its claim names the create)
   // members at the last scan and their leases (the node's thread): a
   // member back with its id between two views has a new lease
   std::map<std::string, std::int64_t> members_seen_;
@@ -182,6 +184,7 @@ class FleetNode final : public session::Ownership {
   };
   std::map<std::string, Placed> placed_;  // creates/ keys this server wrote or read, for kCreateRetry
   std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs
+  std::map<std::string, std::string> my_values_;     // their owners/ values as written here (compared by value)
   std::set<std::string> disowned_;
   std::map<std::string, Standby> standby_;
   struct Listing { std::vector<session::SessionInfo> sessions; Clock::time_point at; };

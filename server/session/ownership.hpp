@@ -15,8 +15,10 @@ class Ownership {
   // Claims a fresh session id for this server (a worker calls it while
   // building the session): its epoch (>= 1), or 0 when another server holds
   // the id (the service draws another). Throws when the fleet cannot be
-  // reached: the create is refused.
-  virtual std::int64_t claim(const std::string& id) = 0;
+  // reached: the create is refused. `placement` names the create
+  // ("<client>/<request>"), so that a fleet counts a placed create and the
+  // session it became once.
+  virtual std::int64_t claim(const std::string& id, const std::string& placement) = 0;
   // The session ended here (stopped, reclaimed): its claim and its replicas
   // go. Must not block (the receive thread calls it).
   virtual void release(const std::string& id) = 0;

@@ -56,11 +56,11 @@ std::string outside(const char* field, double x, double lo, double hi, const cha
 
 // A fresh id and this server's claim on it: the registry's id, claimed in
 // the fleet when there is one (another server may hold it: draw again).
-std::int64_t claimId(Registry& registry, Ownership* ownership, std::string& id) {
+std::int64_t claimId(Registry& registry, Ownership* ownership, const std::string& placement, std::string& id) {
   for (int attempt = 0;; ++attempt) {
     id = registry.newId();
     if (!ownership) return 0;
-    if (const std::int64_t epoch = ownership->claim(id); epoch > 0) return epoch;
+    if (const std::int64_t epoch = ownership->claim(id, placement); epoch > 0) return epoch;
     registry.cancelId(id);
     if (attempt == 7) throw std::runtime_error("the fleet refused 8 fresh session ids in a row");
   }
@@ -324,7 +324,7 @@ void SessionService::build(const Request& r) {
     setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
     setup.control_tables = scene.control_tables;
     setup.assets = std::move(assets);
-    const std::int64_t epoch = claimId(registry_, ownership_, id);
+    const std::int64_t epoch = claimId(registry_, ownership_, r.client_id + "/" + std::to_string(r.request_id), id);
     claimed = epoch > 0;
     setup.id = id;
     session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
@@ -591,7 +591,7 @@ void SessionService::buildVec(const VecRequest& r) {
     setup.scenario_json = r.scenario_json;
     for (const auto& v : sc.vehicles) setup.vehicle_names.push_back(v.name);
     setup.assets = std::move(assets);
-    const std::int64_t epoch = claimId(registry_, ownership_, id);
+    const std::int64_t epoch = claimId(registry_, ownership_, r.client_id + "/" + std::to_string(r.request_id), id);
     claimed = epoch > 0;
     setup.id = id;
     session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
