@@ -171,7 +171,8 @@ if (withP.frames === null) await h.fail('with prediction the drawn car never mov
 if (withoutP.frames === null) await h.fail('without prediction the drawn car never moved after W');
 // the relay holds each chunk 60 ms each way: no state can show the press sooner
 if (!(withoutP.ms >= 2 * DELAY_MS)) await h.fail(`without prediction the car moved ${withoutP.ms} ms after W, under the relay's round trip (${2 * DELAY_MS} ms): the delay is not in the path`);
-if (!(withP.frames <= 2)) await h.fail(`with prediction the car moved only ${withP.frames} frames (${withP.ms} ms) after W`);
+// how many frames prediction takes is a figure (printed above): a loaded
+// machine delays the key's event and the frames; the verdict is the order
 // prediction is what moved it: sooner in frames, or (frames as slow as the
 // round trip on a busy machine) before any state showing the press reached the page
 if (!(withP.frames < withoutP.frames || !withP.stateFirst))
