@@ -21,9 +21,6 @@ constexpr double kLadderTop = 0.02;  // s: the coarsest step considered
 constexpr double kRoundoff = 1e-13;
 constexpr int kMaxHalvings = 6;      // pilot retries after a divergence
 constexpr double kWholePilotCap = 60.0;  // s: the longest scene piloted whole by default
-// a step above the linear stability cut may gain at most this share of the
-// energy the scene exchanges at the step below it (unstableEnergy)
-constexpr double kProbeEnergyShare = 0.02;
 
 std::string fmt(double x) {
   char buf[32];
@@ -110,30 +107,6 @@ bool clean(const IntegratorTrial& t) {
   return t.diff_coarse > 1.05 * t.diff_fine && std::abs(t.raw_order - nominalOrder(t.kind)) <= 0.5 && !stalled(t);
 }
 
-// "" when run x, at a step above the linear stability cut, stayed stable
-// against ref, the same scene at the step below: healthy, and its energy
-// less the drive's work never above ref's by more than kProbeEnergyShare of
-// the energy ref exchanged over the run (its largest less its smallest).
-// Otherwise why not, for the refusal.
-std::string unstableEnergy(const Trajectory& x, const Trajectory& ref) {
-  if (!x.healthy) return "diverged in the pilot (" + x.failure + ")";
-  const size_t n = std::min(x.energy.size(), ref.energy.size());
-  if (n == 0) return "has no energy to check";
-  const auto [lo, hi] = std::minmax_element(ref.energy.begin(), ref.energy.end());
-  const double allowed = kProbeEnergyShare * (*hi - *lo);
-  double excess = 0.0;
-  size_t at = 0;
-  for (size_t k = 0; k < n; ++k)
-    if (x.energy[k] - ref.energy[k] > excess) {
-      excess = x.energy[k] - ref.energy[k];
-      at = k;
-    }
-  if (excess > allowed || !std::isfinite(excess))
-    return "gained " + fmt(excess) + " J over the stable step's energy by t = " + fmt(static_cast<double>(at) * kSamplePeriod) +
-           " s (allowed " + fmt(allowed) + " J): taken as unstable";
-  return "";
-}
-
 // floor: the contact substeps floor, 0 for the family's (contact's need at
 // dt0); finest: the finest healthy run, for the caller
 IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double segment, double top,
@@ -150,11 +123,15 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
   const std::vector<StiffMode> modes = stiffestModes(*scene->built.model);
   const StiffMode* worst = stiffest(modes);
   t.stability_dt = worst ? worst->dt_limit : std::numeric_limits<double>::infinity();
-  double dt = ladderStepAtMost(std::min(top, 0.9 * t.stability_dt));
+  // stability before accuracy: no step the check of the chosen scene would
+  // warn about (physics/checks/stability.cpp warns from kStabilityMargin of
+  // a mode's limit on) is run or offered; the pilot's top step is run, so
+  // what is offered near the limit is judged by runs, not extrapolated
+  double dt = ladderStepAtMost(std::min(top, kStabilityMargin * (1 - 1e-9) * t.stability_dt));
   std::string avoided;
   if (worst && dt < top)
-    avoided = "steps above " + fmt(dt) + " s pass 90% of the limit of the stiffest mode (" + worst->what +
-              ", stable below " + fmt(worst->dt_limit) + " s)";
+    avoided = "steps above " + fmt(dt) + " s pass " + fmt(100 * kStabilityMargin) + "% of the limit of the stiffest mode (" +
+              worst->what + ", stable below " + fmt(worst->dt_limit) + " s)";
   auto note = [&](const std::string& why) { avoided += (avoided.empty() ? "" : "; ") + why; };
   // the trial's runs together stay within the work budget (budget.hpp: steps
   // times the model's cost of a step), as one run of the scene must
@@ -168,8 +145,6 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
   };
   for (int attempt = 0; attempt <= kMaxHalvings; ++attempt, dt /= 2) {
     if (dt / 4 < o.min_dt * (1 - 1e-9)) break;
-    // the first family below a stability cut probes the step above it
-    const bool probe = attempt == 0 && worst && dt < top && 2 * dt <= top * (1 + 1e-9);
     std::vector<Trajectory> r;
     bool healthy = true;
     long long steps = 0;
@@ -184,8 +159,7 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
         t.refusal = avoided;
         return t;
       }
-      r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment, nominalOrder(kind),
-                                probe && k == 0));
+      r.push_back(runTrajectory(withSettings(s, kind, dt / (1 << k), nc), segment, nominalOrder(kind)));
       steps += r.back().steps;
       if (!r.back().healthy) {
         note("dt " + fmt(dt / (1 << k)) + " s diverged in the pilot (" + r.back().failure + ")");
@@ -193,28 +167,6 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
       }
     }
     if (!healthy) continue;
-    // Measured stability one ladder step above the linear cut: the stiffest
-    // mode's limit is that of a linear, undamped pair, and the report's car
-    // runs healthy at 3.1e-4 s where its rim springs' limit reads 2.8e-4 s.
-    // The step above is run over the same segment; it is offered to the
-    // choice only when it stayed healthy and its energy (less the drive's
-    // work) never rose above the stable run's by more than kProbeEnergyShare
-    // of the energy that run exchanged: an unstable mode pumps energy in.
-    if (probe) {
-      const double up = 2 * dt;
-      if (afford(up, nc)) {
-        Trajectory x = runTrajectory(withSettings(s, kind, up, nc), segment, nominalOrder(kind), true);
-        const std::string why = unstableEnergy(x, r.front());
-        if (why.empty()) {
-          steps += x.steps;
-          note("dt " + fmt(up) + " s, above that cut, ran stable in the pilot (measured: healthy, its energy "
-               "within " + fmt(kProbeEnergyShare) + " of the energy exchanged at dt " + fmt(dt) + " s)");
-          r.insert(r.begin(), std::move(x));
-        } else {
-          note("dt " + fmt(up) + " s, above that cut, " + why);
-        }
-      }
-    }
     t.dt0 = r.front().duration / static_cast<double>(std::max<long long>(1, r.front().steps));
     fit(t, r, segment, s.duration);
     // a fit that is not clean is not extrapolated far: while the step it

@@ -20,11 +20,11 @@ double realised(const Choice& c, const Trajectory& ref) {
   return compareRuns(run, ref).value();
 }
 
-// The report's car (20 rim points) rolling down 30 degrees from rest. At
-// 1% the rims' own model runs one ladder step above the linear limit of
-// their springs (2.8e-4 s): semi-implicit Euler at 3.1e-4 s stayed stable
-// in the pilot's measured check and is within the tolerance over the whole
-// scene; Verlet there gained energy and was refused, saying so.
+// The report's car (20 rim points) rolling down 30 degrees from rest. Its
+// rim springs' linear limit is 2.8e-4 s: every trial's steps stay below 90%
+// of it (semi-implicit Euler ran healthy at 3.1e-4 s, but a step the
+// program itself calls unstable is not offered), and the choice meets the
+// tolerance over the whole scene.
 TEST(Chooser, MeetsTheToleranceOnTheReportsDownhill) {
   const scenario::Scenario s = test::config("downhill.json");
   const Trajectory ref = test::reference(s, 5e-6);
@@ -33,21 +33,13 @@ TEST(Chooser, MeetsTheToleranceOnTheReportsDownhill) {
     SCOPED_TRACE(c.line());
     EXPECT_TRUE(c.meets);
     EXPECT_LE(realised(c, ref), tol);
-    if (tol != 0.01) continue;
-    EXPECT_EQ(c.model, 0);
     for (const IntegratorTrial& t : c.trials) {
       if (!t.usable) continue;
       SCOPED_TRACE(t.refusal);
-      if (t.kind == IntegratorKind::SemiImplicitEuler) {
-        EXPECT_GT(t.dt0, t.stability_dt);
-        EXPECT_NE(t.refusal.find("ran stable in the pilot"), std::string::npos);
-      }
-      if (t.kind == IntegratorKind::VelocityVerlet) {
-        EXPECT_LT(t.dt0, t.stability_dt);
-        EXPECT_NE(t.refusal.find("taken as unstable"), std::string::npos);
-      }
+      EXPECT_LT(t.dt0, 0.9 * t.stability_dt);
+      EXPECT_NE(t.refusal.find("stiffest mode"), std::string::npos);
     }
-    EXPECT_GT(c.dt, 0.9 * 2.8e-4);  // above the cut, where the linear limit alone would have stopped it
+    if (c.model == 0) EXPECT_LT(c.dt, 0.9 * 2.8e-4);
   }
 }
 

@@ -144,7 +144,7 @@ std::vector<std::string> stabilityWarnings(const Model& m) {
   for (const StiffMode& s : stiffestModes(m)) {
     if (!std::isfinite(s.limit)) continue;
     const double ratio = s.omega * h / s.limit;
-    if (ratio < 0.9) continue;
+    if (ratio < kStabilityMargin) continue;
     std::ostringstream o;
     o.precision(3);
     o << "/physics/dt: " << h << " s is " << (ratio > 1 ? "beyond" : "near") << " the stability limit "

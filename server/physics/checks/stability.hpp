@@ -14,6 +14,10 @@
 
 namespace groundsim {
 
+// A step from this share of a mode's limit on is warned about ("near", and
+// beyond 1 "beyond"); the accuracy pilot offers none at or above it.
+inline constexpr double kStabilityMargin = 0.9;
+
 struct StiffMode {
   std::string what;       // e.g. "ground contact of 'car/front_left'"
   double omega = 0.0;     // rad/s
