@@ -397,8 +397,11 @@ int run(const RunOptions& o) {
   if (!o.quiet) printSummary(s, sim, *scene, r);
   if (!o.quiet && choice) {
     std::printf("accuracy   tolerance %.3g: %s\n", choice->tolerance, choice->line().c_str());
-    std::printf("pilot      %.3g s of the scene per trial, %.3g s wall\n", choice->pilot_duration,
-                choice->pilot_wall_seconds);
+    // the pilot's share of what the user waited for: pilot and run together
+    const double total = std::max(choice->pilot_wall_seconds + r.wall, 1e-9);
+    std::printf("pilot      %.3g s of the scene per trial, %.3g s wall: %.0f%% of pilot and run (%.3gx the run)\n",
+                choice->pilot_duration, choice->pilot_wall_seconds, 100.0 * choice->pilot_wall_seconds / total,
+                choice->pilot_wall_seconds / std::max(r.wall, 1e-9));
     if (live)
       std::printf("estimate   %.3g (path %.3g, speed %.3g; %d windows, shadow steps %.1f%% of the run's)%s\n",
                   live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),

@@ -144,6 +144,7 @@ struct Choice {
   std::vector<IntegratorTrial> trials;
   double pilot_duration = 0.0;    // simulated s per trial run (the chosen trial's)
   double pilot_wall_seconds = 0.0;
+  bool from_cache = false;        // made before for the same content (choice_cache.hpp): no pilot ran
   // s with the chosen settings (its document says so; its `accuracy` kept)
   scenario::Scenario scenario;
   // one line: "velocity_verlet at dt 0.001 s: predicted error 2.1e-04 (tolerance 0.01), predicted cost 2000 force

@@ -10,6 +10,7 @@
 // or its neighbours, so the bits stay independent of the thread count.
 #include "experiments/vec_env.hpp"
 
+#include "accuracy/choice_cache.hpp"
 #include "accuracy/pilot.hpp"
 
 #include <algorithm>
@@ -236,7 +237,8 @@ std::unique_ptr<BatchEnv> makeVecEnv(const std::string& scenario_text, int num_e
   // a tolerance: one pilot on the scene for all the environments (it sees
   // the scene's scripted controls, not the agents' actions to come)
   if (s.accuracy) {
-    s = accuracy::chooseSettings(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, options.budget))
+    s = accuracy::ChoiceCache::shared()
+            .choose(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, options.budget))
             .scenario;
   }
   // one batched step is bounded like a run: its integrator steps times

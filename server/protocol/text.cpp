@@ -1,3 +1,4 @@
+#include "scenario/object_reader.hpp"
 #include "text.hpp"
 
 #include <cstdio>
@@ -40,10 +41,6 @@ std::string printable(std::string_view s, std::size_t max) {
   return out;
 }
 
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
+std::string number(double x) { return scenario::formatNumber(x); }
 
 }  // namespace groundsim::net

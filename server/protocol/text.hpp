@@ -18,7 +18,8 @@ std::string quoted(std::string_view s, std::size_t max = kMaxEcho);
 // The same escaping without the quotes, for text shown as it is (a server's
 // error message, a scenario name in a table).
 std::string printable(std::string_view s, std::size_t max = kMaxEcho);
-// A number as a short readable text (%g): DBL_MAX is "1.79769e+308", not 309 digits.
+// A number as a short readable text (%g): DBL_MAX is "1.79769e+308", not 309
+// digits (scenario::formatNumber, the one formatter).
 std::string number(double x);
 
 }  // namespace groundsim::net

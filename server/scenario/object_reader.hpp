@@ -41,6 +41,8 @@ struct Range {
   std::optional<std::string> violation(double v) const;
 };
 
+// A number as short readable text (%g; DBL_MAX is "1.79769e+308"): the one
+// formatter of numbers in messages (net::number and the sessions use it).
 std::string formatNumber(double v);
 // "number", "string", "object", ... as a user reads them.
 std::string jsonTypeName(const nlohmann::json& v);

@@ -1,3 +1,4 @@
+#include "scenario/object_reader.hpp"
 #include "service.hpp"
 
 #include <algorithm>
@@ -6,6 +7,7 @@
 #include <new>
 #include <thread>
 
+#include "accuracy/choice_cache.hpp"
 #include "accuracy/live_estimate.hpp"
 #include "accuracy/pilot.hpp"
 #include "answers.hpp"
@@ -42,16 +44,10 @@ std::string sizeText(std::uint64_t n) {
   return buf;
 }
 
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
-
 // "<field>: <value> is outside [lo, hi] <unit>", or "" when inside.
 std::string outside(const char* field, double x, double lo, double hi, const char* unit) {
   if (std::isfinite(x) && x >= lo && x <= hi) return "";
-  return std::string(field) + ": " + num(x) + " is outside [" + num(lo) + ", " + num(hi) + "]" + unit;
+  return std::string(field) + ": " + scenario::formatNumber(x) + " is outside [" + scenario::formatNumber(lo) + ", " + scenario::formatNumber(hi) + "]" + unit;
 }
 
 // A fresh id and this server's claim on it: the registry's id, claimed in
@@ -261,7 +257,7 @@ void SessionService::create(const Request& r) {
                 "scenario_json: " + std::to_string(r.scenario_json.size()) + " bytes, at most " +
                     std::to_string(cfg_.max_scenario_bytes) + " (server --max-scenario-bytes)");
   if (!std::isfinite(r.duration))
-    return fail(r, ErrorCode::BadRequest, "duration: must be finite (< 0 runs until stopped), got " + num(r.duration));
+    return fail(r, ErrorCode::BadRequest, "duration: must be finite (< 0 runs until stopped), got " + scenario::formatNumber(r.duration));
   if (!validSettings(r)) return;
   if (const OwnerCheck a = admitCreate(r.client_id); !a) return fail(r, a.code, a.why);
   // parsing and building may take a while for large grounds: not on the receive thread
@@ -288,8 +284,9 @@ void SessionService::build(const Request& r) {
     if (sc.accuracy) {
       const scenario::AccuracySpec spec = *sc.accuracy;
       const accuracy::Choice choice =
-          accuracy::chooseSettings(sc, spec.tolerance, accuracy::pilotOptions(spec, cfg_.budget));
-      std::fprintf(stderr, "groundsim-server: %s: %s\n", sc.name.c_str(), choice.line().c_str());
+          accuracy::ChoiceCache::shared().choose(sc, spec.tolerance, accuracy::pilotOptions(spec, cfg_.budget));
+      std::fprintf(stderr, "groundsim-server: %s: %s%s\n", sc.name.c_str(), choice.line().c_str(),
+                   choice.from_cache ? " (chosen before for the same content: no pilot)" : "");
       nlohmann::json chosen = choice.scenario.document;
       chosen.erase("accuracy");
       scenario_json = chosen.dump();
@@ -403,11 +400,11 @@ void SessionService::handleDrive(Drive d) {
       if (!std::isfinite(c.drive_torque) || !std::isfinite(c.brake_torque) || !std::isfinite(c.steer))
         return refuse(ErrorCode::BadControl, "drive: " + wheel + "non-finite value (NaN or infinity)");
       if (std::abs(c.drive_torque) > cfg_.max_torque)
-        return refuse(ErrorCode::BadControl, "drive: " + wheel + "drive torque " + num(c.drive_torque) +
-                                                 " N m beyond the limit of " + num(cfg_.max_torque));
+        return refuse(ErrorCode::BadControl, "drive: " + wheel + "drive torque " + scenario::formatNumber(c.drive_torque) +
+                                                 " N m beyond the limit of " + scenario::formatNumber(cfg_.max_torque));
       if (c.brake_torque < 0 || c.brake_torque > cfg_.max_torque)
-        return refuse(ErrorCode::BadControl, "drive: " + wheel + "brake torque " + num(c.brake_torque) +
-                                                 " N m outside [0, " + num(cfg_.max_torque) + "]");
+        return refuse(ErrorCode::BadControl, "drive: " + wheel + "brake torque " + scenario::formatNumber(c.brake_torque) +
+                                                 " N m outside [0, " + scenario::formatNumber(cfg_.max_torque) + "]");
     }
     s->touch(d.received);
     s->post(std::move(d));
@@ -447,10 +444,10 @@ void SessionService::handleControls(CarDrive d) {
         {"throttle", c.throttle, 0.0, 1.0}, {"brake", c.brake, 0.0, 1.0}, {"steer", c.steer, -1.0, 1.0}};
     for (const auto& r : ranges) {
       if (!std::isfinite(r.v))
-        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + num(r.v) + " is not finite");
+        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + scenario::formatNumber(r.v) + " is not finite");
       if (r.v < r.lo || r.v > r.hi)
-        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + num(r.v) + " outside [" + num(r.lo) +
-                                                 ", " + num(r.hi) + "]");
+        return refuse(ErrorCode::BadControl, std::string(r.field) + ": " + scenario::formatNumber(r.v) + " outside [" + scenario::formatNumber(r.lo) +
+                                                 ", " + scenario::formatNumber(r.hi) + "]");
     }
     if (c.gear < CarControls::kNeutral || c.gear > vw.gears)
       return refuse(ErrorCode::BadControl, "gear: " + std::to_string(c.gear) + " is not 0 (auto), -1 (reverse), "
@@ -474,7 +471,7 @@ void SessionService::housekeeping() {
   assets_.expire(now);
   for (auto& s : registry_.reclaim(now, cfg_.idle_timeout, cfg_.ended_linger)) {
     if (ownership_) ownership_->release(s->id());
-    s->stop(std::nullopt, "reclaimed after " + num(cfg_.idle_timeout) + " s without its owner");
+    s->stop(std::nullopt, "reclaimed after " + scenario::formatNumber(cfg_.idle_timeout) + " s without its owner");
     pool_.wake(s);
   }
 }

@@ -1,3 +1,4 @@
+#include "scenario/object_reader.hpp"
 #include "session.hpp"
 
 #include <algorithm>
@@ -24,12 +25,6 @@ std::string formatTime(double t) {
   std::ostringstream os;
   os << "t=" << t << " s";
   return os.str();
-}
-
-std::string shortNumber(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
 }
 
 }  // namespace
@@ -410,7 +405,7 @@ void Session::expire(Held& h, TimePoint now, size_t v, AppliedKind kind, const c
   const std::string& name = names_ && v < names_->size() ? (*names_)[v] : std::to_string(v);
   event(Severity::Warning, ErrorCode::CommandTimeout,
         std::string("no ") + command + " command for " + name + " (vehicle " + std::to_string(v) + ") for " +
-            shortNumber(limit) + " s: " + what + " set to zero");
+            scenario::formatNumber(limit) + " s: " + what + " set to zero");
 }
 
 void Session::releaseHeld(TimePoint now) {
@@ -435,7 +430,7 @@ std::optional<TimePoint> Session::advance(TimePoint now, TimePoint deadline) {
       // the pool cannot keep up: drop the backlog rather than run ever later
       if (seconds(now - last_overrun_event_) > 5.0) {
         event(Severity::Warning, ErrorCode::Overrun,
-              "real time overrun: " + shortNumber(lag) + " s behind the wall clock; skipping ahead");
+              "real time overrun: " + scenario::formatNumber(lag) + " s behind the wall clock; skipping ahead");
         last_overrun_event_ = now;
       }
       reanchor(now);

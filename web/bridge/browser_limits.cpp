@@ -1,3 +1,4 @@
+#include "protocol/text.hpp"
 #include "bridge/browser_limits.hpp"
 
 #include <algorithm>
@@ -9,11 +10,6 @@ namespace groundsim::web {
 namespace {
 const std::set<std::string> kModes{"realtime", "fast", "lockstep"};
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 }  // namespace
 
 std::optional<std::string> parseModes(const std::string& list, std::set<std::string>& out) {
@@ -56,15 +52,15 @@ std::optional<Refusal> BrowserAllowance::create(const BrowserLimits& l, const st
     return Refusal{"/vehicles", std::to_string(cars) + " cars, at most " + std::to_string(l.cars) +
                                     " in a browser's session (groundsim-web --browser-cars)"};
   if (l.publish_rate > 0 && publish_rate > l.publish_rate)
-    return Refusal{"/publish_rate", num(publish_rate) + " Hz, at most " + num(l.publish_rate) +
+    return Refusal{"/publish_rate", net::number(publish_rate) + " Hz, at most " + net::number(l.publish_rate) +
                                         " (groundsim-web --browser-publish-rate)"};
   if (l.sessions > 0 && owned >= l.sessions)
     return Refusal{"", "this browser owns " + std::to_string(owned) + " sessions, at most " +
                            std::to_string(l.sessions) +
                            " at once (groundsim-web --browser-sessions): leave one, it ends when nobody watches it"};
   if (const double wait = creates_.take(now); wait > 0)
-    return Refusal{"", "too many creates: at most " + num(l.creates_per_minute) +
-                           " a minute (groundsim-web --browser-creates); the next in " + num(std::ceil(wait * 10) / 10) +
+    return Refusal{"", "too many creates: at most " + net::number(l.creates_per_minute) +
+                           " a minute (groundsim-web --browser-creates); the next in " + net::number(std::ceil(wait * 10) / 10) +
                            " s"};
   return std::nullopt;
 }

@@ -1,3 +1,4 @@
+#include "protocol/text.hpp"
 #include "bridge/browser_message.hpp"
 
 #include <cmath>
@@ -38,12 +39,12 @@ class Fields {
     const json* v = get(key);
     if (!v) {
       if (def) return *def;
-      refuse("/" + key, "missing (a number in [" + num(lo) + ", " + num(hi) + "])");
+      refuse("/" + key, "missing (a number in [" + net::number(lo) + ", " + net::number(hi) + "])");
     }
     if (!v->is_number()) refuse("/" + key, "must be a number, got " + shown(*v));
     const double x = v->get<double>();
     if (!std::isfinite(x) || x < lo || x > hi)
-      refuse("/" + key, "must be in [" + num(lo) + ", " + num(hi) + "], got " + shown(*v));
+      refuse("/" + key, "must be in [" + net::number(lo) + ", " + net::number(hi) + "], got " + shown(*v));
     return x;
   }
   int integer(const std::string& key, int lo, int hi, int def) {
@@ -51,7 +52,7 @@ class Fields {
     if (!v) return def;
     if (!v->is_number_integer()) refuse("/" + key, "must be an integer, got " + shown(*v));
     const auto x = v->get<long long>();
-    if (x < lo || x > hi) refuse("/" + key, "must be in [" + num(lo) + ", " + num(hi) + "], got " + shown(*v));
+    if (x < lo || x > hi) refuse("/" + key, "must be in [" + net::number(lo) + ", " + net::number(hi) + "], got " + shown(*v));
     return static_cast<int>(x);
   }
   bool boolean(const std::string& key, bool def) {
@@ -77,11 +78,6 @@ class Fields {
   }
 
  private:
-  static std::string num(double x) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", x);
-    return b;
-  }
   const json& obj_;
   std::set<std::string> seen_{"op"};
 };

@@ -56,6 +56,8 @@ class HeightfieldGround final : public Ground {
   // Largest |grad h| (slope) the bound allows.
   double maxSlope() const;
   std::size_t bytes() const { return coef_.capacity() * sizeof(float); }
+  // its content (with nx, ny, cell, x0, y0): what identifies the ground
+  const std::vector<float>& coefficients() const { return coef_; }
 
  private:
   template <bool kGrad>
