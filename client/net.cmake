@@ -21,7 +21,7 @@ target_sources(groundsim PRIVATE
 )
 # commands.hpp and the CSV writer shared with `run` (run/telemetry_csv.hpp) are in client/
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
-target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario groundsim_recording groundsim_message_json CLI11::CLI11 nlohmann_json::nlohmann_json)
+target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario groundsim_recording CLI11::CLI11 nlohmann_json::nlohmann_json)
 # `replay --resimulate` re-simulates a recording as the server ran it: the
 # session layer's Resimulator and the adapter's frame conversion
 # (server/lcm/convert.cpp), so that its states are the server's to the bit.

@@ -22,7 +22,7 @@
 #include "protocol/codec.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/text.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 #include "record/precision_options.hpp"
 #include "record/recorder.hpp"
 #include "tokens.hpp"

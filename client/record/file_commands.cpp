@@ -17,7 +17,7 @@
 
 #include "net/common.hpp"
 #include "protocol/text.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 #include "record/precision_options.hpp"
 #include "record/recorder.hpp"
 #include "recording/mcap_reader.hpp"

@@ -1,5 +1,5 @@
 // The options of `record` and `convert` that choose how the state streams'
-// numbers are written (record/message_json.hpp, docs/logging.md, Size):
+// numbers are written (protocol/message_json.hpp, docs/logging.md, Size):
 // by default each quantity to its own decimals; --exact every double
 // exactly; --digits N to N significant digits.
 #pragma once
@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::record {
 

@@ -14,7 +14,7 @@
 
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::record {
 namespace {

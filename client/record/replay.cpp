@@ -34,7 +34,7 @@
 #include "net/common.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/text.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 #include "recording/mcap_reader.hpp"
 #include "session/resimulate.hpp"
 

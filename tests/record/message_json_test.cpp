@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::record {
 namespace {

@@ -27,7 +27,7 @@
 
 #include "support/temp_dir.hpp"
 #include "protocol/channels.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 #include "record/recorder.hpp"
 #include "recording/mcap_reader.hpp"
 

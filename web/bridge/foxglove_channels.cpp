@@ -1,7 +1,7 @@
 #include "bridge/foxglove_channels.hpp"
 
 #include "protocol/channels.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::web::foxglove {
 

@@ -1,5 +1,5 @@
 // Which Foxglove channels exist: one per stream of each live session, with
-// the MCAP recorder's topic names and JSON Schemas (record/message_json.hpp),
+// the MCAP recorder's topic names and JSON Schemas (protocol/message_json.hpp),
 // so a Foxglove layout made on a `groundsim record` file reads a live
 // session too. Sessions come from the servers' heartbeats (every session
 // they list) and from the bus (a session whose states are heard without a

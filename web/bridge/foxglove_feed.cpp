@@ -12,7 +12,7 @@
 #include "bridge/browser_message.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::web::foxglove {
 

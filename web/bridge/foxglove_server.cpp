@@ -14,7 +14,7 @@
 
 #include "bridge/listen.hpp"
 #include "protocol/metrics_text.hpp"
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 namespace groundsim::web::foxglove {
 

@@ -1,4 +1,4 @@
-#include "record/message_json.hpp"
+#include "protocol/message_json.hpp"
 
 #include <charconv>
 #include <algorithm>
