@@ -193,6 +193,11 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
       finest /= 2;
       fit(t, r, segment, s.duration);
     }
+    t.clean_fit = clean(t);
+    if (!t.clean_fit)
+      note("its error law is not clean (observed order " + fmt(t.raw_order) + ", nominal " +
+           std::to_string(nominalOrder(kind)) + "): below dt " + fmt(finest) +
+           " s no error is credited beyond that run's");
     finest_run = std::move(r.back());
     t.usable = true;
     t.refusal = avoided;
@@ -255,6 +260,8 @@ double IntegratorTrial::error(double h) const {
   if (level_dt.empty() || h > level_dt.front() * (1 + 1e-9)) return std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < level_dt.size(); ++k)
     if (std::abs(h / level_dt[k] - 1.0) < 1e-9) return model_gap + level_error[k];
+  // a law that is not clean is not extrapolated: finer steps keep the finest run's error
+  if (!clean_fit) return model_gap + level_error.back();
   return model_gap + contact_offset + error_constant * std::pow(h, order);
 }
 
@@ -501,6 +508,10 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
     const double e = best->level_error.empty() ? 0.0 : best->level_error[k] / grown;
     c.window_scale = w > 0.0 && std::isfinite(e) ? std::min(1.0, e / w) : 1.0;
   }
+  if (!best->clean_fit)
+    c.caveat = "its error law is not clean (observed order " + fmt(best->raw_order) + ", nominal " +
+               std::to_string(nominalOrder(best->kind)) + "): nothing is credited below its finest pilot step " +
+               fmt(best->level_dt.back()) + " s";
   c.contact_substeps = best->contact_substeps;
   const scenario::Scenario& model = c.model > 0 ? options[static_cast<size_t>(c.model - 1)].scenario : s;
   c.scenario = withSettings(model, c.integrator, c.dt, c.contact_substeps);
@@ -525,6 +536,7 @@ std::string Choice::line() const {
     if (static_cast<int>(k) + 1 != model)
       out += "; model " + models[k].name + " not taken: " +
              (models[k].admitted ? "admitted, but not cheaper at this tolerance" : models[k].verdict);
+  if (!caveat.empty()) out += "; " + caveat;
   if (!meets) out += "; NO setting down to the finest step is predicted to meet the tolerance";
   return out;
 }

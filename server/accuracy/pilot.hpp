@@ -78,6 +78,11 @@ struct IntegratorTrial {
   // be), for the windows' calibration
   std::vector<double> level_windows;
   double raw_order = 0.0;         // log2 of the last two differences' ratio, unclamped
+  // false: by the finest run the pilot could afford, the differences still
+  // did not shrink at the integrator's order (chaotic stick-slip, a step
+  // near a stability limit): the law is not extrapolated below that run,
+  // whose error error(h) keeps for every finer step
+  bool clean_fit = true;
   // the model it ran: 0 the user's, k > 0 Choice::models[k - 1] (a cheaper
   // wheel or tyre model); model_gap, the bound of that model's converged
   // solution's distance from the user's, is part of every error it predicts
@@ -133,6 +138,9 @@ struct Choice {
   // scaled down by as much (LiveEstimate::setWindowScale).
   double window_scale = 1.0;
   bool meets = false;             // predicted within the tolerance
+  // what the prediction rests on when the chosen trial's law is not clean
+  // (said in line()); empty when it is
+  std::string caveat;
   double tolerance = 0.0;
   // the model chosen: 0 the user's, k > 0 models[k - 1] (its scenario runs)
   int model = 0;
