@@ -35,8 +35,13 @@ for k in $(seq 60); do
   t1=$(date +%s%N)
   echo $(( (t1 - t0) / 1000000 )) >>"$tmp/ms"
 done
-sleep 2  # every server's heartbeat lists its sessions
-"$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 5 >"$tmp/list" || fail "list: $?"
+# the listing is the servers' heartbeats: wait until they list all 60 (a
+# loaded machine's heartbeat comes late), for at most 60 tries
+for _ in $(seq 60); do
+  "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 5 >"$tmp/list" || fail "list: $?"
+  [ "$(tail -n +2 "$tmp/list" | grep -c .)" -ge 60 ] && break
+  sleep 0.5
+done
 python3 - "$tmp/list" "$tmp/ms" "$placement" <<'PY'
 import sys, collections
 rows = [l.split() for l in open(sys.argv[1]).read().splitlines()[1:] if l.strip()]
