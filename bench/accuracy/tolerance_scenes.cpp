@@ -25,6 +25,10 @@ const std::vector<ToleranceScene>& toleranceScenes() {
       {"skidpad_long", "sedan_skidpad.json", {"duration=20"}},
       {"stick_slip_long", "sedan_stick_slip.json", {"duration=20"}},
       {"wet_long", "sedan_wet.json", {"duration=20"}},
+      // issue 40's unseen scene: the sedan launched over a washboard,
+      // corrugations 2 cm high every 0.8 m (its tyres shaken near wheel hop)
+      {"sedan_washboard", "sedan.json",
+       {"duration=6", R"J(ground={"type": "expression", "expression": "z - 0.02*cos(7.853981634*x)", "gradient_bound": 1.02})J"}},
   };
   return scenes;
 }
