@@ -137,6 +137,285 @@ bool applyKey(const KeyPress& k, Intent& in, const DriveOpts& o) {
   return true;
 }
 
+// What the server publishes of the session: its newest state and, for a
+// road car, its newest car state.
+struct Telemetry {
+  groundsim::state_t state;
+  bool have_state = false;
+  groundsim::car_state_t car_state;
+  bool have_car = false;
+  int vehicle = 0;
+
+  void onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    if (net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), state, "groundsim.state_t").ok())
+      have_state = true;
+  }
+  void onCar(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    if (net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), car_state, "groundsim.car_state_t").ok())
+      have_car = true;
+  }
+  const groundsim::road_car_state_t* car() const {
+    for (const auto& c : car_state.cars)
+      if (c.vehicle == vehicle) return &c;
+    return nullptr;
+  }
+};
+
+// How the driver's input becomes commands: per-wheel torques (drive_t) or a
+// road car's normalized controls (controls_t).
+class ControlModel {
+ public:
+  virtual ~ControlModel() = default;
+  virtual const char* message() const = 0;  // what it sends
+  virtual const char* keys() const = 0;      // the keyboard's help
+  // one script line: seconds to wait (0 none), < 0 to quit; throws invalid_argument
+  virtual double applyLine(const std::string& line) = 0;
+  virtual bool applyKey(const KeyPress& k) = 0;  // false: quit
+  virtual void tick(double /*dt*/) {}
+  virtual void send(NetClient& client, const std::string& token, bool release) const = 0;
+  virtual std::string status(const Telemetry& t) const = 0;  // the terminal's line
+  virtual void summary(const Telemetry& /*t*/, const std::string& /*session*/, bool /*tty*/) const {}
+};
+
+class WheelTorques final : public ControlModel {
+ public:
+  explicit WheelTorques(const DriveOpts& o) : o_(o) {}
+  const char* message() const override { return "drive_t"; }
+  const char* keys() const override {
+    return "w/s or up/down throttle, a/d or left/right turn, space brake, x release, q quit";
+  }
+  double applyLine(const std::string& line) override { return cli::applyLine(line, intent_); }
+  bool applyKey(const KeyPress& k) override { return cli::applyKey(k, intent_, o_); }
+  void send(NetClient& client, const std::string& token, bool release) const override {
+    groundsim::drive_t m = (release ? Intent{} : intent_).toMessage(o_);
+    m.token = token;
+    client.send(m);
+  }
+  std::string status(const Telemetry& t) const override {
+    const auto v = static_cast<size_t>(o_.vehicle);
+    const double speed = t.state.vehicles.size() > v ? t.state.vehicles[v].speed : 0.0;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "throttle %5.2f N m  turn %+4.1f  brake %4.1f | t=%.2f s speed %.2f m/s %s",
+                  intent_.throttle, intent_.turn, intent_.brake, t.state.t, speed, net::statusName(t.state.status));
+    return buf;
+  }
+
+ private:
+  const DriveOpts& o_;
+  Intent intent_;
+};
+
+class RoadCarControls final : public ControlModel {
+ public:
+  explicit RoadCarControls(const DriveOpts& o) : o_(o) {}
+  const char* message() const override { return "controls_t"; }
+  const char* keys() const override {
+    return "road car: w/s or up/down throttle/brake, a/d or left/right steer (held while pressed, back to 0 when "
+           "released), space full brake, h handbrake, 0 auto, 1-9 gear, r reverse, n neutral, x release, q quit";
+  }
+  double applyLine(const std::string& line) override { return applyCarLine(line, intent_); }
+  bool applyKey(const KeyPress& k) override { return applyCarKey(k, intent_); }
+  void tick(double dt) override { intent_.tick(dt); }
+  void send(NetClient& client, const std::string& token, bool release) const override {
+    groundsim::controls_t m = (release ? CarIntent{} : intent_).toMessage(o_.session, o_.vehicle);
+    m.token = token;
+    client.send(m);
+  }
+  std::string status(const Telemetry& t) const override {
+    const auto* c = t.car();
+    char buf[300];
+    std::snprintf(buf, sizeof buf, "%s | t=%.2f s %5.1f km/h gear %s %5.0f rpm %s", intent_.describe().c_str(),
+                  t.state.t, c ? c->speed * 3.6 : 0.0, c ? gearName(c->gear).c_str() : "-", c ? c->engine_rpm : 0.0,
+                  net::statusName(t.state.status));
+    return buf;
+  }
+  void summary(const Telemetry& t, const std::string& session, bool tty) const override {
+    const auto* c = t.have_car ? t.car() : nullptr;
+    if (!c) return;
+    std::fprintf(stderr, "%sdrive %s: t=%.2f s speed %.1f km/h gear %s %.0f rpm\n", tty ? "\n" : "",
+                 net::printable(session).c_str(), t.car_state.t, c->speed * 3.6, gearName(c->gear).c_str(),
+                 c->engine_rpm);
+  }
+
+ private:
+  const DriveOpts& o_;
+  CarIntent intent_;
+};
+
+// --controls, or with auto what the session's first states say: a road
+// car's state_t comes with a car_state_t of the same seq
+std::unique_ptr<ControlModel> chooseControlModel(const DriveOpts& o, NetClient& client, const Telemetry& t) {
+  bool car = o.controls == "car";
+  if (o.controls == "auto") {
+    const auto give_up = SteadyClock::now() + std::chrono::seconds(2);
+    while (!t.have_state && SteadyClock::now() < give_up && !stopRequested()) client.pump(50);
+    for (const auto settle = SteadyClock::now() + std::chrono::milliseconds(200);
+         t.have_state && !t.have_car && SteadyClock::now() < settle;)
+      client.pump(20);
+    car = t.have_car && t.car() != nullptr;
+    if (!t.have_state)
+      std::fprintf(stderr, "drive %s: no state within 2 s (lockstep or paused?): per-wheel torques; "
+                           "use --controls car for a road car\n", net::printable(o.session).c_str());
+  }
+  if (car) return std::make_unique<RoadCarControls>(o);
+  return std::make_unique<WheelTorques>(o);
+}
+
+// The drive: input (keys, or script lines and their waits) into the
+// control model, its command re-sent at --hz, the server's refusals and
+// the session's end watched.
+class Drive {
+ public:
+  Drive(const DriveOpts& o, NetClient& client, const Telemetry& t, ControlModel& model, std::string token)
+      : o_(o), client_(client), t_(t), model_(model), token_(std::move(token)), tty_(::isatty(STDIN_FILENO)) {}
+
+  void run() {
+    if (tty_) std::fprintf(stderr, "drive %s: %s\n", net::printable(o_.session).c_str(), model_.keys());
+    std::fprintf(stderr, "drive %s: sending %s on %s\n", net::printable(o_.session).c_str(), model_.message(),
+                 client_.url().c_str());
+    while (!quit_ && !stopRequested()) {
+      if (sessionGone()) break;
+      runScriptLines();
+      sendDue();
+      if (quit_) break;
+      reportRefusals();
+      showStatus();
+      if (sessionEnded() || scriptDone()) break;
+      waitForInput();
+    }
+    if (!o_.hold) model_.send(client_, token_, true);
+    collectLastRefusals();
+    model_.summary(t_, o_.session, tty_);
+    reportRefusals();
+    if (tty_) std::fprintf(stderr, "\n");
+    if (refusals_ > 0) fail(kExitRefused, std::to_string(refusals_) + " drive command(s) refused");
+  }
+
+ private:
+  // commands into the void help nobody: a silent server ends the drive
+  bool sessionGone() {
+    if (client_.server().lost()) fail(kExitNoServer, client_.server().lostMessage(client_.url()));
+    const auto info = client_.server().session(o_.session);
+    if (!info || !net::isFinal(info->status) || t_.have_state) return false;
+    std::fprintf(stderr, "drive %s: session %s (from the server's heartbeat)\n", net::printable(o_.session).c_str(),
+                 net::statusName(info->status));
+    return true;
+  }
+
+  // script lines run in order; a wait holds back the ones after it
+  void runScriptLines() {
+    while (!tty_ && !quit_ && SteadyClock::now() >= wait_until_) {
+      auto nl = pending_.find('\n');
+      if (nl == std::string::npos) {
+        if (input_open_ || pending_.empty()) break;
+        pending_ += '\n';  // last line without a newline
+        continue;
+      }
+      const std::string line = pending_.substr(0, nl);
+      pending_.erase(0, nl + 1);
+      ++line_no_;
+      double wait = 0.0;
+      try {
+        wait = model_.applyLine(line);
+      } catch (const std::invalid_argument& e) {
+        fail(kExitRefused, "stdin line " + std::to_string(line_no_) + ": " + e.what());
+      }
+      dirty_ = true;
+      if (wait < 0) quit_ = true;
+      if (wait > 0)
+        wait_until_ = SteadyClock::now() +
+                      std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(wait));
+    }
+  }
+
+  void sendDue() {
+    const auto now = SteadyClock::now();
+    model_.tick(std::chrono::duration<double>(now - last_tick_).count());
+    last_tick_ = now;
+    if (!dirty_ && now < next_send_) return;
+    model_.send(client_, token_, false);
+    next_send_ = now + period_;
+    dirty_ = false;
+  }
+
+  void reportRefusals() {
+    for (const auto& e : client_.takeEvents()) {
+      ++refusals_;
+      std::fprintf(stderr, "%sgroundsim: refused: %s\n", tty_ ? "\r\033[K" : "", net::printable(e.reason, 1000).c_str());
+    }
+  }
+
+  void showStatus() const {
+    if (tty_ && t_.have_state) std::fprintf(stderr, "\r\033[K%s", model_.status(t_).c_str());
+  }
+
+  bool sessionEnded() const {
+    if (!t_.have_state || !net::isFinal(t_.state.status)) return false;
+    std::fprintf(stderr, "%sdrive %s: session %s\n", tty_ ? "\n" : "", net::printable(o_.session).c_str(),
+                 net::statusName(t_.state.status));
+    return true;
+  }
+
+  bool scriptDone() const { return !input_open_ && pending_.empty() && SteadyClock::now() >= wait_until_; }
+
+  // the bus and stdin until the next send (or the end of a wait)
+  void waitForInput() {
+    pollfd fds[2] = {{client_.lcm().getFileno(), POLLIN, 0}, {STDIN_FILENO, POLLIN, 0}};
+    auto until = next_send_;
+    if (wait_until_ > SteadyClock::now()) until = std::min(until, wait_until_);
+    const int ms = static_cast<int>(std::max<long long>(
+        0, std::chrono::duration_cast<std::chrono::milliseconds>(until - SteadyClock::now()).count()));
+    if (::poll(fds, input_open_ ? 2 : 1, ms) < 0) return;  // EINTR: the loop checks the stop flag
+    if (fds[0].revents & POLLIN) client_.lcm().handleTimeout(0);
+    if (!input_open_ || !(fds[1].revents & (POLLIN | POLLHUP))) return;
+    char buf[4096];
+    const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
+    if (n <= 0) {
+      input_open_ = false;
+      return;
+    }
+    if (!tty_) {
+      pending_.append(buf, static_cast<size_t>(n));
+      return;
+    }
+    const std::string bytes(buf, static_cast<size_t>(n));
+    for (std::string::size_type i = 0; i < bytes.size();) {
+      KeyPress k;
+      i = nextKey(bytes, i, &k);
+      if (!model_.applyKey(k)) quit_ = true;
+    }
+    dirty_ = true;
+  }
+
+  // The server handles datagrams in the order they come, on one thread, and
+  // publishes a command's refusal as it handles it, so once a request sent
+  // after the last command is answered every refusal of ours is in (a fixed
+  // 150 ms lost them on a busy machine).
+  void collectLastRefusals() {
+    groundsim::request_t barrier{};
+    barrier.op = groundsim::request_t::OP_LIST;
+    try {
+      client_.call(barrier, o_.net.timeout);
+    } catch (const NetError&) {
+      // no answer in time: the refusals that came are counted all the same
+    }
+  }
+
+  const DriveOpts& o_;
+  NetClient& client_;
+  const Telemetry& t_;
+  ControlModel& model_;
+  const std::string token_;
+  const bool tty_;
+  const SteadyClock::duration period_ =
+      std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / o_.hz));
+  SteadyClock::time_point last_tick_ = SteadyClock::now(), next_send_ = SteadyClock::now(), wait_until_{};
+  bool input_open_ = true, quit_ = false, dirty_ = true;
+  std::string pending_;  // partial script line
+  long line_no_ = 0;
+  int refusals_ = 0;
+};
+
 void run(const DriveOpts& o) {
   installStopSignals();
   NetClient client(o.net.url);
@@ -144,191 +423,14 @@ void run(const DriveOpts& o) {
   if (token.empty())
     std::fprintf(stderr, "groundsim: warning: no token for session %s (the server will refuse)\n",
                  net::printable(o.session).c_str());
-  const bool tty = ::isatty(STDIN_FILENO);
-  std::optional<RawTerminal> term;
-  if (tty) term.emplace(STDIN_FILENO);
-
-  groundsim::state_t latest;
-  bool have_state = false;
-  auto on_state = [&](const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    if (net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), latest, "groundsim.state_t").ok())
-      have_state = true;
-  };
-  client.lcm().subscribeFunction(
-      net::stateChannel(o.session),
-      +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_state)* h) { (*h)(rbuf, ch); }, &on_state);
-
-  groundsim::car_state_t latest_car;
-  bool have_car = false;
-  auto on_car = [&](const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    if (net::decodeMessage(rbuf->data, static_cast<int>(rbuf->data_size), latest_car, "groundsim.car_state_t").ok())
-      have_car = true;
-  };
-  client.lcm().subscribeFunction(
-      net::carStateChannel(o.session),
-      +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, decltype(on_car)* h) { (*h)(rbuf, ch); }, &on_car);
-  auto carOf = [&]() -> const groundsim::road_car_state_t* {
-    for (const auto& c : latest_car.cars)
-      if (c.vehicle == o.vehicle) return &c;
-    return nullptr;
-  };
-
-  bool car = o.controls == "car";
-  if (o.controls == "auto") {
-    // a road car's state_t comes with a car_state_t of the same seq
-    const auto give_up = SteadyClock::now() + std::chrono::seconds(2);
-    while (!have_state && SteadyClock::now() < give_up && !stopRequested()) client.pump(50);
-    for (const auto settle = SteadyClock::now() + std::chrono::milliseconds(200);
-         have_state && !have_car && SteadyClock::now() < settle;)
-      client.pump(20);
-    car = have_car && carOf() != nullptr;
-    if (!have_state)
-      std::fprintf(stderr, "drive %s: no state within 2 s (lockstep or paused?): per-wheel torques; "
-                           "use --controls car for a road car\n", net::printable(o.session).c_str());
-  }
-  if (!car && tty)
-    std::fprintf(stderr, "drive %s: w/s or up/down throttle, a/d or left/right turn, space brake, x release, q quit\n",
-                 net::printable(o.session).c_str());
-  if (car && tty)
-    std::fprintf(stderr, "drive %s: road car: w/s or up/down throttle/brake, a/d or left/right steer (held while "
-                         "pressed, back to 0 when released), space full brake, h handbrake, 0 auto, 1-9 gear, "
-                         "r reverse, n neutral, x release, q quit\n", net::printable(o.session).c_str());
-
-  std::fprintf(stderr, "drive %s: sending %s on %s\n", net::printable(o.session).c_str(),
-               car ? "controls_t" : "drive_t", client.url().c_str());
-  Intent intent;
-  CarIntent car_intent;
-  auto last_tick = SteadyClock::now();
-  auto sendNow = [&](bool release) {
-    if (car) {
-      groundsim::controls_t m = (release ? CarIntent{} : car_intent).toMessage(o.session, o.vehicle);
-      m.token = token;
-      client.send(m);
-    } else {
-      groundsim::drive_t m = (release ? Intent{} : intent).toMessage(o);
-      m.token = token;
-      client.send(m);
-    }
-  };
-  int refusals = 0;
-  const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / o.hz));
-  auto next_send = SteadyClock::now();
-  auto wait_until = SteadyClock::time_point{};
-  bool input_open = true, quit = false, dirty = true;
-  std::string pending;  // partial script line
-  long line_no = 0;
-
-  while (!quit && !stopRequested()) {
-    // commands into the void help nobody: a silent server ends the drive
-    if (client.server().lost()) fail(kExitNoServer, client.server().lostMessage(client.url()));
-    if (const auto info = client.server().session(o.session); info && net::isFinal(info->status) && !have_state) {
-      std::fprintf(stderr, "drive %s: session %s (from the server's heartbeat)\n", net::printable(o.session).c_str(),
-                   net::statusName(info->status));
-      break;
-    }
-    // script lines run in order; a wait holds back the ones after it
-    while (!tty && !quit && SteadyClock::now() >= wait_until) {
-      auto nl = pending.find('\n');
-      if (nl == std::string::npos) {
-        if (input_open || pending.empty()) break;
-        pending += '\n';  // last line without a newline
-        continue;
-      }
-      const std::string line = pending.substr(0, nl);
-      pending.erase(0, nl + 1);
-      ++line_no;
-      double wait = 0.0;
-      try {
-        wait = car ? applyCarLine(line, car_intent) : applyLine(line, intent);
-      } catch (const std::invalid_argument& e) {
-        fail(kExitRefused, "stdin line " + std::to_string(line_no) + ": " + e.what());
-      }
-      dirty = true;
-      if (wait < 0) quit = true;
-      if (wait > 0) wait_until = SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(wait));
-    }
-    const auto now = SteadyClock::now();
-    car_intent.tick(std::chrono::duration<double>(now - last_tick).count());
-    last_tick = now;
-    if (dirty || now >= next_send) {
-      sendNow(false);
-      next_send = now + period;
-      dirty = false;
-    }
-    if (quit) break;
-    for (const auto& e : client.takeEvents()) {
-      ++refusals;
-      std::fprintf(stderr, "%sgroundsim: refused: %s\n", tty ? "\r\033[K" : "", net::printable(e.reason, 1000).c_str());
-    }
-    if (tty && have_state && car) {
-      const auto* c = carOf();
-      std::fprintf(stderr, "\r\033[K%s | t=%.2f s %5.1f km/h gear %s %5.0f rpm %s", car_intent.describe().c_str(),
-                   latest.t, c ? c->speed * 3.6 : 0.0, c ? gearName(c->gear).c_str() : "-", c ? c->engine_rpm : 0.0,
-                   net::statusName(latest.status));
-    } else if (tty && have_state) {
-      const double speed = latest.vehicles.size() > static_cast<size_t>(o.vehicle) ? latest.vehicles[o.vehicle].speed : 0.0;
-      std::fprintf(stderr, "\r\033[Kthrottle %5.2f N m  turn %+4.1f  brake %4.1f | t=%.2f s speed %.2f m/s %s",
-                   intent.throttle, intent.turn, intent.brake, latest.t, speed, net::statusName(latest.status));
-    }
-    if (have_state && net::isFinal(latest.status)) {
-      std::fprintf(stderr, "%sdrive %s: session %s\n", tty ? "\n" : "", net::printable(o.session).c_str(), net::statusName(latest.status));
-      break;
-    }
-    if (!input_open && pending.empty() && now >= wait_until) break;  // script done
-
-    pollfd fds[2] = {{client.lcm().getFileno(), POLLIN, 0}, {STDIN_FILENO, POLLIN, 0}};
-    auto until = next_send;
-    if (wait_until > now) until = std::min(until, wait_until);
-    const int ms = static_cast<int>(std::max<long long>(
-        0, std::chrono::duration_cast<std::chrono::milliseconds>(until - SteadyClock::now()).count()));
-    if (::poll(fds, input_open ? 2 : 1, ms) < 0) continue;  // EINTR: the loop checks the stop flag
-    if (fds[0].revents & POLLIN) client.lcm().handleTimeout(0);
-    if (!input_open || !(fds[1].revents & (POLLIN | POLLHUP))) continue;
-
-    char buf[4096];
-    const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
-    if (n <= 0) {
-      input_open = false;
-      continue;
-    }
-    if (!tty) {
-      pending.append(buf, static_cast<size_t>(n));
-      continue;
-    }
-    const std::string bytes(buf, static_cast<size_t>(n));
-    for (std::string::size_type i = 0; i < bytes.size();) {
-      KeyPress k;
-      i = nextKey(bytes, i, &k);
-      if (!(car ? applyCarKey(k, car_intent) : applyKey(k, intent, o))) quit = true;
-    }
-    dirty = true;
-  }
-  if (!o.hold) sendNow(true);
-  // Collect a last refusal, if any. The server handles datagrams in the
-  // order they come, on one thread, and publishes a command's refusal as it
-  // handles it, so once a request sent after the last command is answered
-  // every refusal of ours is in (a fixed 150 ms lost them on a busy machine).
-  {
-    groundsim::request_t barrier{};
-    barrier.op = groundsim::request_t::OP_LIST;
-    try {
-      client.call(barrier, o.net.timeout);
-    } catch (const NetError&) {
-      // no answer in time: the refusals that came are counted all the same
-    }
-  }
-  if (car && have_car) {
-    if (const auto* c = carOf())
-      std::fprintf(stderr, "%sdrive %s: t=%.2f s speed %.1f km/h gear %s %.0f rpm\n", tty ? "\n" : "",
-                   net::printable(o.session).c_str(), latest_car.t, c->speed * 3.6, gearName(c->gear).c_str(),
-                   c->engine_rpm);
-  }
-  for (const auto& e : client.takeEvents()) {
-    ++refusals;
-    std::fprintf(stderr, "groundsim: refused: %s\n", net::printable(e.reason, 1000).c_str());
-  }
-  if (tty) std::fprintf(stderr, "\n");
-  if (refusals > 0) fail(kExitRefused, std::to_string(refusals) + " drive command(s) refused");
+  std::optional<RawTerminal> term;  // keys one by one, from the start
+  if (::isatty(STDIN_FILENO)) term.emplace(STDIN_FILENO);
+  Telemetry telemetry;
+  telemetry.vehicle = o.vehicle;
+  client.lcm().subscribe(net::stateChannel(o.session), &Telemetry::onState, &telemetry);
+  client.lcm().subscribe(net::carStateChannel(o.session), &Telemetry::onCar, &telemetry);
+  const std::unique_ptr<ControlModel> model = chooseControlModel(o, client, telemetry);
+  Drive(o, client, telemetry, *model, token).run();
 }
 
 }  // namespace
