@@ -7,6 +7,23 @@
 #include <cstdlib>
 
 namespace groundsim::record {
+
+void appendJsonString(std::string& out, const std::string& s) {
+  out += '"';
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      out += b;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  out += '"';
+}
 namespace {
 
 Precision g_precision = Precision::Fields;
@@ -116,20 +133,7 @@ class Out {
     return *this;
   }
   Out& str(const std::string& v) {
-    s_ += '"';
-    for (unsigned char c : v) {
-      if (c == '"' || c == '\\') {
-        s_ += '\\';
-        s_ += static_cast<char>(c);
-      } else if (c < 0x20) {
-        char b[8];
-        std::snprintf(b, sizeof b, "\\u%04x", c);
-        s_ += b;
-      } else {
-        s_ += static_cast<char>(c);
-      }
-    }
-    s_ += '"';
+    appendJsonString(s_, v);
     return *this;
   }
   template <class T>

@@ -23,6 +23,10 @@
 
 namespace groundsim::record {
 
+// s as a JSON string, quotes included, appended to out: '"' and '\\'
+// escaped, control characters as \u00XX, the rest as it is (UTF-8 passes).
+void appendJsonString(std::string& out, const std::string& s);
+
 // How the state streams' numbers are written. Simulated states carry noise
 // in their low digits that no compressor removes (docs/logging.md, Size):
 //   Fields: each quantity rounded to its own fixed decimals (the default);

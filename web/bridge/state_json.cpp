@@ -1,5 +1,7 @@
 #include "bridge/state_json.hpp"
 
+#include "protocol/message_json.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -27,20 +29,9 @@ void array(std::string& out, int n, Get get) {
 }  // namespace
 
 std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      out += b;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out + "\"";
+  std::string out;
+  record::appendJsonString(out, s);
+  return out;
 }
 
 std::string stateJson(const groundsim::state_t& s, double wall_s) {
