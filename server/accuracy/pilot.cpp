@@ -361,160 +361,199 @@ long long pilotSteps(const ModelPilot& m, IntegratorKind k) {
 
 }  // namespace
 
-Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Choice c;
-  c.tolerance = tolerance;
-  // The measure reads the final speed, at the run's end, and takes the
-  // largest path error over the whole run: a pilot that stops short of it
-  // samples the speed error at another moment (a car still rolling, not yet
-  // braked to rest) and leaves whatever happens later (a spin, a stop, a
-  // late impact) to a growth law that cannot see it. By default (no
-  // pilot_duration given) the pilot runs the whole scene, up to
-  // kWholePilotCap; a trial whose whole-scene runs would pass the work
-  // budget falls back to the first fallback_duration.
-  const bool whole = !(o.pilot_duration > 0.0);
-  c.pilot_duration = std::min(s.duration, whole ? kWholePilotCap : o.pilot_duration);
-  const double short_segment = std::min(c.pilot_duration, o.fallback_duration);
+namespace {
+
+// How long the pilot's runs are, and the top of the ladder.
+struct PilotPlan {
+  bool whole = true;         // the whole scene (no pilot_duration given)
+  double duration = 0.0;     // simulated s per trial
+  double short_segment = 0.0;  // the fallback of a trial the work budget refuses whole
+  double top = 0.0;          // the coarsest ladder step offered
+};
+
+// The measure reads the final speed, at the run's end, and takes the
+// largest path error over the whole run: a pilot that stops short of it
+// samples the speed error at another moment (a car still rolling, not yet
+// braked to rest) and leaves whatever happens later (a spin, a stop, a late
+// impact) to a growth law that cannot see it. By default (no
+// pilot_duration given) the pilot runs the whole scene, up to
+// kWholePilotCap; a trial whose whole-scene runs would pass the work budget
+// falls back to the first fallback_duration.
+PilotPlan planPilot(const scenario::Scenario& s, const PilotOptions& o) {
+  PilotPlan p;
+  p.whole = !(o.pilot_duration > 0.0);
+  p.duration = std::min(s.duration, p.whole ? kWholePilotCap : o.pilot_duration);
+  p.short_segment = std::min(p.duration, o.fallback_duration);
   // a step longer than the output period would skip frames
-  const double top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
-  ModelPilot user;
-  for (IntegratorKind k : o.integrators)
-    pilotIntegrator(s, k, tolerance, o, c.pilot_duration, short_segment, whole, top, user);
-  const double user_work = workPerEvaluation(s);
-  for (IntegratorTrial& t : user.trials) t.work_per_evaluation = user_work;
-  c.trials = user.trials;
+  p.top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
+  return p;
+}
 
-  // Model fidelity: each cheaper model the core offers for these vehicles
-  // is piloted like the user's, first with the integrator whose run of the
-  // user's model is the most accurate (that pair bounds the two converged
-  // solutions' distance); only where that bound is within kModelShare of
-  // the tolerance are its other integrators piloted and its trials, their
-  // errors raised by the bound, offered to the choice below.
-  const std::vector<ModelOption> options = o.other_models ? modelOptions(s) : std::vector<ModelOption>{};
-  const int u = mostAccurate(user);
-  for (const ModelOption& option : options) {
-    ModelTrial m;
-    m.name = option.name;
-    m.what = option.what;
-    if (u < 0) {
-      m.gap = std::numeric_limits<double>::infinity();
-      m.verdict = "not piloted: no integrator runs the scene as written, so nothing to compare it with";
-      c.models.push_back(m);
-      continue;
-    }
-    const double own = user.trials[static_cast<size_t>(u)].level_error.back();
-    if (!(own <= kModelShare * tolerance)) {
-      // the user's own model is not known to the share a model may take: a
-      // difference from it cannot be bounded there (the report's 20-point
-      // rims in stick-slip: their runs scatter with the step by percent)
-      m.gap = std::numeric_limits<double>::infinity();
-      m.user_error = own;
-      m.verdict = "not piloted: the scene as written is known only to " + fmt(own) +
-                  " (its most accurate pilot run), more than " + fmt(kModelShare) +
-                  " of the tolerance, so no other model can be shown within it";
-      c.models.push_back(m);
-      continue;
-    }
-    ModelPilot other;
-    const IntegratorKind first = user.trials[static_cast<size_t>(u)].kind;
-    auto capped = [&](IntegratorKind k) {
-      PilotOptions oc = o;
-      oc.max_pilot_steps = std::min(o.max_pilot_steps, std::max(1LL, pilotSteps(user, k)));
-      return oc;
-    };
-    pilotIntegrator(option.scenario, first, tolerance, capped(first), c.pilot_duration, short_segment, whole, top, other);
-    boundModelGap(user, other, s.duration, m);
-    m.admitted = m.gap <= kModelShare * tolerance;
-    if (m.admitted)
-      for (IntegratorKind k : o.integrators)
-        if (k != first)
-          pilotIntegrator(option.scenario, k, tolerance, capped(k), c.pilot_duration, short_segment, whole, top, other);
-    if (m.admitted) boundModelGap(user, other, s.duration, m);  // the most accurate run may be another's now
-    m.admitted = m.gap <= kModelShare * tolerance;
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "its converged solution within %.3g of the scene's as written (runs %.3g apart, their errors "
-                  "%.3g and %.3g)",
-                  m.gap, m.difference, m.user_error, m.own_error);
-    m.verdict = std::string(m.admitted ? "admitted: " : "kept out: ") + buf +
-                (m.admitted ? "" : ", more than " + fmt(kModelShare) + " of the tolerance");
-    m.trials = other.trials;
+// Model fidelity: a cheaper model the core offers for these vehicles is
+// piloted like the user's, first with the integrator whose run of the
+// user's model is the most accurate (u; that pair bounds the two converged
+// solutions' distance); only where that bound is within kModelShare of the
+// tolerance are its other integrators piloted and its trials, their errors
+// raised by the bound, offered to the choice (c.trials).
+void pilotModel(const ModelOption& option, const ModelPilot& user, int u, double tolerance, const PilotOptions& o,
+                const PilotPlan& plan, double duration, Choice& c) {
+  ModelTrial m;
+  m.name = option.name;
+  m.what = option.what;
+  if (u < 0) {
+    m.gap = std::numeric_limits<double>::infinity();
+    m.verdict = "not piloted: no integrator runs the scene as written, so nothing to compare it with";
     c.models.push_back(m);
-    if (!m.admitted) continue;
-    const double work = workPerEvaluation(option.scenario);
-    for (IntegratorTrial& t : other.trials) {
-      t.model = static_cast<int>(c.models.size());
-      t.model_gap = m.gap;
-      t.work_per_evaluation = work;
-      c.trials.push_back(t);
-    }
+    return;
   }
+  const double own = user.trials[static_cast<size_t>(u)].level_error.back();
+  if (!(own <= kModelShare * tolerance)) {
+    // the user's own model is not known to the share a model may take: a
+    // difference from it cannot be bounded there (the report's 20-point
+    // rims in stick-slip: their runs scatter with the step by percent)
+    m.gap = std::numeric_limits<double>::infinity();
+    m.user_error = own;
+    m.verdict = "not piloted: the scene as written is known only to " + fmt(own) +
+                " (its most accurate pilot run), more than " + fmt(kModelShare) +
+                " of the tolerance, so no other model can be shown within it";
+    c.models.push_back(m);
+    return;
+  }
+  ModelPilot other;
+  const IntegratorKind first = user.trials[static_cast<size_t>(u)].kind;
+  auto capped = [&](IntegratorKind k) {
+    PilotOptions oc = o;
+    oc.max_pilot_steps = std::min(o.max_pilot_steps, std::max(1LL, pilotSteps(user, k)));
+    return oc;
+  };
+  auto pilot = [&](IntegratorKind k) {
+    pilotIntegrator(option.scenario, k, tolerance, capped(k), plan.duration, plan.short_segment, plan.whole, plan.top,
+                    other);
+  };
+  pilot(first);
+  boundModelGap(user, other, duration, m);
+  m.admitted = m.gap <= kModelShare * tolerance;
+  if (m.admitted) {
+    for (IntegratorKind k : o.integrators)
+      if (k != first) pilot(k);
+    boundModelGap(user, other, duration, m);  // the most accurate run may be another's now
+  }
+  m.admitted = m.gap <= kModelShare * tolerance;
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "its converged solution within %.3g of the scene's as written (runs %.3g apart, their errors "
+                "%.3g and %.3g)",
+                m.gap, m.difference, m.user_error, m.own_error);
+  m.verdict = std::string(m.admitted ? "admitted: " : "kept out: ") + buf +
+              (m.admitted ? "" : ", more than " + fmt(kModelShare) + " of the tolerance");
+  m.trials = other.trials;
+  c.models.push_back(m);
+  if (!m.admitted) return;
+  const double work = workPerEvaluation(option.scenario);
+  for (IntegratorTrial& t : other.trials) {
+    t.model = static_cast<int>(c.models.size());
+    t.model_gap = m.gap;
+    t.work_per_evaluation = work;
+    c.trials.push_back(t);
+  }
+}
 
-  const IntegratorTrial* best = nullptr;
-  const IntegratorTrial* closest = nullptr;
-  double best_dt = 0.0, best_cost = std::numeric_limits<double>::infinity();
-  double closest_dt = 0.0, closest_err = std::numeric_limits<double>::infinity();
-  for (const IntegratorTrial& t : c.trials) {
+// The trial and step taken: the cheapest (in work, which compares models)
+// whose predicted error times the safety factor is within the tolerance,
+// or, when none is, the closest. Throws naming every refusal when no trial
+// ran at all.
+struct Pick {
+  const IntegratorTrial* trial = nullptr;
+  double dt = 0.0;
+  bool meets = false;
+};
+
+Pick pickCheapest(const std::vector<IntegratorTrial>& trials, double tolerance, const PilotOptions& o) {
+  Pick best, closest;
+  double best_cost = std::numeric_limits<double>::infinity(), closest_err = std::numeric_limits<double>::infinity();
+  for (const IntegratorTrial& t : trials) {
     if (!t.usable) continue;
     for (double h = t.dt0; h >= o.min_dt * (1 - 1e-9); h /= 2) {
-      // in work (evaluations x their model's work), which compares models
       const double err = t.error(h), cost = t.step_cost * t.work_per_evaluation / h;
       if (err < closest_err) {
         closest_err = err;
-        closest = &t;
-        closest_dt = h;
+        closest = {&t, h, false};
       }
       if (err * o.safety <= tolerance) {
         if (cost < best_cost) {
           best_cost = cost;
-          best = &t;
-          best_dt = h;
+          best = {&t, h, true};
         }
         break;  // finer steps of this integrator only cost more
       }
     }
   }
-  if (!best && !closest) {
-    std::vector<scenario::Issue> issues;
-    for (const IntegratorTrial& t : c.trials)
-      issues.push_back({"/physics/integrator", std::string(integratorName(t.kind)) + ": " + t.refusal});
-    throw scenario::ScenarioError(std::move(issues));
-  }
-  c.meets = best != nullptr;
-  if (!best) {
-    best = closest;
-    best_dt = closest_dt;
-  }
-  c.pilot_duration = best->segment;
-  c.integrator = best->kind;
-  c.dt = best_dt;
-  c.order = nominalOrder(best->kind);
-  c.observed_order = best->order;
-  c.growth = best->growth;
-  c.predicted_error = best->error(best_dt);
-  for (int k = 0; k <= 6; ++k) c.refined_error.push_back(best->error(std::ldexp(best_dt, -k)));
-  c.predicted_cost = best->step_cost / best_dt;
-  c.predicted_work = best->step_cost * best->work_per_evaluation / best_dt;
-  c.model = best->model;
-  c.model_gap = best->model_gap;
-  {
-    size_t k = best->level_dt.size() - 1;  // below the pilot's steps: the finest one's ratio
-    for (size_t j = 0; j < best->level_dt.size(); ++j)
-      if (std::abs(best_dt / best->level_dt[j] - 1.0) < 1e-9) k = j;
-    const double w = k < best->level_windows.size() ? best->level_windows[k] : -1.0;
-    // the error over the pilot's segment, as the windows read it there
-    const double grown = std::pow(std::max(1.0, s.duration / std::max(best->segment, 1e-9)), best->growth);
-    const double e = best->level_error.empty() ? 0.0 : best->level_error[k] / grown;
-    c.window_scale = w > 0.0 && std::isfinite(e) ? std::min(1.0, e / w) : 1.0;
-  }
-  if (!best->clean_fit)
-    c.caveat = "its error law is not clean (observed order " + fmt(best->raw_order) + ", nominal " +
-               std::to_string(nominalOrder(best->kind)) + "): nothing is credited below its finest pilot step " +
-               fmt(best->level_dt.back()) + " s";
-  c.contact_substeps = best->contact_substeps;
+  if (best.trial) return best;
+  if (closest.trial) return closest;
+  std::vector<scenario::Issue> issues;
+  for (const IntegratorTrial& t : trials)
+    issues.push_back({"/physics/integrator", std::string(integratorName(t.kind)) + ": " + t.refusal});
+  throw scenario::ScenarioError(std::move(issues));
+}
+
+// The live estimate's windows calibrated on the pilot's own run at the
+// chosen step (the finest pilot step's below them): the pilot's error
+// there over the windows' reading, at most 1.
+double windowScale(const IntegratorTrial& t, double dt, double duration) {
+  size_t k = t.level_dt.size() - 1;  // below the pilot's steps: the finest one's ratio
+  for (size_t j = 0; j < t.level_dt.size(); ++j)
+    if (std::abs(dt / t.level_dt[j] - 1.0) < 1e-9) k = j;
+  const double w = k < t.level_windows.size() ? t.level_windows[k] : -1.0;
+  // the error over the pilot's segment, as the windows read it there
+  const double grown = std::pow(std::max(1.0, duration / std::max(t.segment, 1e-9)), t.growth);
+  const double e = t.level_error.empty() ? 0.0 : t.level_error[k] / grown;
+  return w > 0.0 && std::isfinite(e) ? std::min(1.0, e / w) : 1.0;
+}
+
+// What the choice says of the pick, and the scenario it runs.
+void describePick(const Pick& p, const scenario::Scenario& s, const std::vector<ModelOption>& options, Choice& c) {
+  const IntegratorTrial& t = *p.trial;
+  c.meets = p.meets;
+  c.pilot_duration = t.segment;
+  c.integrator = t.kind;
+  c.dt = p.dt;
+  c.order = nominalOrder(t.kind);
+  c.observed_order = t.order;
+  c.growth = t.growth;
+  c.predicted_error = t.error(p.dt);
+  for (int k = 0; k <= 6; ++k) c.refined_error.push_back(t.error(std::ldexp(p.dt, -k)));
+  c.predicted_cost = t.step_cost / p.dt;
+  c.predicted_work = t.step_cost * t.work_per_evaluation / p.dt;
+  c.model = t.model;
+  c.model_gap = t.model_gap;
+  c.window_scale = windowScale(t, p.dt, s.duration);
+  if (!t.clean_fit)
+    c.caveat = "its error law is not clean (observed order " + fmt(t.raw_order) + ", nominal " +
+               std::to_string(nominalOrder(t.kind)) + "): nothing is credited below its finest pilot step " +
+               fmt(t.level_dt.back()) + " s";
+  c.contact_substeps = t.contact_substeps;
   const scenario::Scenario& model = c.model > 0 ? options[static_cast<size_t>(c.model - 1)].scenario : s;
   c.scenario = withSettings(model, c.integrator, c.dt, c.contact_substeps);
+}
+
+}  // namespace
+
+Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Choice c;
+  c.tolerance = tolerance;
+  const PilotPlan plan = planPilot(s, o);
+  c.pilot_duration = plan.duration;
+  ModelPilot user;
+  for (IntegratorKind k : o.integrators)
+    pilotIntegrator(s, k, tolerance, o, plan.duration, plan.short_segment, plan.whole, plan.top, user);
+  const double user_work = workPerEvaluation(s);
+  for (IntegratorTrial& t : user.trials) t.work_per_evaluation = user_work;
+  c.trials = user.trials;
+  const std::vector<ModelOption> options = o.other_models ? modelOptions(s) : std::vector<ModelOption>{};
+  const int u = mostAccurate(user);
+  for (const ModelOption& option : options) pilotModel(option, user, u, tolerance, o, plan, s.duration, c);
+  describePick(pickCheapest(c.trials, tolerance, o), s, options, c);
   c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
 }
