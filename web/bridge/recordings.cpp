@@ -153,27 +153,7 @@ std::string fileJson(const std::string& name, const std::string& path) {
 HttpAnswer Recordings::answer(const std::string& path, const std::string& query) const {
   if (!enabled()) return error(404, "no recordings are served (groundsim-web --recordings DIR)");
   try {
-    if (path == "/recordings" || path == "/recordings/") {
-      std::vector<std::string> names;
-      for (const auto& e : std::filesystem::directory_iterator(dir_)) {
-        const std::string n = e.path().filename().string();
-        if (e.is_regular_file() && plainName(n)) names.push_back(n);
-      }
-      std::sort(names.begin(), names.end());
-      std::string out = "{\"recordings\":[";
-      int k = 0;
-      for (const auto& n : names) {
-        if (k == kMaxListed) break;
-        std::string one;
-        try {
-          one = fileJson(n, dir_ + "/" + n);
-        } catch (const std::exception& e) {
-          one = "{\"name\":" + web::quoted(n) + ",\"error\":" + web::quoted(e.what()) + "}";
-        }
-        out += (k++ ? "," : "") + one;
-      }
-      return {200, "application/json", out + "],\"more\":" + (static_cast<int>(names.size()) > kMaxListed ? "true" : "false") + "}\n"};
-    }
+    if (path == "/recordings" || path == "/recordings/") return listing();
     std::string rest = path.substr(std::string("/recordings/").size());
     std::string what;
     if (const auto slash = rest.find('/'); slash != std::string::npos) {
@@ -186,122 +166,152 @@ HttpAnswer Recordings::answer(const std::string& path, const std::string& query)
     if (what.empty()) return {200, "application/json", fileJson(rest, file) + "\n"};
     if (what != "states" && what != "scene" && what != "ground" && what != "events")
       return error(404, "no such view: " + web::quoted(what.substr(0, 40)) + " (states, scene, ground, events)");
-
     const auto q = parseQuery(query);
     auto sit = q.find("session");
     if (sit == q.end() || sit->second.empty() || sit->second.size() > 64)
       return error(400, "session: required, the session id (at most 64 characters)");
     const std::string& session = sit->second;
-    if (what == "scene" || what == "ground") {
-      std::string why;
-      std::optional<double> cx, cy;
-      if (what == "ground" && (!(cx = metres(q, "cx", why)) || !(cy = metres(q, "cy", why)))) return error(400, why);
-      const auto sc = scene(file, rest, session);
-      if (!sc->view) return error(sc->status, sc->error);
-      if (what == "scene")
-        return {200, "application/json",
-                "{\"session\":" + web::quoted(session) + ",\"layout\":" + sc->view->layout.dump() + "}\n"};
-      nlohmann::json grid;
-      {
-        std::lock_guard<std::mutex> lk(sc->ground_mutex);
-        grid = groundGrid(*sc->view->ground, *cx, *cy, grid_n_, grid_step_);
-      }
-      grid["op"] = "ground";
-      grid["session"] = session;
-      return {200, "application/json", grid.dump() + "\n"};
-    }
-    if (what == "events") {
-      recording::McapReader r(file);
-      std::optional<std::uint16_t> channel;
-      for (const auto& [id, c] : r.channels())
-        if (c.topic == "/" + session + "/events") channel = id;
-      if (!channel) return error(404, "session: " + web::quoted(session) + " has no events in " + web::quoted(rest));
-      std::string out = "{\"session\":" + web::quoted(session) + ",\"events\":[";
-      int n = 0;
-      bool more = false;
-      r.readMessages(
-          [&](const recording::McapMessage& m) {
-            if (n >= kMaxEvents || out.size() + m.data.size() > kMaxBody) {
-              more = true;
-              return;
-            }
-            out += (n++ ? "," : "") + m.data;
-          },
-          {*channel});
-      return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
-    }
-
-    std::string why;
-    const auto at = seconds(q, "at", why);
-    const auto from = seconds(q, "from", why);
-    const auto to = seconds(q, "to", why);
-    if (!why.empty()) return error(400, why);
-    if (!at && !(from && to)) return error(400, "give at=T, or from=T0 and to=T1 (s of simulation time)");
-    if (from && to && *to < *from) return error(400, "to: must be >= from");
-    int max = kDefaultStates;
-    if (auto m = q.find("max"); m != q.end()) {
-      char* end = nullptr;
-      const long v = std::strtol(m->second.c_str(), &end, 10);
-      if (m->second.empty() || *end || v < 1 || v > kMaxStates)
-        return error(400, "max: must be an integer in [1, " + std::to_string(kMaxStates) + "], got " + web::quoted(m->second.substr(0, 40)));
-      max = static_cast<int>(v);
-    }
-    bool with_contacts = false;
-    if (auto c = q.find("contacts"); c != q.end()) {
-      if (c->second != "0" && c->second != "1") return error(400, "contacts: must be 0 or 1, got " + web::quoted(c->second.substr(0, 40)));
-      with_contacts = c->second == "1";
-    }
-    recording::McapReader r(file);
-    std::optional<std::uint16_t> channel, contact_channel;
-    for (const auto& [id, c] : r.channels()) {
-      if (c.topic == "/" + session + "/state") channel = id;
-      if (c.topic == "/" + session + "/contact") contact_channel = id;
-    }
-    if (!channel) return error(404, "session: " + web::quoted(session) + " is not in " + web::quoted(rest));
-    std::vector<std::string> states, contacts;
-    std::size_t bytes = 0;
-    bool more = false;
-    if (at) {
-      // the newest at or before T: the second before it holds one at any
-      // publish rate above 1 Hz; else the whole span before T
-      std::string last;
-      const std::uint64_t t = ns(*at);
-      for (std::uint64_t back : {std::uint64_t{1'000'000'000}, t}) {
-        r.readMessages([&](const recording::McapMessage& m) { last = m.data; }, {*channel}, t > back ? t - back : 0, t);
-        if (!last.empty()) break;
-      }
-      if (!last.empty()) states.push_back(std::move(last));
-    } else {
-      // states and (contacts=1) the contact states beside them (objects
-      // with mass, hits), in one pass; a window cut at `max` states is cut
-      // for both at the last state's time
-      std::set<std::uint16_t> wanted{*channel};
-      if (with_contacts && contact_channel) wanted.insert(*contact_channel);
-      std::uint64_t cut_at = 0;
-      r.readMessages(
-          [&](const recording::McapMessage& m) {
-            if (more && m.log_time > cut_at) return;
-            const bool state = m.channel == *channel;
-            if (bytes + m.data.size() > kMaxBody || (state && static_cast<int>(states.size()) >= max)) {
-              if (!more) cut_at = m.log_time > 0 ? m.log_time - 1 : 0;
-              more = true;
-              return;
-            }
-            bytes += m.data.size();
-            (state ? states : contacts).push_back(m.data);
-          },
-          wanted, ns(*from), ns(*to));
-    }
-    std::string out = "{\"session\":" + web::quoted(session) + ",\"states\":[";
-    for (std::size_t i = 0; i < states.size(); ++i) out += (i ? "," : "") + states[i];
-    if (with_contacts) {
-      out += "],\"contacts\":[";
-      for (std::size_t i = 0; i < contacts.size(); ++i) out += (i ? "," : "") + contacts[i];
-    }
-    return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
+    if (what == "scene" || what == "ground") return sceneOrGround(what, file, rest, session, q);
+    if (what == "events") return events(file, rest, session);
+    return states(file, rest, session, q);
   } catch (const std::exception& e) {
     return error(500, std::string("cannot read the recording: ") + e.what());
   }
+}
+
+HttpAnswer Recordings::listing() const {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir_)) {
+    const std::string n = e.path().filename().string();
+    if (e.is_regular_file() && plainName(n)) names.push_back(n);
+  }
+  std::sort(names.begin(), names.end());
+  std::string out = "{\"recordings\":[";
+  int k = 0;
+  for (const auto& n : names) {
+    if (k == kMaxListed) break;
+    std::string one;
+    try {
+      one = fileJson(n, dir_ + "/" + n);
+    } catch (const std::exception& e) {
+      one = "{\"name\":" + web::quoted(n) + ",\"error\":" + web::quoted(e.what()) + "}";
+    }
+    out += (k++ ? "," : "") + one;
+  }
+  return {200, "application/json", out + "],\"more\":" + (static_cast<int>(names.size()) > kMaxListed ? "true" : "false") + "}\n"};
+}
+
+HttpAnswer Recordings::sceneOrGround(const std::string& what, const std::string& file, const std::string& name,
+                                     const std::string& session, const Query& q) const {
+  std::string why;
+  std::optional<double> cx, cy;
+  if (what == "ground" && (!(cx = metres(q, "cx", why)) || !(cy = metres(q, "cy", why)))) return error(400, why);
+  const auto sc = scene(file, name, session);
+  if (!sc->view) return error(sc->status, sc->error);
+  if (what == "scene")
+    return {200, "application/json",
+            "{\"session\":" + web::quoted(session) + ",\"layout\":" + sc->view->layout.dump() + "}\n"};
+  nlohmann::json grid;
+  {
+    std::lock_guard<std::mutex> lk(sc->ground_mutex);
+    grid = groundGrid(*sc->view->ground, *cx, *cy, grid_n_, grid_step_);
+  }
+  grid["op"] = "ground";
+  grid["session"] = session;
+  return {200, "application/json", grid.dump() + "\n"};
+}
+
+HttpAnswer Recordings::events(const std::string& file, const std::string& name, const std::string& session) const {
+  recording::McapReader r(file);
+  std::optional<std::uint16_t> channel;
+  for (const auto& [id, c] : r.channels())
+    if (c.topic == "/" + session + "/events") channel = id;
+  if (!channel) return error(404, "session: " + web::quoted(session) + " has no events in " + web::quoted(name));
+  std::string out = "{\"session\":" + web::quoted(session) + ",\"events\":[";
+  int n = 0;
+  bool more = false;
+  r.readMessages(
+      [&](const recording::McapMessage& m) {
+        if (n >= kMaxEvents || out.size() + m.data.size() > kMaxBody) {
+          more = true;
+          return;
+        }
+        out += (n++ ? "," : "") + m.data;
+      },
+      {*channel});
+  return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
+}
+
+HttpAnswer Recordings::states(const std::string& file, const std::string& name, const std::string& session,
+                              const Query& q) const {
+  std::string why;
+  const auto at = seconds(q, "at", why);
+  const auto from = seconds(q, "from", why);
+  const auto to = seconds(q, "to", why);
+  if (!why.empty()) return error(400, why);
+  if (!at && !(from && to)) return error(400, "give at=T, or from=T0 and to=T1 (s of simulation time)");
+  if (from && to && *to < *from) return error(400, "to: must be >= from");
+  int max = kDefaultStates;
+  if (auto m = q.find("max"); m != q.end()) {
+    char* end = nullptr;
+    const long v = std::strtol(m->second.c_str(), &end, 10);
+    if (m->second.empty() || *end || v < 1 || v > kMaxStates)
+      return error(400, "max: must be an integer in [1, " + std::to_string(kMaxStates) + "], got " + web::quoted(m->second.substr(0, 40)));
+    max = static_cast<int>(v);
+  }
+  bool with_contacts = false;
+  if (auto c = q.find("contacts"); c != q.end()) {
+    if (c->second != "0" && c->second != "1") return error(400, "contacts: must be 0 or 1, got " + web::quoted(c->second.substr(0, 40)));
+    with_contacts = c->second == "1";
+  }
+  recording::McapReader r(file);
+  std::optional<std::uint16_t> channel, contact_channel;
+  for (const auto& [id, c] : r.channels()) {
+    if (c.topic == "/" + session + "/state") channel = id;
+    if (c.topic == "/" + session + "/contact") contact_channel = id;
+  }
+  if (!channel) return error(404, "session: " + web::quoted(session) + " is not in " + web::quoted(name));
+  std::vector<std::string> states, contacts;
+  std::size_t bytes = 0;
+  bool more = false;
+  if (at) {
+    // the newest at or before T: the second before it holds one at any
+    // publish rate above 1 Hz; else the whole span before T
+    std::string last;
+    const std::uint64_t t = ns(*at);
+    for (std::uint64_t back : {std::uint64_t{1'000'000'000}, t}) {
+      r.readMessages([&](const recording::McapMessage& m) { last = m.data; }, {*channel}, t > back ? t - back : 0, t);
+      if (!last.empty()) break;
+    }
+    if (!last.empty()) states.push_back(std::move(last));
+  } else {
+    // states and (contacts=1) the contact states beside them (objects
+    // with mass, hits), in one pass; a window cut at `max` states is cut
+    // for both at the last state's time
+    std::set<std::uint16_t> wanted{*channel};
+    if (with_contacts && contact_channel) wanted.insert(*contact_channel);
+    std::uint64_t cut_at = 0;
+    r.readMessages(
+        [&](const recording::McapMessage& m) {
+          if (more && m.log_time > cut_at) return;
+          const bool state = m.channel == *channel;
+          if (bytes + m.data.size() > kMaxBody || (state && static_cast<int>(states.size()) >= max)) {
+            if (!more) cut_at = m.log_time > 0 ? m.log_time - 1 : 0;
+            more = true;
+            return;
+          }
+          bytes += m.data.size();
+          (state ? states : contacts).push_back(m.data);
+        },
+        wanted, ns(*from), ns(*to));
+  }
+  std::string out = "{\"session\":" + web::quoted(session) + ",\"states\":[";
+  for (std::size_t i = 0; i < states.size(); ++i) out += (i ? "," : "") + states[i];
+  if (with_contacts) {
+    out += "],\"contacts\":[";
+    for (std::size_t i = 0; i < contacts.size(); ++i) out += (i ? "," : "") + contacts[i];
+  }
+  return {200, "application/json", out + "],\"more\":" + (more ? "true" : "false") + "}\n"};
 }
 
 std::shared_ptr<Recordings::Scene> Recordings::scene(const std::string& file, const std::string& name,

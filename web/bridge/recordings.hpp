@@ -26,6 +26,7 @@
 #pragma once
 
 #include <list>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -67,6 +68,16 @@ class Recordings {
   };
   static constexpr std::size_t kScenes = 4;
   std::shared_ptr<Scene> scene(const std::string& file, const std::string& name, const std::string& session) const;
+
+  // the views answer() routes to: GET /recordings, and of one file (name,
+  // its path) a session's scene or ground, events, or states
+  using Query = std::map<std::string, std::string>;
+  HttpAnswer listing() const;
+  HttpAnswer sceneOrGround(const std::string& what, const std::string& file, const std::string& name,
+                           const std::string& session, const Query& q) const;
+  HttpAnswer events(const std::string& file, const std::string& name, const std::string& session) const;
+  HttpAnswer states(const std::string& file, const std::string& name, const std::string& session,
+                    const Query& q) const;
 
   std::string dir_, configs_dir_;
   int grid_n_;
