@@ -294,99 +294,113 @@ std::optional<double> parseTolerance(const std::string& text) {
   }
 }
 
-int run(const RunOptions& o) {
-  // load, override, validate: the problems of the file are reported at once
+// Load, override, validate: the problems of the file are thrown at once
+// (ScenarioError). Precedence: file < --preset < --integrator/--dt < --set.
+scenario::Scenario loadScenario(const RunOptions& o) {
   const scenario::Budget& budget = o.budget;
-  scenario::Scenario s;
-  try {
-    nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path, budget);
-    if (doc.is_object() && !doc.contains("name"))
-      doc["name"] = std::filesystem::path(o.scenario_path).stem().string();
-    // precedence: file < --preset < --integrator/--dt < --set
-    if (!o.preset.empty() && doc.is_object()) {
-      doc["preset"] = o.preset;
-      scenario::applyPreset(doc, /*force=*/true);
-    }
-    if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"", budget);
-    if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump(), budget);
-    // --tolerance sets the accuracy section; its range is validated there
-    if (!o.tolerance.empty())
-      scenario::applyOverride(doc, "accuracy.tolerance=" + nlohmann::json(*parseTolerance(o.tolerance)).dump(), budget);
-    for (const std::string& a : o.overrides) scenario::applyOverride(doc, a, budget);
-    if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump(), budget);
-    s = scenario::parseScenario(std::move(doc), budget,
+  nlohmann::json doc = scenario::loadScenarioDocument(o.scenario_path, budget);
+  if (doc.is_object() && !doc.contains("name")) doc["name"] = std::filesystem::path(o.scenario_path).stem().string();
+  if (!o.preset.empty() && doc.is_object()) {
+    doc["preset"] = o.preset;
+    scenario::applyPreset(doc, /*force=*/true);
+  }
+  if (!o.integrator.empty()) scenario::applyOverride(doc, "physics.integrator=\"" + o.integrator + "\"", budget);
+  if (o.dt) scenario::applyOverride(doc, "physics.dt=" + nlohmann::json(*o.dt).dump(), budget);
+  // --tolerance sets the accuracy section; its range is validated there
+  if (!o.tolerance.empty())
+    scenario::applyOverride(doc, "accuracy.tolerance=" + nlohmann::json(*parseTolerance(o.tolerance)).dump(), budget);
+  for (const std::string& a : o.overrides) scenario::applyOverride(doc, a, budget);
+  if (o.duration) scenario::applyOverride(doc, "duration=" + nlohmann::json(*o.duration).dump(), budget);
+  return scenario::parseScenario(std::move(doc), budget,
                                  scenario::FileAccess::local(std::filesystem::path(o.scenario_path).parent_path().string()));
-  } catch (const scenario::ScenarioError& e) {
-    printIssues(o.scenario_path, e);
-    return kExitInvalid;
-  }
-  // a tolerance: the pilot chooses integrator, step and contact substeps
-  std::optional<accuracy::Choice> choice;
-  if (s.accuracy) {
-    try {
-      choice = accuracy::chooseSettings(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, budget));
-    } catch (const scenario::ScenarioError& e) {
-      printIssues(o.scenario_path, e);
-      return kExitInvalid;
-    }
-    if (!o.quiet) {
-      std::fprintf(stderr, "accuracy: %s\n", choice->line().c_str());
-      if (o.pilot_report) std::fprintf(stderr, "%s", choice->report().c_str());
-    }
-    if (!choice->meets)
-      std::fprintf(stderr, "warning: no setting is predicted to meet the tolerance %g; running the closest\n",
-                   s.accuracy->tolerance);
-    s = choice->scenario;
-  }
-  std::optional<scenario::Scene> scene;
-  try {
-    scene = scenario::buildScene(s);
-  } catch (const scenario::ScenarioError& e) {
-    printIssues(o.scenario_path, e);
-    return kExitInvalid;
-  }
-  for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
 
-  // the CSV: the requested file, or a temporary one for the plot alone
-  std::string csv_path = o.csv_path;
-  bool temp_csv = false;
-  if (csv_path.empty() && !o.plot_path.empty()) {
+// a tolerance: the pilot chooses integrator, step and contact substeps, and
+// s becomes the chosen scenario
+std::optional<accuracy::Choice> chooseIfAsked(scenario::Scenario& s, const RunOptions& o) {
+  if (!s.accuracy) return std::nullopt;
+  accuracy::Choice choice = accuracy::chooseSettings(s, s.accuracy->tolerance, accuracy::pilotOptions(*s.accuracy, o.budget));
+  if (!o.quiet) {
+    std::fprintf(stderr, "accuracy: %s\n", choice.line().c_str());
+    if (o.pilot_report) std::fprintf(stderr, "%s", choice.report().c_str());
+  }
+  if (!choice.meets)
+    std::fprintf(stderr, "warning: no setting is predicted to meet the tolerance %g; running the closest\n",
+                 s.accuracy->tolerance);
+  s = choice.scenario;
+  return choice;
+}
+
+// The CSV: the requested file, or a temporary one for the plot alone.
+struct CsvOutput {
+  std::string path;
+  bool temporary = false;
+  std::ofstream out;
+};
+
+// false after saying why not
+bool openCsv(const RunOptions& o, CsvOutput& c) {
+  c.path = o.csv_path;
+  if (c.path.empty() && !o.plot_path.empty()) {
     const char* tmpdir = std::getenv("TMPDIR");
-    csv_path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/groundsim-run-XXXXXX";
-    const int fd = mkstemp(csv_path.data());
+    c.path = std::string(tmpdir && *tmpdir ? tmpdir : "/tmp") + "/groundsim-run-XXXXXX";
+    const int fd = mkstemp(c.path.data());
     if (fd < 0) {
       std::cerr << "error: cannot create a temporary CSV for the plot\n";
-      return kExitOutput;
+      return false;
     }
     close(fd);
-    temp_csv = true;
+    c.temporary = true;
   }
-  std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(csv_path, std::ios::binary | std::ios::trunc);
-    if (!csv) {
-      std::cerr << "error: cannot write " << scenario::quote(csv_path) << "\n";
-      return kExitOutput;
-    }
-    csv << csvHeader() << '\n';
+  if (c.path.empty()) return true;
+  c.out.open(c.path, std::ios::binary | std::ios::trunc);
+  if (!c.out) {
+    std::cerr << "error: cannot write " << scenario::quote(c.path) << "\n";
+    return false;
   }
+  c.out << csvHeader() << '\n';
+  return true;
+}
 
-  Simulator sim(scene->built.model, scene->built.initial);
-  std::unique_ptr<accuracy::LiveEstimate> live;
-  if (s.accuracy && s.accuracy->live_estimate) {
-    accuracy::LiveEstimateOptions lo;
-    lo.duration = s.duration;
-    live = std::make_unique<accuracy::LiveEstimate>(s, accuracy::nominalOrder(s.options.integrator), lo);
-    if (choice) live->expect(choice->prediction(), s.duration);
-  }
-  const accuracy::RefinementPolicy refinement = s.accuracy ? accuracy::refinementPolicy(*s.accuracy)
-                                                           : accuracy::RefinementPolicy{};
-  const RunResult r = simulate(sim, *scene, csv.is_open() ? &csv : nullptr, !o.quiet, live.get(), refinement);
+// the live error estimate of a run with an accuracy section, told what the
+// pilot predicted
+std::unique_ptr<accuracy::LiveEstimate> liveEstimate(const scenario::Scenario& s,
+                                                     const std::optional<accuracy::Choice>& choice) {
+  if (!s.accuracy || !s.accuracy->live_estimate) return nullptr;
+  accuracy::LiveEstimateOptions lo;
+  lo.duration = s.duration;
+  auto live = std::make_unique<accuracy::LiveEstimate>(s, accuracy::nominalOrder(s.options.integrator), lo);
+  if (choice) live->expect(choice->prediction(), s.duration);
+  return live;
+}
+
+// the choice, the pilot's share of what the user waited for (pilot and run
+// together), the live estimate and the refinements
+void printAccuracy(const accuracy::Choice& choice, const accuracy::LiveEstimate* live, const RunResult& r) {
+  std::printf("accuracy   tolerance %.3g: %s\n", choice.tolerance, choice.line().c_str());
+  const double total = std::max(choice.pilot_wall_seconds + r.wall, 1e-9);
+  std::printf("pilot      %.3g s of the scene per trial, %.3g s wall: %.0f%% of pilot and run (%.3gx the run)\n",
+              choice.pilot_duration, choice.pilot_wall_seconds, 100.0 * choice.pilot_wall_seconds / total,
+              choice.pilot_wall_seconds / std::max(r.wall, 1e-9));
+  if (live)
+    std::printf("estimate   %.3g (path %.3g, speed %.3g; %d windows, shadow steps %.1f%% of the run's)%s\n",
+                live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),
+                100.0 * static_cast<double>(live->shadowSteps()) / std::max(1.0, static_cast<double>(r.steps)),
+                live->estimate() > choice.tolerance ? "  ABOVE THE TOLERANCE" : "");
+  for (const RunResult::Refinement& f : r.refinements)
+    std::printf("refined    to %d integrator substeps per step at t = %.4g s\n", f.substeps, f.t);
+}
+
+// The outputs after the run: the CSV closed, the hits written, the summary,
+// the plot. kExitOutput when one of them failed, else 0.
+int writeOutputs(const RunOptions& o, const scenario::Scenario& s, const scenario::Scene& scene, const Simulator& sim,
+                 const RunResult& r, CsvOutput& csv, const std::optional<accuracy::Choice>& choice,
+                 const accuracy::LiveEstimate* live) {
   int code = 0;
-  if (csv.is_open()) {
-    csv.close();
-    if (!csv) {
-      std::cerr << "error: writing " << scenario::quote(csv_path) << " failed\n";
+  if (csv.out.is_open()) {
+    csv.out.close();
+    if (!csv.out) {
+      std::cerr << "error: writing " << scenario::quote(csv.path) << " failed\n";
       code = kExitOutput;
     }
   }
@@ -394,31 +408,41 @@ int run(const RunOptions& o) {
     std::cerr << "error: cannot write " << scenario::quote(o.hits_path) << "\n";
     code = kExitOutput;
   }
-  if (!o.quiet) printSummary(s, sim, *scene, r);
-  if (!o.quiet && choice) {
-    std::printf("accuracy   tolerance %.3g: %s\n", choice->tolerance, choice->line().c_str());
-    // the pilot's share of what the user waited for: pilot and run together
-    const double total = std::max(choice->pilot_wall_seconds + r.wall, 1e-9);
-    std::printf("pilot      %.3g s of the scene per trial, %.3g s wall: %.0f%% of pilot and run (%.3gx the run)\n",
-                choice->pilot_duration, choice->pilot_wall_seconds, 100.0 * choice->pilot_wall_seconds / total,
-                choice->pilot_wall_seconds / std::max(r.wall, 1e-9));
-    if (live)
-      std::printf("estimate   %.3g (path %.3g, speed %.3g; %d windows, shadow steps %.1f%% of the run's)%s\n",
-                  live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),
-                  100.0 * static_cast<double>(live->shadowSteps()) / std::max(1.0, static_cast<double>(r.steps)),
-                  live->estimate() > choice->tolerance ? "  ABOVE THE TOLERANCE" : "");
-    for (const RunResult::Refinement& f : r.refinements)
-      std::printf("refined    to %d integrator substeps per step at t = %.4g s\n", f.substeps, f.t);
-  }
+  if (!o.quiet) printSummary(s, sim, scene, r);
+  if (!o.quiet && choice) printAccuracy(*choice, live, r);
   if (!o.plot_path.empty() && code == 0) {
-    const std::string err = drawSpeedPlot({csv_path, o.plot_path, scene->vehicle_names, s.output_rate,
+    const std::string err = drawSpeedPlot({csv.path, o.plot_path, scene.vehicle_names, s.output_rate,
                                            s.name + ": speed of the body per frame"});
     if (!err.empty()) {
       std::cerr << "error: plot " << scenario::quote(o.plot_path) << ": " << err << "\n";
       code = kExitOutput;
     }
   }
-  if (temp_csv) std::remove(csv_path.c_str());
+  if (csv.temporary) std::remove(csv.path.c_str());
+  return code;
+}
+
+int run(const RunOptions& o) {
+  scenario::Scenario s;
+  std::optional<accuracy::Choice> choice;
+  std::optional<scenario::Scene> scene;
+  try {
+    s = loadScenario(o);
+    choice = chooseIfAsked(s, o);
+    scene = scenario::buildScene(s);
+  } catch (const scenario::ScenarioError& e) {
+    printIssues(o.scenario_path, e);
+    return kExitInvalid;
+  }
+  for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  CsvOutput csv;
+  if (!openCsv(o, csv)) return kExitOutput;
+  Simulator sim(scene->built.model, scene->built.initial);
+  const std::unique_ptr<accuracy::LiveEstimate> live = liveEstimate(s, choice);
+  const accuracy::RefinementPolicy refinement =
+      s.accuracy ? accuracy::refinementPolicy(*s.accuracy) : accuracy::RefinementPolicy{};
+  const RunResult r = simulate(sim, *scene, csv.out.is_open() ? &csv.out : nullptr, !o.quiet, live.get(), refinement);
+  const int code = writeOutputs(o, s, *scene, sim, r, csv, choice, live.get());
   if (!sim.healthy()) {
     std::cerr << "error: the simulation diverged at t = " << sim.state().t << " s ("
               << healthName(sim.state().health) << "): " << sim.state().health_reason << "\n";
