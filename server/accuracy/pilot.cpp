@@ -527,7 +527,8 @@ void describePick(const Pick& p, const scenario::Scenario& s, const std::vector<
   c.model = t.model;
   c.model_gap = t.model_gap;
   c.window_scale = windowScale(t, p.dt, s.duration);
-  if (!t.clean_fit)
+  // said where it matters: a step at the finest pilot run, whose error is the fit's word
+  if (!t.clean_fit && p.dt <= t.level_dt.back() * (1 + 1e-9))
     c.caveat = "its error law is not clean (observed order " + fmt(t.raw_order) + ", nominal " +
                std::to_string(nominalOrder(t.kind)) + "): nothing is credited below its finest pilot step " +
                fmt(t.level_dt.back()) + " s";
