@@ -109,9 +109,8 @@ int envIndex(const EnvHandle& h, int env) {
 // one row per agent of each environment (Layout::rows)
 std::vector<py::ssize_t> obsShape(const Layout& l) { return {l.rows(), l.obsSize()}; }
 
-}  // namespace
-
-void bindBatchEnv(py::module_& m) {
+// Layout: what the buffers of a BatchEnv hold.
+void bindLayout(py::module_& m) {
   py::class_<Layout>(m, "Layout", "What the buffers of a BatchEnv hold (experiments/batch_env.hpp)")
       .def_readonly("num_envs", &Layout::num_envs)
       .def_readonly("num_agents", &Layout::num_agents, "agents per environment: buffers have num_envs x num_agents rows")
@@ -136,11 +135,11 @@ void bindBatchEnv(py::module_& m) {
                ", action_size=" + std::to_string(l.actionSize()) + ", dt=" + std::to_string(l.dt) +
                ", control_period=" + std::to_string(l.control_period) + ")";
       });
+}
 
-  py::class_<EnvHandle>(m, "BatchEnv",
-                        "N environments stepped together; buffers are the caller's numpy arrays, written in place")
-      .def_property_readonly("layout", &EnvHandle::layout, py::return_value_policy::reference_internal)
-      .def_property_readonly("closed", &EnvHandle::closed)
+// reset, reset_env, step, fill_infos: an episode's calls, each writing the caller's arrays
+void bindEpisodes(py::class_<EnvHandle>& env) {
+  env
       .def(
           "reset",
           [](EnvHandle& h, const py::handle& seed, const py::handle& obs) {
@@ -202,7 +201,12 @@ void bindBatchEnv(py::module_& m) {
             }
           },
           py::arg("episode"), py::arg("episode_steps"), py::arg("episode_return"), py::arg("diverged"),
-          py::arg("active") = py::none(), "writes every row's EnvInfo into the arrays (active: optional)")
+          py::arg("active") = py::none(), "writes every row's EnvInfo into the arrays (active: optional)");
+}
+
+// snapshot, restore, set_randomization, drawn: an environment's state and its draws
+void bindSnapshots(py::class_<EnvHandle>& env) {
+  env
       .def(
           "snapshot",
           [](EnvHandle& h, int env) {
@@ -247,7 +251,12 @@ void bindBatchEnv(py::module_& m) {
             std::lock_guard lock(h.mutex());
             h.env().drawn(o);
           },
-          py::arg("out"), "writes what each env's last reset drew, [num_envs x len(layout.drawn)]")
+          py::arg("out"), "writes what each env's last reset drew, [num_envs x len(layout.drawn)]");
+}
+
+// render and close
+void bindViews(py::class_<EnvHandle>& env) {
+  env
       .def(
           "render",
           [](EnvHandle& h, int env, const py::handle& out) {
@@ -271,6 +280,19 @@ void bindBatchEnv(py::module_& m) {
             h.close();
           },
           "stops the environment's threads; later calls raise ExperimentError(field='env')");
+}
+
+}  // namespace
+
+void bindBatchEnv(py::module_& m) {
+  bindLayout(m);
+  py::class_<EnvHandle> env(m, "BatchEnv",
+                            "N environments stepped together; buffers are the caller's numpy arrays, written in place");
+  env.def_property_readonly("layout", &EnvHandle::layout, py::return_value_policy::reference_internal)
+      .def_property_readonly("closed", &EnvHandle::closed);
+  bindEpisodes(env);
+  bindSnapshots(env);
+  bindViews(env);
 }
 
 }  // namespace groundsim::python
