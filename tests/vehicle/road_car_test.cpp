@@ -3,6 +3,7 @@
 // figures. Every tolerance names the effect the closed form leaves out.
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <string>
 
 #include <Eigen/Eigenvalues>
@@ -205,6 +206,15 @@ TEST_P(RoadCarTest, TopSpeedFromThePowerBalance) {
 // tyres at their peak: m a = mu F_z,driven - C_rr F_z,free - drag, with the
 // loads shifted by m a h / L and the free wheels' spin inertia 2 I / r^2:
 // rear drive a = mu g (a/L) / (1 - mu h / L) when nothing else acts.
+// A diverging run hands the powertrain a speed that is not a number: the
+// torque table is read at its first row, never past its end (ASan caught
+// the search running off the table, in the pilot's runs of the rally stage).
+TEST_P(RoadCarTest, ANonFiniteEngineSpeedReadsTheTableInsideItsRows) {
+  const RoadCarParams& p = P();
+  ASSERT_FALSE(p.powertrain.electric || p.powertrain.rpm.empty());
+  EXPECT_EQ(engineTorque(p.powertrain, std::numeric_limits<double>::quiet_NaN()), p.powertrain.torque.front());
+}
+
 TEST_P(RoadCarTest, TractionLimitedLaunchOnLowFriction) {
   const RoadCarParams& p = P();
   const double mu = 0.3, L = p.wheelbase, h = p.cg_height, m = p.mass;

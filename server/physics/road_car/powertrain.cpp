@@ -8,9 +8,12 @@ namespace groundsim {
 namespace {
 constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;  // rad/s per rpm
 
+// Piecewise linear through (x, y), held at both ends. A speed that is not a
+// number (a run diverging, its health check about to say so) reads the
+// first value: it must not send the search past the table's end.
 double table(const std::vector<double>& x, const std::vector<double>& y, double v) {
   if (x.empty()) return 0.0;
-  if (v <= x.front()) return y.front();
+  if (!(v > x.front())) return y.front();
   if (v >= x.back()) return y.back();
   const auto it = std::upper_bound(x.begin(), x.end(), v);
   const size_t i = static_cast<size_t>(it - x.begin());
