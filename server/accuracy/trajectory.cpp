@@ -44,7 +44,7 @@ void sample(const Simulator& sim, const scenario::Scene& scene, std::vector<Vec3
 }  // namespace
 
 Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double duration,
-                     const std::function<bool(long long)>& advance, bool with_energy) {
+                     const std::function<bool(long long)>& advance) {
   const double dt = sim.model().opt.dt;
   const long long total = std::max(1LL, std::llround(duration / dt));
   const long long per_sample = std::max(1LL, std::llround(kSamplePeriod / dt));
@@ -52,10 +52,6 @@ Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double durati
   t.duration = static_cast<double>(total) * dt;
   t.positions.emplace_back();
   sample(sim, scene, t.positions.back(), nullptr);
-  auto energy = [&] {
-    if (with_energy) t.energy.push_back(sim.energy().total() - sim.state().drive_work);
-  };
-  energy();
   const auto t0 = std::chrono::steady_clock::now();
   long long done = 0;
   while (done < total) {
@@ -64,7 +60,6 @@ Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double durati
     done += n;
     t.positions.emplace_back();
     sample(sim, scene, t.positions.back(), done == total ? &t.final_velocity : nullptr);
-    energy();
   }
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   t.steps = sim.state().tick;
@@ -78,7 +73,7 @@ Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double durati
   return t;
 }
 
-Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order, bool with_energy) {
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order) {
   const scenario::Scene scene = scenario::buildScene(s);
   Simulator sim(scene.built.model, scene.built.initial);
   std::unique_ptr<LiveEstimate> live;
@@ -88,7 +83,7 @@ Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch
     live = std::make_unique<LiveEstimate>(s, watch_order, o);
   }
   Trajectory t = sampleRun(
-      scene, sim, duration, [&](long long n) { return stepWatched(scene, sim, n, live.get()); }, with_energy);
+      scene, sim, duration, [&](long long n) { return stepWatched(scene, sim, n, live.get()); });
   if (live) {
     live->beforeStep(sim);  // a last update at the end
     t.windows = std::max(live->pathEstimate(), live->speedEstimate());

@@ -32,9 +32,6 @@ struct Trajectory {
   // the live estimate's windows alone at the end (live_estimate.hpp), when
   // the run was watched; -1 otherwise
   double windows = -1.0;
-  // the scene's energy less the drive's work at each sample, when asked
-  // (the pilot's measured stability check, pilot.cpp); empty otherwise
-  std::vector<double> energy;
   // wall seconds per simulated second
   double cost() const { return duration > 0.0 ? wall_seconds / duration : 0.0; }
 };
@@ -48,15 +45,14 @@ scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind
 // `duration` simulated seconds with the scene's scripted controls. With
 // watch_order > 0 the live estimate watches it (its windows placed as in a
 // run of s.duration, Richardson at that order) and `windows` is its reading
-// at the end; the run itself is the same, bit for bit. with_energy fills
-// `energy` (one force-free pass per sample).
-Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order = 0, bool with_energy = false);
+// at the end; the run itself is the same, bit for bit.
+Trajectory runTrajectory(const scenario::Scenario& s, double duration, int watch_order = 0);
 
 // The sampling loop under runTrajectory: `sim` (of `scene`) run for
 // `duration`, `advance(n)` taking each chunk of n steps between samples
 // (false: diverged, the run ends there), which may watch or refine it
 // (refinement.hpp's runRefined).
 Trajectory sampleRun(const scenario::Scene& scene, Simulator& sim, double duration,
-                     const std::function<bool(long long)>& advance, bool with_energy = false);
+                     const std::function<bool(long long)>& advance);
 
 }  // namespace groundsim::accuracy

@@ -10,7 +10,7 @@ import { interpolateObjects, interpolateVehicle } from './interp.js';
 const KEEP = 12;
 const PEEK = 0.25;  // s each side of a seek's instant fetched first
 
-// a recorder's state message (client/record/message_json.cpp) as the
+// a recorder's state message (server/protocol/message_json.cpp) as the
 // bridge's live "state" message
 export function fromRecorded(m, session) {
   return {
