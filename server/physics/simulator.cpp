@@ -75,7 +75,7 @@ bool Simulator::step() {
   // stiff contacts between bodies (and light objects on the ground) take
   // substeps that resolve them; the rest of the time the step is as set
   int n = std::max({1, m.opt.substeps, m.object_substeps});
-  if (touching) n = std::max({n, contactSubsteps(m, ws_, m.opt.dt), m.opt.collision.min_substeps});
+  if (touching) n = std::max({n, contactSubsteps(m, state_.y, ws_, m.opt.dt), m.opt.collision.min_substeps});
   const double h = m.opt.dt / n;
   if (fast_ && !touching) {
     plainly_healthy = fast_->step(m, state_, ws_);

@@ -22,10 +22,14 @@ void bodyContacts(const Model& m, bool apply, Workspace& ws);
 bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspace& ws);
 
 // Integrator substeps per step of dt that resolve (substepsFor) the
-// contact of every candidate pair of the last groupsMayTouch, from the pair's
-// stiffness, damping and reduced mass with the face probes of both groups
-// pressing at once. 1 when no pair may touch.
-int contactSubsteps(const Model& m, const Workspace& ws, double dt);
+// contact of every candidate pair of the last groupsMayTouch at
+// configuration y. For two rigid (or static) groups, from a census of the
+// probes inside the other's shapes or within the step's reach of them:
+// their stiffest mode is bounded by the sum of the inverse masses (with the
+// lever arms) they meet along the normals. Otherwise from the pair's
+// reduced mass with the face probes of both groups pressing at once. 1
+// when no pair may touch.
+int contactSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, double dt);
 
 // The most substeps contact could take at dt: contactSubsteps over every
 // pair of groups that can touch (one of them movable), and the objects'

@@ -65,7 +65,33 @@ double Shape::distance(const Vec3& p) const {
   return 1.0;
 }
 
+namespace {
+
+// The rounded box's gradient in closed form: outside its inner box (the
+// box less the rounding), from the nearest point of the inner box; inside,
+// along the axis (or axes, where they tie) of the nearest face. The same
+// direction the central differences of distance() give, without their six
+// evaluations.
+Vec3 roundedBoxNormal(const Vec3& half, double radius, const Vec3& p) {
+  const double r = std::min(radius, half.minCoeff());
+  const Vec3 q = p.cwiseAbs() - (half - Vec3::Constant(r));
+  Vec3 g = Vec3::Zero();
+  if (q.maxCoeff() > 0.0) {
+    for (int i = 0; i < 3; ++i)
+      if (q[i] > 0.0) g[i] = p[i] > 0.0 ? q[i] : -q[i];
+  } else {
+    const double top = q.maxCoeff();
+    for (int i = 0; i < 3; ++i)
+      if (q[i] == top && p[i] != 0.0) g[i] = p[i] > 0.0 ? 1.0 : -1.0;
+  }
+  const double n = g.norm();
+  return n > 0.0 ? Vec3(g / n) : Vec3::UnitZ();
+}
+
+}  // namespace
+
 Vec3 Shape::normal(const Vec3& p) const {
+  if (kind == ShapeKind::Box) return roundedBoxNormal(half, radius, p);
   const double e = 1e-6 * size(*this);
   Vec3 g;
   for (int i = 0; i < 3; ++i) {

@@ -22,9 +22,9 @@ struct Shape {
 
   // Signed distance of p (shape frame): exact for these kinds, < 0 inside.
   double distance(const Vec3& p) const;
-  // Outward unit normal at p: the distance's gradient (central differences,
-  // a step of 1e-6 of the shape's size; a point at the exact centre of a
-  // symmetric shape takes +z).
+  // Outward unit normal at p: the distance's gradient (a box's in closed
+  // form; the round kinds' by central differences, a step of 1e-6 of the
+  // shape's size; a point at the exact centre of a symmetric shape takes +z).
   Vec3 normal(const Vec3& p) const;
   // Radius of the smallest origin-centred sphere holding the shape.
   double bound() const;
