@@ -25,6 +25,7 @@ rest=(
   liblcm-java default-jdk-headless               # lcm.jar + javac: our types for lcm-spy
   googletest libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                               # benchmarks
+  libmujoco-dev libbullet-dev                    # the peers of ../shared/peers/compare.sh (docs/performance.md)
   gnuplot-nox                                    # speed plots, accuracy plots
   iproute2 util-linux                            # ip + unshare: tests in private network namespaces
   prometheus                                     # promtool: scrapes checked by integration.MetricsServerAndBridge
