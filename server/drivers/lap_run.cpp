@@ -1,0 +1,100 @@
+#include "drivers/lap_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "race/race.hpp"
+
+namespace groundsim::drivers {
+
+CarSense senseCar(const Model& m, const State& s, int car) {
+  const int b = m.road_cars.at(static_cast<size_t>(car)).body;
+  const Vec3 p = bodyPos(s.y, b);
+  const Vec3 forward = Quat(bodyRot(s.y, b)).normalized() * Vec3::UnitX();
+  CarSense c;
+  c.position = {p.x(), p.y()};
+  c.yaw = std::atan2(forward.y(), forward.x());
+  c.speed = Vec3(bodyVel(s.y, b)).dot(forward);
+  return c;
+}
+
+CarGeometry carGeometry(const Model& m, int car) {
+  const RoadCarParams& p = m.road_cars.at(static_cast<size_t>(car)).p;
+  return {p.wheelbase, p.steering.max_angle};
+}
+
+std::vector<double> frictionAlong(const Model& m, const TrackLine& line) {
+  std::vector<double> mu(static_cast<size_t>(line.samples()));
+  for (int i = 0; i < line.samples(); ++i) {
+    const Vec2 q = line.pointAt(i * line.spacing());
+    Vec3 point(q[0], q[1], 0.0), normal = Vec3::UnitZ();
+    groundPointBelow(*m.ground, q[0], q[1], &point, &normal);
+    mu[static_cast<size_t>(i)] = m.ground->friction(point, m.opt.contact.friction);
+  }
+  return mu;
+}
+
+namespace {
+
+std::vector<race::Vec2> positions(const Model& m, const State& s) {
+  std::vector<race::Vec2> out;
+  for (size_t k = 0; k < m.road_cars.size(); ++k) {
+    const Vec3 p = bodyPos(s.y, m.road_cars[k].body);
+    out.push_back({p.x(), p.y()});
+  }
+  return out;
+}
+
+}  // namespace
+
+LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& scene, const LapSetup& setup) {
+  if (!scenario.race) throw std::invalid_argument("runClassical: the scenario has no race section");
+  const Model& m = *scene.built.model;
+  if (m.road_cars.empty()) throw std::invalid_argument("runClassical: the scenario has no road car");
+  // 1. the line, its friction and speed profile, the driver
+  const scenario::RaceSpec& spec = *scenario.race;
+  const TrackLine line(racingLine(spec), spec.circuit, 1.0);
+  const SpeedProfile profile(line, setup.limits, frictionAlong(m, line));
+  ClassicalDriver driver(line, profile, carGeometry(m, 0), setup.tuning);
+  LapRun run;
+  run.profile_lap = profile.lapTime();
+  run.line_length = line.length();
+  // 2. the race, the other cars braked where they stand
+  Simulator sim(scene.built.model, scene.built.initial);
+  race::Race race(spec, static_cast<int>(m.road_cars.size()));
+  CarControls parked;
+  parked.brake = 1.0;
+  for (size_t k = 0; k < m.road_cars.size(); ++k) sim.setCarControls(static_cast<int>(k), parked);
+  const double dt = m.opt.dt;
+  const long long per_control = std::max(1LL, std::llround(setup.control_period / dt));
+  const long long last = std::llround((race.goTime() + setup.time_limit) / dt);
+  // 3. step: the driver acts every control period once the race is on
+  for (long long k = 0; k < last && run.race_time == 0.0; ++k) {
+    const double t0 = sim.state().t;
+    if (k % per_control == 0 && !race.held(t0)) {
+      const Pedals p = driver.drive(senseCar(m, sim.state(), 0));
+      CarControls c;
+      c.throttle = p.throttle;
+      c.brake = p.brake;
+      c.steer = p.steer;
+      sim.setCarControls(0, c);
+      if (race.standing(0).started) run.worst_offset = std::max(run.worst_offset, std::abs(driver.offset()));
+    }
+    const std::vector<race::Vec2> before = positions(m, sim.state());
+    if (!sim.step()) {
+      run.healthy = false;
+      run.why = sim.state().health_reason;
+      break;
+    }
+    for (const race::RaceEvent& e : race.step(t0, sim.state().t, before, positions(m, sim.state()))) {
+      if (e.car != 0) continue;
+      if (e.kind == race::EventKind::Lap) run.laps.push_back(e.time);
+      if (e.kind == race::EventKind::Finish) run.race_time = e.time;
+      if (e.kind == race::EventKind::OffTrack && e.on) ++run.off_track;
+    }
+  }
+  return run;
+}
+
+}  // namespace groundsim::drivers
