@@ -94,6 +94,10 @@ RaceSpec readRace(ObjectReader r, int vehicles) {
   s.countdown = r.number("countdown", def.countdown, Range::closed(0.0, 60.0));
   s.respawn_protection = r.number("respawn_protection", def.respawn_protection, Range::closed(0.0, 60.0));
   s.wrong_way_time = r.number("wrong_way_time", def.wrong_way_time, Range::closed(0.05, 60.0));
+  s.bots = r.integer("bots", def.bots, 0, kMaxGridSlots);
+  if (s.bots > vehicles)
+    r.issue("bots", std::to_string(s.bots) + " bots for " + std::to_string(vehicles) +
+                        " vehicles: a bot drives one of the scenario's vehicles (the last ones)");
   if (!s.circuit && s.laps != 1) r.issue("laps", "a stage (\"circuit\": false) is driven once: laps must be 1, got " +
                                                      std::to_string(s.laps));
 

@@ -33,6 +33,10 @@ struct RaceSpec {
   double half_width = 0.0;         // m
   double respawn_protection = 3.0; // s   a respawned car passes through others this long
   double wrong_way_time = 1.0;     // s   moving against the track this long is "wrong way"
+  // the last `bots` road cars are driven by the classical driver
+  // (server/drivers, docs/drivers.md) in a session, through the players'
+  // controls path and applied log
+  int bots = 0;
 };
 
 // Limits of the section (each refused above, naming its field).

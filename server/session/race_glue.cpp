@@ -11,6 +11,7 @@
 
 #include "physics/ground/ground.hpp"
 #include "answers.hpp"
+#include "race_bots.hpp"
 #include "session.hpp"
 
 namespace groundsim::session {
@@ -272,6 +273,28 @@ void Session::raceAfterStep(double t0) {
 
 void Session::raceReset() {
   if (race_) raceRestart(*race_, sim_);
+  if (bots_) bots_->relocateAll();
+}
+
+// Before a step, once every control period: each bot's command, applied as
+// a player's (Session::apply: clamped, timed out, logged); a bot that has
+// finished brakes to a stop. Not while a standby replays the owner's log:
+// the bots' commands are in it.
+void Session::botsDrive() {
+  if (!bots_ || replaying_ || status_ != Status::Running || !bots_->due(sim_.state().tick)) return;
+  for (RaceBots::Command c : bots_->drive(sim_.model(), sim_.state())) {
+    if (race_->race.standing(c.vehicle).finished) {  // past the flag: slow down and stop on the line
+      c.controls.throttle = 0.0;
+      c.controls.brake = 0.5;
+    }
+    CarDrive d;
+    d.client_id = "bot";
+    d.session_id = setup_.name;
+    d.vehicle = c.vehicle;
+    d.controls = c.controls;
+    d.received = clock_.now();
+    apply(d);
+  }
 }
 
 void Session::raceRespawn(const Request& r) {
@@ -290,6 +313,7 @@ void Session::raceRespawn(const Request& r) {
   logApplied(std::move(a));
   for (const race::RaceEvent& e : raceRespawnCar(*race_, sim_, initial_, static_cast<int>(v)))
     event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
+  if (bots_) bots_->relocate(static_cast<int>(v));
   frame_pending_ = true;
   reply(to, true, ErrorCode::None, "");
 }

@@ -9,6 +9,7 @@
 
 #include "physics/checks/telemetry.hpp"
 #include "answers.hpp"
+#include "race_bots.hpp"
 #include "race_glue.hpp"
 #include "token.hpp"
 
@@ -51,6 +52,11 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
     replica_every_ = std::max<std::int64_t>(1, std::llround(cfg.replica_interval / m.opt.dt));
   anchor_.reset(now, sim_.state().t, setup_.rate);
   race_ = makeRaceGlue(setup_.scenario_json, model);
+  if (race_) {
+    std::vector<int> road_car;
+    for (const VehicleWheels& v : vehicles_) road_car.push_back(v.road_car);
+    bots_ = RaceBots::make(race_->race.spec(), m, road_car);
+  }
   updateInfo(now);
 }
 
@@ -321,6 +327,7 @@ bool Session::stepOnce() {
   if (!setup_.control_tables.empty()) followControlTables(sim_, cars_, setup_.control_tables);
   accuracy::LiveEstimate* live = setup_.live_estimate.get();
   if (live) live->beforeStep(sim_);
+  botsDrive();
   raceBeforeStep();
   const double t0 = sim_.state().t;
   if (!sim_.step()) {

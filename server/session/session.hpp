@@ -28,6 +28,7 @@
 namespace groundsim::session {
 
 struct RaceGlue;  // race_glue.hpp
+class RaceBots;  // race_bots.hpp
 
 struct SessionSetup {
   std::string id;
@@ -148,6 +149,7 @@ class Session : public HostedSession {
   void raceAfterStep(double t0);
   void raceReset();
   void raceRespawn(const Request& r);  // OP_RESET with steps = -1 - vehicle
+  void botsDrive();  // race_bots.hpp: the bots' commands, applied as players' are
 
   SessionSetup setup_;
   const ServiceConfig& cfg_;
@@ -162,6 +164,7 @@ class Session : public HostedSession {
   std::int64_t replica_every_ = 0;   // ticks between snapshots for the standbys; 0: none
   bool replaying_ = false;           // resume(): nothing is published
   std::shared_ptr<RaceGlue> race_;    // null: no race
+  std::shared_ptr<RaceBots> bots_;    // null: no bots
 
   // worker-owned
   Status status_ = Status::Running;

@@ -102,6 +102,9 @@ TEST(Section, HostileRacesNameTheField) {
   with("one gate", "gates", json::array({goodRace()["gates"][0]}), "/race/gates: ");
   with("grid not an array", "grid", "front", "/race/grid: ");
   with("unknown key", "lapz", 3, "/race/lapz: unknown key");
+  with("more bots than cars", "bots", 3, "/race/bots: 3 bots for 2 vehicles");
+  with("negative bots", "bots", -1, "/race/bots: ");
+  with("bots NaN", "bots", nan, "/race/bots: ");
   gate1("zero width (posts)", {{"left", {3, 3}}, {"right", {3, 3}}}, "/race/gates/1/right: ");
   gate1("zero width (centred)", {{"center", {3, 3}}, {"width", 0}, {"heading_deg", 0}}, "/race/gates/1/width: ");
   gate1("NaN post", {{"left", {nan, 0}}, {"right", {3, 3}}}, "/race/gates/1/left/0: ");

@@ -383,3 +383,94 @@ TEST(RaceSession, ARaceResumedOnAStandbyKeepsEveryPlayersLaps) {
 
 }  // namespace
 }  // namespace groundsim::session::test
+
+namespace groundsim::session::test {
+namespace {
+
+// Bots (race.bots, server/session/race_bots.hpp): the last vehicle is driven
+// by the classical driver through the players' path. It is held until go
+// like everyone, starts, passes every gate and finishes the stage on its
+// own; each of its commands is an applied entry of that vehicle, 50 a
+// second; and a standby that resumes the session mid-race from a snapshot
+// and the log after it (the bot's commands replayed as logged, then its own
+// bot driving) times the bot's finish to the same bit as the owner.
+TEST(RaceSession, ABotDrivesTheLastCarThroughThePlayersPath) {
+  const char* doc = R"({"name": "bots", "duration": 40, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "player", "kind": "road_car"}, {"name": "bot", "kind": "road_car"}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1, "bots": 1,
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [60, 10], "width": 14, "heading_deg": 30},
+                       {"center": [120, 30], "width": 14, "heading_deg": 0}, {"center": [180, 20], "width": 14, "heading_deg": -20}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  const scenario::Scenario sc = scenario::parseScenario(std::string(doc));
+  ASSERT_EQ(sc.race->bots, 1);
+  scenario::Scene scene = scenario::buildScene(sc);
+  ServiceConfig cfg;
+  cfg.replica_interval = 0.2;
+  ManualClock clock;
+  RecordingOutput owner_out, standby_out;
+  SessionSetup setup;
+  setup.id = "0000BOTS";
+  setup.token = "t";
+  setup.scenario_json = doc;
+  setup.vehicle_names = {"player", "bot"};
+  setup.duration = 40;
+  setup.mode = Mode::Realtime;
+  setup.publish_rate = 50;
+  auto owner = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, owner_out, clock.now(), clock);
+  auto raceEvents = [](const RecordingOutput& out, const std::string& type) {
+    std::vector<nlohmann::json> v;
+    for (const Event& e : out.events)
+      if (e.reason.rfind("race: ", 0) == 0) {
+        nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
+        if (j["type"] == type && j["car"] == 1) v.push_back(j);
+      }
+    return v;
+  };
+  // the owner runs until the bot passed its first gate after the start
+  owner->run(clock.now());
+  for (int i = 0; i < 600 && raceEvents(owner_out, "gate").empty(); ++i) {
+    clock.advance(0.1);
+    owner->run(clock.now());
+  }
+  ASSERT_EQ(raceEvents(owner_out, "start").size(), 1u) << "the bot never crossed the start line";
+  ASSERT_EQ(raceEvents(owner_out, "finish").size(), 0u);
+  // held until go (t = 1 s): the bot's car stays on its slot
+  double creep = 0.0;
+  for (const Frame& f : owner_out.frames)
+    if (f.t < 1.0) creep = std::max(creep, std::abs(f.vehicles[1].position.x()));
+  EXPECT_LT(creep, 0.05);
+  // its commands are the applied entries of vehicle 1, one each 20 ms
+  int bot_entries = 0, player_entries = 0;
+  for (const Applied& a : owner_out.applied)
+    if (a.kind == AppliedKind::Controls) (a.vehicle == 1 ? bot_entries : player_entries)++;
+  const double t = owner_out.frames.back().t;
+  EXPECT_EQ(player_entries, 0);
+  EXPECT_NEAR(bot_entries, t / 0.02, 2.0);
+  // a standby takes over from the newest snapshot
+  const Replica* snap = nullptr;
+  for (const Replica& r : owner_out.replicas)
+    if (r.kind == Replica::Kind::Snapshot) snap = &r;
+  ASSERT_NE(snap, nullptr);
+  std::vector<Applied> log;
+  for (const Applied& a : owner_out.applied)
+    if (a.seq >= snap->applied_seq) log.push_back(a);
+  auto standby = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, standby_out, clock.now(),
+                                           clock);
+  standby->setEpoch(2);
+  ASSERT_EQ(standby->resume(*snap, log, owner_out.frames.back().tick), "");
+  for (int i = 0; i < 600 && raceEvents(standby_out, "finish").empty(); ++i) {
+    clock.advance(0.1);
+    owner->run(clock.now());
+    standby->run(clock.now());
+  }
+  const auto fin = raceEvents(owner_out, "finish"), sfin = raceEvents(standby_out, "finish");
+  ASSERT_EQ(fin.size(), 1u) << "the bot did not finish the stage";
+  ASSERT_EQ(sfin.size(), 1u);
+  EXPECT_EQ(sfin[0]["race_time"].get<double>(), fin[0]["race_time"].get<double>());
+  std::printf("the bot finished the stage in %.6f s (on the standby: %.6f s); %d commands logged by then\n",
+              fin[0]["race_time"].get<double>(), sfin[0]["race_time"].get<double>(), bot_entries);
+}
+
+}  // namespace
+}  // namespace groundsim::session::test

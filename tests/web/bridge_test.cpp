@@ -22,6 +22,7 @@
 #include "bridge/scene_view.hpp"
 #include "bridge/shipped_scenarios.hpp"
 #include "bridge/state_json.hpp"
+#include "scenario/scenario.hpp"
 
 using namespace groundsim::web;
 using nlohmann::json;
@@ -201,6 +202,22 @@ TEST(Layout, CopiesOfACarMakeAValidScenario) {
   auto view = makeSceneView(doc);
   EXPECT_EQ(view->layout["vehicles"].size(), 3u);
   EXPECT_EQ(view->layout["vehicles"][2]["name"], "car-3");
+}
+
+// A race with bots: the players' copies first, then one car per bot, which
+// the session's drivers take (the last `bots` vehicles).
+TEST(Layout, ARaceWithBotsGetsACarPerBotAfterThePlayers) {
+  json doc = json::parse(scenarioWithGround(R"({"type":"plane"})"));
+  json gates = json::array();
+  gates.push_back({{"center", {10, 0}}, {"width", 10}, {"heading_deg", 0}});
+  gates.push_back({{"center", {60, 0}}, {"width", 10}, {"heading_deg", 0}});
+  doc["race"] = {{"bots", 1}, {"gates", gates}};
+  const std::string two = withVehicles(doc.dump(), 2, 1.0);
+  const groundsim::scenario::Scenario sc = groundsim::scenario::parseScenario(two);
+  ASSERT_EQ(sc.vehicles.size(), 3u);
+  EXPECT_EQ(sc.vehicles[1].name, "car-2");
+  EXPECT_EQ(sc.vehicles[2].name, "bot-1");
+  EXPECT_EQ(sc.race->bots, 1);
 }
 
 TEST(ShippedScenarios, EveryConfigIsListedWithItsDescriptionAndCapacity) {

@@ -320,11 +320,16 @@ std::string withVehicles(const std::string& scenario_json, int count, double mar
   } else {
     return scenario_json;
   }
+  // a race's bots (race.bots) drive cars of their own after the players'
+  int bots = 0;
+  if (doc.contains("race") && doc["race"].is_object() && doc["race"].contains("bots") &&
+      doc["race"]["bots"].is_number_integer())
+    bots = std::clamp(doc["race"]["bots"].get<int>(), 0, 64);
   json list = json::array();
-  for (int i = 0; i < count; ++i) {
+  for (int i = 0; i < count + bots; ++i) {
     json v = base;
     const std::string name = v.value("name", std::string("car"));
-    v["name"] = name + "-" + std::to_string(i + 1);
+    v["name"] = i < count ? name + "-" + std::to_string(i + 1) : "bot-" + std::to_string(i - count + 1);
     json& init = v["initial"];
     if (!init.is_object()) init = json::object();
     json pos = init.contains("position") ? init["position"] : json::array({0, 0, 0});

@@ -55,8 +55,10 @@ nlohmann::json horizonGrids(const Ground& g, double cx, double cy, double scene_
 bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* z);
 
 // A scenario copy with `count` copies of its first vehicle side by side
-// along y (bounding circles `margin` m apart), for one car per player. Only
-// the vehicles are read: the files the scenario names are not.
+// along y (bounding circles `margin` m apart), for one car per player, and
+// after them one more for each of its race's bots (`race.bots`, named
+// bot-1, bot-2, ...: the session's classical drivers take the last cars).
+// Only the vehicles are read: the files the scenario names are not.
 std::string withVehicles(const std::string& scenario_json, int count, double margin);
 
 }  // namespace groundsim::web

@@ -1,0 +1,57 @@
+// Computer drivers in a race session (issue 39, docs/drivers.md): the
+// classical driver at the wheel of the race's last `bots` road cars. Every
+// control period each bot's command goes through Session::apply as a
+// player's would (the same clamping, controls timeout and applied log), so
+// a race with bots re-simulates bit for bit from its log without them, and
+// a standby that resumes the session replays their commands as logged.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "drivers/classical_driver.hpp"
+#include "drivers/track_line.hpp"
+#include "physics/simulator.hpp"
+#include "scenario/race_spec.hpp"
+
+namespace groundsim::session {
+
+class RaceBots {
+ public:
+  static constexpr double kControlPeriod = 0.02;  // s: 50 commands a second
+
+  // Null when the race has no bots. `road_car[v]`: vehicle v's index among
+  // the model's road cars (-1: not a road car, never a bot).
+  static std::unique_ptr<RaceBots> make(const scenario::RaceSpec& race, const Model& m,
+                                        const std::vector<int>& road_car);
+
+  struct Command {
+    int vehicle = 0;
+    CarControls controls;
+  };
+  // Whether the bots act before step `tick` (one in every control period).
+  bool due(std::int64_t tick) const { return tick % period_ == 0; }
+  // Each bot's command from its car's state.
+  std::vector<Command> drive(const Model& m, const State& s);
+  // A car put elsewhere (a respawn, a reset): its bot finds it again.
+  void relocate(int vehicle);
+  void relocateAll();
+  bool drives(int vehicle) const;
+
+  RaceBots(const RaceBots&) = delete;
+  RaceBots& operator=(const RaceBots&) = delete;
+
+ private:
+  RaceBots(const scenario::RaceSpec& race, const Model& m);
+  struct Bot {
+    int vehicle = 0, road_car = 0;
+    std::unique_ptr<drivers::ClassicalDriver> driver;
+  };
+  drivers::TrackLine line_;          // the drivers hold references to these two
+  drivers::SpeedProfile profile_;
+  std::vector<Bot> bots_;
+  std::int64_t period_ = 1;
+};
+
+}  // namespace groundsim::session
