@@ -73,12 +73,7 @@ TEST(SpeedProfile, SteadyCorneringOnACircle) {
 TEST(SpeedProfile, BrakesBeforeASlowerSurfaceAsVSquaredIsTwoAD) {
   // 1 km straight; ice (mu 0.1) from 600 m: there at most sqrt(0.1 grip R)
   const TrackLine line({{0.0, 0.0}, {1000.0, 0.0}}, false, 1.0);
-  CarLimits car;
-  car.grip = 9.0;
-  car.brake = 8.0;
-  car.accel = 3.0;
-  car.top = 60.0;
-  car.straight_radius = 250.0;
+  const CarLimits car{9.0, 8.0, 3.0, 60.0, 250.0};  // grip, brake, accel, top, straight_radius
   std::vector<double> mu(line.samples(), 1.0);
   for (int i = 600; i < line.samples(); ++i) mu[i] = 0.1;
   const SpeedProfile p(line, car, mu);

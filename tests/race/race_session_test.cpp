@@ -289,6 +289,76 @@ TEST(RaceSession, ASessionWithoutARaceRefusesRespawn) {
 namespace groundsim::session::test {
 namespace {
 
+// An owner session of a race document and the standby that takes it over
+// from the owner's newest snapshot and the applied entries after it, both
+// in real time on one manual clock.
+struct FailoverRig {
+  FailoverRig(const char* doc, std::vector<std::string> names, double duration)
+      : scene(scenario::buildScene(scenario::parseScenario(std::string(doc)))) {
+    cfg.replica_interval = 0.2;  // a snapshot every 50 ticks
+    setup.id = "0000FAIL";
+    setup.token = "t";
+    setup.scenario_json = doc;
+    setup.vehicle_names = std::move(names);
+    setup.duration = duration;
+    setup.mode = Mode::Realtime;
+    setup.publish_rate = 50;
+    setup.control_tables = scene.control_tables;
+    owner = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, owner_out, clock.now(), clock);
+    owner->run(clock.now());
+  }
+  // the owner runs by 0.1 s until `done` (at most `runs` times)
+  template <class Done>
+  void runOwnerUntil(Done done, int runs = 600) {
+    for (int i = 0; i < runs && !done(); ++i) {
+      clock.advance(0.1);
+      owner->run(clock.now());
+    }
+  }
+  // the host is lost: a standby resumes from its newest snapshot, the
+  // entries after it and its last state ("" or why not)
+  std::string failOver() {
+    const Replica* snap = nullptr;
+    for (const Replica& r : owner_out.replicas)
+      if (r.kind == Replica::Kind::Snapshot) snap = &r;
+    if (!snap) return "no snapshot";
+    if (snap->meta.find("\"race\"") == std::string::npos) return "the snapshot does not carry the race";
+    std::vector<Applied> log;
+    for (const Applied& a : owner_out.applied)
+      if (a.seq >= snap->applied_seq) log.push_back(a);
+    standby = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, standby_out, clock.now(),
+                                        clock);
+    standby->setEpoch(2);
+    return standby->resume(*snap, log, owner_out.frames.back().tick);
+  }
+  // both run on by 0.1 s until `done` (the owner as if it had not been lost)
+  template <class Done>
+  void runBothUntil(Done done, int runs = 600) {
+    for (int i = 0; i < runs && !done(); ++i) {
+      clock.advance(0.1);
+      owner->run(clock.now());
+      standby->run(clock.now());
+    }
+  }
+  scenario::Scene scene;
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput owner_out, standby_out;
+  SessionSetup setup;
+  std::shared_ptr<Session> owner, standby;
+};
+
+// The race events of one type (of car `car`, or every car) an output published.
+std::vector<nlohmann::json> raceEvents(const RecordingOutput& out, const std::string& type, int car = -1) {
+  std::vector<nlohmann::json> v;
+  for (const Event& e : out.events)
+    if (e.reason.rfind("race: ", 0) == 0) {
+      nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
+      if (j["type"] == type && (car < 0 || j["car"] == car)) v.push_back(j);
+    }
+  return v;
+}
+
 // A race survives its host (issue: race state in a fleet): the owner's
 // snapshot carries the race's progress, so a standby that resumes the
 // session mid-lap (after both cars started and passed gate 1, before the
@@ -304,60 +374,16 @@ TEST(RaceSession, ARaceResumedOnAStandbyKeepsEveryPlayersLaps) {
              "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [30, 0], "width": 14, "heading_deg": 0},
                        {"center": [80, 0], "width": 14, "heading_deg": 0}],
              "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
-  const scenario::Scenario sc = scenario::parseScenario(std::string(two));
-  scenario::Scene scene = scenario::buildScene(sc);
-  ServiceConfig cfg;
-  cfg.replica_interval = 0.2;  // a snapshot every 50 ticks
-  ManualClock clock;
-  RecordingOutput owner_out, standby_out;
-  SessionSetup setup;
-  setup.id = "0000FAIL";
-  setup.token = "t";
-  setup.scenario_json = two;
-  setup.vehicle_names = {"a", "b"};
-  setup.duration = 30;
-  setup.mode = Mode::Realtime;
-  setup.publish_rate = 50;
-  setup.control_tables = scene.control_tables;
-  auto owner = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, owner_out, clock.now(), clock);
-  auto raceEvents = [](const RecordingOutput& out, const std::string& type) {
-    std::vector<nlohmann::json> v;
-    for (const Event& e : out.events)
-      if (e.reason.rfind("race: ", 0) == 0) {
-        nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
-        if (j["type"] == type) v.push_back(j);
-      }
-    return v;
-  };
-  auto passed = [&](const std::string& type) { return raceEvents(owner_out, type).size(); };
-  // the owner runs until both cars passed gate 1 (mid-lap), in real time by 0.1 s
-  owner->run(clock.now());
-  for (int i = 0; i < 400 && passed("gate") < 2; ++i) {
-    clock.advance(0.1);
-    owner->run(clock.now());
-  }
+  FailoverRig rig(two, {"a", "b"}, 30);
+  auto passed = [&](const std::string& type) { return raceEvents(rig.owner_out, type).size(); };
+  // the owner runs until both cars passed gate 1 (mid-lap)
+  rig.runOwnerUntil([&] { return passed("gate") >= 2; }, 400);
   ASSERT_EQ(passed("start"), 2u);
   ASSERT_EQ(passed("gate"), 2u);
   ASSERT_EQ(passed("finish"), 0u) << "the failover must come mid-lap";
-  // the host is lost here: its newest snapshot, the entries after it, its last state
-  const Replica* snap = nullptr;
-  for (const Replica& r : owner_out.replicas)
-    if (r.kind == Replica::Kind::Snapshot) snap = &r;
-  ASSERT_NE(snap, nullptr);
-  ASSERT_NE(snap->meta.find("\"race\""), std::string::npos) << "the snapshot carries the race";
-  std::vector<Applied> log;
-  for (const Applied& a : owner_out.applied)
-    if (a.seq >= snap->applied_seq) log.push_back(a);
-  auto standby = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, standby_out, clock.now(),
-                                           clock);
-  standby->setEpoch(2);
-  ASSERT_EQ(standby->resume(*snap, log, owner_out.frames.back().tick), "");
-  // both go on to the finish (the owner as if it had not been lost)
-  for (int i = 0; i < 400 && raceEvents(standby_out, "finish").size() < 2; ++i) {
-    clock.advance(0.1);
-    owner->run(clock.now());
-    standby->run(clock.now());
-  }
+  ASSERT_EQ(rig.failOver(), "");
+  rig.runBothUntil([&] { return raceEvents(rig.standby_out, "finish").size() >= 2; }, 400);
+  const RecordingOutput &owner_out = rig.owner_out, &standby_out = rig.standby_out;
   const auto laps = raceEvents(owner_out, "lap"), fin = raceEvents(owner_out, "finish");
   const auto slaps = raceEvents(standby_out, "lap"), sfin = raceEvents(standby_out, "finish");
   ASSERT_EQ(laps.size(), 2u);
@@ -402,69 +428,28 @@ TEST(RaceSession, ABotDrivesTheLastCarThroughThePlayersPath) {
              "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [60, 10], "width": 14, "heading_deg": 30},
                        {"center": [120, 30], "width": 14, "heading_deg": 0}, {"center": [180, 20], "width": 14, "heading_deg": -20}],
              "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
-  const scenario::Scenario sc = scenario::parseScenario(std::string(doc));
-  ASSERT_EQ(sc.race->bots, 1);
-  scenario::Scene scene = scenario::buildScene(sc);
-  ServiceConfig cfg;
-  cfg.replica_interval = 0.2;
-  ManualClock clock;
-  RecordingOutput owner_out, standby_out;
-  SessionSetup setup;
-  setup.id = "0000BOTS";
-  setup.token = "t";
-  setup.scenario_json = doc;
-  setup.vehicle_names = {"player", "bot"};
-  setup.duration = 40;
-  setup.mode = Mode::Realtime;
-  setup.publish_rate = 50;
-  auto owner = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, owner_out, clock.now(), clock);
-  auto raceEvents = [](const RecordingOutput& out, const std::string& type) {
-    std::vector<nlohmann::json> v;
-    for (const Event& e : out.events)
-      if (e.reason.rfind("race: ", 0) == 0) {
-        nlohmann::json j = nlohmann::json::parse(e.reason.substr(6));
-        if (j["type"] == type && j["car"] == 1) v.push_back(j);
-      }
-    return v;
-  };
+  ASSERT_EQ(scenario::parseScenario(std::string(doc)).race->bots, 1);
+  FailoverRig rig(doc, {"player", "bot"}, 40);
   // the owner runs until the bot passed its first gate after the start
-  owner->run(clock.now());
-  for (int i = 0; i < 600 && raceEvents(owner_out, "gate").empty(); ++i) {
-    clock.advance(0.1);
-    owner->run(clock.now());
-  }
-  ASSERT_EQ(raceEvents(owner_out, "start").size(), 1u) << "the bot never crossed the start line";
-  ASSERT_EQ(raceEvents(owner_out, "finish").size(), 0u);
+  rig.runOwnerUntil([&] { return !raceEvents(rig.owner_out, "gate", 1).empty(); });
+  ASSERT_EQ(raceEvents(rig.owner_out, "start", 1).size(), 1u) << "the bot never crossed the start line";
+  ASSERT_EQ(raceEvents(rig.owner_out, "finish", 1).size(), 0u);
   // held until go (t = 1 s): the bot's car stays on its slot
   double creep = 0.0;
-  for (const Frame& f : owner_out.frames)
+  for (const Frame& f : rig.owner_out.frames)
     if (f.t < 1.0) creep = std::max(creep, std::abs(f.vehicles[1].position.x()));
   EXPECT_LT(creep, 0.05);
   // its commands are the applied entries of vehicle 1, one each 20 ms
   int bot_entries = 0, player_entries = 0;
-  for (const Applied& a : owner_out.applied)
+  for (const Applied& a : rig.owner_out.applied)
     if (a.kind == AppliedKind::Controls) (a.vehicle == 1 ? bot_entries : player_entries)++;
-  const double t = owner_out.frames.back().t;
   EXPECT_EQ(player_entries, 0);
-  EXPECT_NEAR(bot_entries, t / 0.02, 2.0);
-  // a standby takes over from the newest snapshot
-  const Replica* snap = nullptr;
-  for (const Replica& r : owner_out.replicas)
-    if (r.kind == Replica::Kind::Snapshot) snap = &r;
-  ASSERT_NE(snap, nullptr);
-  std::vector<Applied> log;
-  for (const Applied& a : owner_out.applied)
-    if (a.seq >= snap->applied_seq) log.push_back(a);
-  auto standby = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, standby_out, clock.now(),
-                                           clock);
-  standby->setEpoch(2);
-  ASSERT_EQ(standby->resume(*snap, log, owner_out.frames.back().tick), "");
-  for (int i = 0; i < 600 && raceEvents(standby_out, "finish").empty(); ++i) {
-    clock.advance(0.1);
-    owner->run(clock.now());
-    standby->run(clock.now());
-  }
-  const auto fin = raceEvents(owner_out, "finish"), sfin = raceEvents(standby_out, "finish");
+  EXPECT_NEAR(bot_entries, rig.owner_out.frames.back().t / 0.02, 2.0);
+  // a standby takes over
+  ASSERT_EQ(rig.failOver(), "");
+  rig.runBothUntil([&] { return !raceEvents(rig.standby_out, "finish", 1).empty(); });
+  const RecordingOutput &owner_out = rig.owner_out, &standby_out = rig.standby_out;
+  const auto fin = raceEvents(owner_out, "finish", 1), sfin = raceEvents(standby_out, "finish", 1);
   ASSERT_EQ(fin.size(), 1u) << "the bot did not finish the stage";
   ASSERT_EQ(sfin.size(), 1u);
   EXPECT_EQ(sfin[0]["race_time"].get<double>(), fin[0]["race_time"].get<double>());
