@@ -14,7 +14,7 @@ asan_build_dir=build-asan
 # in-process suites and the groundsim binary the CLI tests run
 asan_test_targets="physics_tests physics_shared_model_tests vehicle_tests scenario_tests accuracy_tests terrain_tests
   experiments_tests experiments_alloc_tests session_tests contact_tests kernel_tests record_tests recording_tests
-  race_tests race_session_tests mcap_sample groundsim"
+  race_tests race_session_tests drivers_tests mcap_sample groundsim"
 # scripts/fuzz.sh's: the libFuzzer targets and their seed corpora
 asan_fuzz_targets="scenario_fuzz datagram_fuzz fuzz_seeds"
 
