@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace groundsim::drivers {
 
@@ -20,7 +21,7 @@ Pedals ClassicalDriver::drive(const CarSense& car) {
   const double ld = tune_.lookahead_min + tune_.lookahead_time * v;
   const Vec2 target = line_.pointAt(s_ + ld);
   const double dx = target[0] - car.position[0], dy = target[1] - car.position[1];
-  const double alpha = std::remainder(std::atan2(dy, dx) - car.yaw, 2.0 * M_PI);
+  const double alpha = std::remainder(std::atan2(dy, dx) - car.yaw, 2.0 * std::numbers::pi);
   const double reach = std::max(std::hypot(dx, dy), 1e-3);
   const double delta = std::atan(2.0 * car_.wheelbase * std::sin(alpha) / reach);
   Pedals p;

@@ -37,13 +37,13 @@ std::vector<double> frictionAlong(const Model& m, const TrackLine& line) {
 
 namespace {
 
-std::vector<race::Vec2> positions(const Model& m, const State& s) {
-  std::vector<race::Vec2> out;
+// Every road car's body centre (x, y), into `out` (sized once).
+void positions(const Model& m, const State& s, std::vector<race::Vec2>& out) {
+  out.resize(m.road_cars.size());
   for (size_t k = 0; k < m.road_cars.size(); ++k) {
     const Vec3 p = bodyPos(s.y, m.road_cars[k].body);
-    out.push_back({p.x(), p.y()});
+    out[k] = {p.x(), p.y()};
   }
-  return out;
 }
 
 }  // namespace
@@ -70,6 +70,7 @@ LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& s
   const long long per_control = std::max(1LL, std::llround(setup.control_period / dt));
   const long long last = std::llround((race.goTime() + setup.time_limit) / dt);
   // 3. step: the driver acts every control period once the race is on
+  std::vector<race::Vec2> before, after;
   for (long long k = 0; k < last && run.race_time == 0.0; ++k) {
     const double t0 = sim.state().t;
     if (k % per_control == 0 && !race.held(t0)) {
@@ -81,13 +82,14 @@ LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& s
       sim.setCarControls(0, c);
       if (race.standing(0).started) run.worst_offset = std::max(run.worst_offset, std::abs(driver.offset()));
     }
-    const std::vector<race::Vec2> before = positions(m, sim.state());
+    positions(m, sim.state(), before);
     if (!sim.step()) {
       run.healthy = false;
       run.why = sim.state().health_reason;
       break;
     }
-    for (const race::RaceEvent& e : race.step(t0, sim.state().t, before, positions(m, sim.state()))) {
+    positions(m, sim.state(), after);
+    for (const race::RaceEvent& e : race.step(t0, sim.state().t, before, after)) {
       if (e.car != 0) continue;
       if (e.kind == race::EventKind::Lap) run.laps.push_back(e.time);
       if (e.kind == race::EventKind::Finish) run.race_time = e.time;

@@ -33,10 +33,7 @@ struct LapRun {
 };
 
 struct LapSetup {
-  // at friction 1 (frictionAlong scales them): a sedan's tyres peak near
-  // mu g; 9 m/s^2 leaves it a margin (10 is clean on the shipped races, 12
-  // spins on the circuit)
-  CarLimits limits{9.0, 8.0, 3.0, 60.0, 250.0};
+  CarLimits limits;             // at friction 1 (frictionAlong scales them)
   DriverTuning tuning;
   double control_period = 0.02; // s   the driver acts at 50 Hz
   double time_limit = 600.0;    // s   simulated, after go

@@ -23,7 +23,8 @@ TrackLine::TrackLine(const std::vector<Vec2>& points, bool closed, double spacin
   length_ = at.back();
   if (!(length_ > 0.0)) throw std::invalid_argument("centre line: zero length");
   // resampled every ds_ (a whole number of samples over the length)
-  const int n = std::max(2, static_cast<int>(std::lround(length_ / spacing)));
+  const double wanted = std::max(spacing, length_ / kMaxSamples);
+  const int n = std::clamp(static_cast<int>(std::lround(std::min(length_ / wanted, double{kMaxSamples}))), 2, kMaxSamples);
   ds_ = length_ / n;
   const int count = closed_ ? n : n + 1;
   xy_.reserve(count);

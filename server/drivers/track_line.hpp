@@ -13,8 +13,11 @@ using Vec2 = std::array<double, 2>;
 class TrackLine {
  public:
   // `points`: the centre line, at least 2 distinct points; `closed`: a
-  // circuit (the last point joins the first). Resampled every `spacing` m.
-  // Throws std::invalid_argument for fewer than 2 points or zero length.
+  // circuit (the last point joins the first). Resampled every `spacing` m,
+  // or coarser where that would pass kMaxSamples (a line across the
+  // scenario's 100 km). Throws std::invalid_argument for fewer than 2
+  // points or zero length.
+  static constexpr int kMaxSamples = 200000;
   TrackLine(const std::vector<Vec2>& points, bool closed, double spacing = 1.0);
 
   bool closed() const { return closed_; }
@@ -56,9 +59,12 @@ class TrackLine {
 // grip and brake are at friction 1; `mu`, one per sample of the line (or
 // empty: 1), scales them where the surface changes, and caps accel at
 // mu g.
+// The defaults are the classical driver's: a sedan's tyres peak near mu g;
+// 9 m/s^2 leaves it a margin (10 is clean on the shipped races, 12 spins
+// on the circuit).
 struct CarLimits {
-  double grip = 7.0;       // m/s^2  lateral acceleration in steady cornering
-  double brake = 7.0;      // m/s^2
+  double grip = 9.0;       // m/s^2  lateral acceleration in steady cornering
+  double brake = 8.0;      // m/s^2
   double accel = 3.0;      // m/s^2
   double top = 60.0;       // m/s
   // the gentlest bend assumed, even on a straight: a car must keep the grip

@@ -9,7 +9,7 @@ namespace groundsim::session {
 
 RaceBots::RaceBots(const scenario::RaceSpec& race, const Model& m)
     : line_(drivers::racingLine(race), race.circuit, 1.0),
-      profile_(line_, drivers::LapSetup{}.limits, drivers::frictionAlong(m, line_)),
+      profile_(line_, drivers::CarLimits{}, drivers::frictionAlong(m, line_)),
       period_(std::max<std::int64_t>(1, std::llround(kControlPeriod / m.opt.dt))) {}
 
 std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const Model& m,
@@ -30,19 +30,18 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
   return b;
 }
 
-std::vector<RaceBots::Command> RaceBots::drive(const Model& m, const State& s) {
-  std::vector<Command> out;
-  out.reserve(bots_.size());
-  for (Bot& bot : bots_) {
-    const drivers::Pedals p = bot.driver->drive(drivers::senseCar(m, s, bot.road_car));
-    Command c;
-    c.vehicle = bot.vehicle;
+const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s) {
+  commands_.resize(bots_.size());  // sized once: no allocation in the step loop
+  for (size_t k = 0; k < bots_.size(); ++k) {
+    const drivers::Pedals p = bots_[k].driver->drive(drivers::senseCar(m, s, bots_[k].road_car));
+    Command& c = commands_[k];
+    c.vehicle = bots_[k].vehicle;
+    c.controls = CarControls{};
     c.controls.throttle = p.throttle;
     c.controls.brake = p.brake;
     c.controls.steer = p.steer;
-    out.push_back(c);
   }
-  return out;
+  return commands_;
 }
 
 void RaceBots::relocate(int vehicle) {

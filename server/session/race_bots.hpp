@@ -32,8 +32,8 @@ class RaceBots {
   };
   // Whether the bots act before step `tick` (one in every control period).
   bool due(std::int64_t tick) const { return tick % period_ == 0; }
-  // Each bot's command from its car's state.
-  std::vector<Command> drive(const Model& m, const State& s);
+  // Each bot's command from its car's state (valid until the next call).
+  const std::vector<Command>& drive(const Model& m, const State& s);
   // A car put elsewhere (a respawn, a reset): its bot finds it again.
   void relocate(int vehicle);
   void relocateAll();
@@ -51,6 +51,7 @@ class RaceBots {
   drivers::TrackLine line_;          // the drivers hold references to these two
   drivers::SpeedProfile profile_;
   std::vector<Bot> bots_;
+  std::vector<Command> commands_;
   std::int64_t period_ = 1;
 };
 

@@ -282,17 +282,16 @@ void Session::raceReset() {
 // the bots' commands are in it.
 void Session::botsDrive() {
   if (!bots_ || replaying_ || status_ != Status::Running || !bots_->due(sim_.state().tick)) return;
-  for (RaceBots::Command c : bots_->drive(sim_.model(), sim_.state())) {
-    if (race_->race.standing(c.vehicle).finished) {  // past the flag: slow down and stop on the line
-      c.controls.throttle = 0.0;
-      c.controls.brake = 0.5;
-    }
-    CarDrive d;
-    d.client_id = "bot";
-    d.session_id = setup_.name;
+  CarDrive d;
+  d.client_id = "bot";
+  d.received = clock_.now();
+  for (const RaceBots::Command& c : bots_->drive(sim_.model(), sim_.state())) {
     d.vehicle = c.vehicle;
     d.controls = c.controls;
-    d.received = clock_.now();
+    if (race_->race.standing(c.vehicle).finished) {  // past the flag: slow down and stop on the line
+      d.controls.throttle = 0.0;
+      d.controls.brake = 0.5;
+    }
     apply(d);
   }
 }

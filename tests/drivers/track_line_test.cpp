@@ -54,6 +54,18 @@ TEST(TrackLine, ACircleHasItsLengthCurvatureAndOffsets) {
   EXPECT_THROW(TrackLine({{1.0, 1.0}, {1.0, 1.0}}, false), std::invalid_argument);
 }
 
+// A hostile race: 10,000 centre-line points zigzagging across the
+// scenario's 100 km (2e9 m of line) is resampled within kMaxSamples, not
+// every metre.
+TEST(TrackLine, ALineAcrossTheScenariosExtentStaysWithinItsSamples) {
+  std::vector<Vec2> zigzag;
+  for (int k = 0; k < 10000; ++k) zigzag.push_back({k % 2 ? 1e5 : -1e5, k % 2 ? -1e5 : 1e5});
+  const TrackLine line(zigzag, true, 1.0);
+  EXPECT_GT(line.length(), 2e9);
+  EXPECT_LE(line.samples(), TrackLine::kMaxSamples);
+  EXPECT_NEAR(line.spacing(), line.length() / line.samples(), 1e-6 * line.spacing());
+}
+
 TEST(SpeedProfile, SteadyCorneringOnACircle) {
   const double r = 40.0, grip = 8.0;
   const TrackLine line(circle(r, 360), true, 1.0);

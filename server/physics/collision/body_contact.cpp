@@ -13,6 +13,9 @@ namespace groundsim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// what a group's pad for the step's motion adds, and the census's reach
+// for a probe beside a shape: 1 cm
+constexpr double kPadSlack = 0.01;  // m
 
 double reducedMass(const CollisionGroup& a, const CollisionGroup& b);
 
@@ -337,7 +340,6 @@ Gen6 massWeighted(const CensusSide& s, const Vec3& p, const Vec3& n) {
   return g;
 }
 
-constexpr double kCensusSlack = 0.01;  // m, as the broad phase's pad
 
 // A probe of a rigid or static group, in the world at the step's start.
 Vec3 censusProbe(const Model& m, const Probe& pr, const CensusSide& s) {
@@ -378,7 +380,7 @@ int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, c
       const double d = col.shape.distance(q);
       if (!(d < reach)) continue;
       const Vec3 p = censusProbe(m, pr, sp);
-      if (d > 0.0 && !(d < 2.0 * (sp.velocityAt(p) - sc.velocityAt(p)).norm() * dt + kCensusSlack)) continue;
+      if (d > 0.0 && !(d < 2.0 * (sp.velocityAt(p) - sc.velocityAt(p)).norm() * dt + kPadSlack)) continue;
       const Vec3 n = R * col.shape.normal(q);
       Gen12 g;
       g.head<6>() = massWeighted(p_first ? sp : sc, p, p_first ? n : Vec3(-n));
@@ -400,6 +402,14 @@ double largestEigenvalueBound(const Mat12& A) {
   return std::sqrt(std::sqrt(A4.norm()));
 }
 
+// The face-probe bound: every face probe of both groups pressing at once
+// on the pair's reduced mass m_r (> 0).
+int faceProbeSubsteps(const PairLaw& law, const CollisionGroup& ga, const CollisionGroup& gb, double mr, double dt) {
+  const double probes = ga.face_probes + gb.face_probes;
+  const double k = law.k * probes, c = law.c * probes;
+  return substepsFor(std::sqrt(k / mr), c / (2.0 * std::sqrt(k * mr)), dt);
+}
+
 // Substeps for one pair. The probes that press (or can, in the step) are
 // springs k and dampers c between two rigid bodies: their modes are the
 // eigenvalues of k A, A = sum of g g^T in mass-weighted coordinates (g: a
@@ -416,11 +426,7 @@ int pairSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, 
   const PairLaw law = pairLaw(m, ga, gb);
   const double mr = reducedMass(ga, gb);
   if (!(mr > 0.0)) return 1;
-  if (!censusApplies(ga) || !censusApplies(gb)) {
-    const double probes = ga.face_probes + gb.face_probes;
-    const double k = law.k * probes, c = law.c * probes;
-    return substepsFor(std::sqrt(k / mr), c / (2.0 * std::sqrt(k * mr)), dt);
-  }
+  if (!censusApplies(ga) || !censusApplies(gb)) return faceProbeSubsteps(law, ga, gb, mr, dt);
   const CensusSide sa = censusSide(m, ga, y), sb = censusSide(m, gb, y);
   const double reach = ws.group_pad[a] + ws.group_pad[b];
   Mat12 A = Mat12::Zero();
@@ -450,9 +456,7 @@ int contactSubstepsBound(const Model& m, double dt) {
       const PairLaw law = pairLaw(m, ga, gb);
       const double mr = reducedMass(ga, gb);
       if (!(mr > 0.0)) continue;
-      const double probes = ga.face_probes + gb.face_probes;
-      const double k = law.k * probes, c = law.c * probes;
-      n = std::max(n, substepsFor(std::sqrt(k / mr), c / (2.0 * std::sqrt(k * mr)), dt));
+      n = std::max(n, faceProbeSubsteps(law, ga, gb, mr, dt));
     }
   return n;
 }
@@ -469,7 +473,7 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
       [&](const CollisionGroup& g) {
         const int b = g.ref_body;
         const double spin = m.bodies[b].inv_inertia.norm() * Vec3(bodyMom(y, b)).norm();
-        return 2.0 * (Vec3(bodyVel(y, b)).norm() + spin * g.bound) * dt + 0.01;
+        return 2.0 * (Vec3(bodyVel(y, b)).norm() + spin * g.bound) * dt + kPadSlack;
       });
   sweep(m, ws, [&](int body) { return Mat3(Quat(bodyRot(y, body)).normalized().toRotationMatrix()); });
   return !ws.pairs.empty();

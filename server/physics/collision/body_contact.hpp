@@ -31,9 +31,13 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
 // when no pair may touch.
 int contactSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, double dt);
 
-// The most substeps contact could take at dt: contactSubsteps over every
-// pair of groups that can touch (one of them movable), and the objects'
-// own (Model::object_substeps). 1 for a scene without contact between bodies.
+// The face-probe bound at dt (every face probe of both groups pressing at
+// once, on the reduced mass) over every pair of groups that can touch (one
+// of them movable), and the objects' own (Model::object_substeps): the
+// accuracy pilot's floor of contact substeps. contactSubsteps takes it for
+// pairs that are not both rigid; for rigid pairs the census usually takes
+// fewer, and can take more where lever arms weigh. 1 for a scene without
+// contact between bodies.
 int contactSubstepsBound(const Model& m, double dt);
 
 }  // namespace groundsim
