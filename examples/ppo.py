@@ -113,7 +113,8 @@ def parse_args(argv=None):
     p.add_argument("--eval-every", type=int, default=10, help="iterations between held-out evaluations")
     p.add_argument("--out-dir", default="out/ppo")
     p.add_argument("--name", default=None, help="run name (default ppo_<task>_seed<seed>)")
-    p.add_argument("--save-model", default=None, help="write the agent's state dict (with the obs stats) here")
+    p.add_argument("--save-model", default=None, help="write the agent's state dict (with the obs stats) here, at each held-out "
+                   "evaluation and at the end")
     p.add_argument("--quiet", action="store_true")
     return p.parse_args(argv)
 
@@ -414,6 +415,8 @@ def main(argv=None):
                                                                               args.eval_episodes)
             if first_target is None and row["heldout_success"] >= 0.9:
                 first_target = global_step
+            if args.save_model:  # a checkpoint at each evaluation: a long run can be used before it ends
+                torch.save(agent.state_dict(), args.save_model)
         row["wall_s"] = time.perf_counter() - t_start
         row["train_s"] = train_s
         row["sps"] = global_step / train_s

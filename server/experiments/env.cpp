@@ -41,6 +41,8 @@ Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std:
   done_.assign(n, 0);
   active_.assign(n, 1);
   before_.assign(n, Vec3::Zero());
+  track_.assign(n, TrackProgress{});
+  gained_.assign(n, 0.0);
   ranges_ = ctx_->task().randomize;
   useModel(ctx_->scene.built.model, ctx_->scene.built.initial);
   reset(seed, last_obs_.data());
@@ -57,11 +59,28 @@ void Env::useModel(std::shared_ptr<const Model> model, State s) {
   for (int a = 0; a < agents(); ++a) sensors_.push_back(resolveSensors(*ctx_, a, sim_->model()));
 }
 
+void Env::placeAgent(int a, CarPlacement& at) const {
+  const double* d = drawn_.data() + kDrawnPerAgent * a;
+  if (ranges_.along_track) {
+    // along the track and to its left, keeping the start's place on the grid
+    const drivers::Pose2 moved =
+        ctx_->track->moveAlong({{at.position.x(), at.position.y()}, at.yaw}, drawn_.back() + d[kDrawnX], d[kDrawnY]);
+    at.position.x() = moved.p[0];
+    at.position.y() = moved.p[1];
+    at.yaw = moved.yaw + d[kDrawnYaw];
+  } else {
+    at.position.x() += d[kDrawnX];
+    at.position.y() += d[kDrawnY];
+    at.yaw += d[kDrawnYaw];
+  }
+  at.speed += d[kDrawnSpeed];
+}
+
 State Env::initialState(std::shared_ptr<const Model>* model) const {
   const std::vector<scenario::ParameterRange>& parameters = ranges_.parameters;
   const size_t offsets = static_cast<size_t>(kDrawnPerAgent * agents());
-  const bool moved = std::any_of(drawn_.begin(), drawn_.begin() + static_cast<std::ptrdiff_t>(offsets),
-                                 [](double d) { return d != 0.0; });
+  const bool moved = ranges_.along_track || std::any_of(drawn_.begin(), drawn_.begin() + static_cast<std::ptrdiff_t>(offsets),
+                                                        [](double d) { return d != 0.0; });
   if (parameters.empty() && !moved) {
     *model = ctx_->scene.built.model;
     return ctx_->scene.built.initial;
@@ -79,14 +98,8 @@ State Env::initialState(std::shared_ptr<const Model>* model) const {
     s.objects = ctx_->scenario.objects;
     s.document = nlohmann::json::object();
   }
-  for (int a = 0; a < agents(); ++a) {
-    const double* d = drawn_.data() + kDrawnPerAgent * a;
-    CarPlacement& at = s.vehicles.at(static_cast<size_t>(ctx_->agents[static_cast<size_t>(a)].vehicle)).placement;
-    at.position.x() += d[kDrawnX];
-    at.position.y() += d[kDrawnY];
-    at.yaw += d[kDrawnYaw];
-    at.speed += d[kDrawnSpeed];
-  }
+  for (int a = 0; a < agents(); ++a)
+    placeAgent(a, s.vehicles.at(static_cast<size_t>(ctx_->agents[static_cast<size_t>(a)].vehicle)).placement);
   scenario::Scene scene = scenario::buildScene(s);
   // only a drawn parameter changes the model: placements share the base one
   *model = parameters.empty() ? ctx_->scene.built.model : scene.built.model;
@@ -102,7 +115,7 @@ void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
   }
   const scenario::Randomization& r = ranges_;
   const size_t offsets = static_cast<size_t>(kDrawnPerAgent * agents());
-  drawn_.resize(offsets + r.parameters.size());
+  drawn_.resize(offsets + r.parameters.size() + (r.along_track ? 1 : 0));
   // always four draws per agent for its placement, then one per parameter:
   // a task's stream does not depend on which ranges are empty
   for (size_t a = 0; a < offsets; a += kDrawnPerAgent) {
@@ -113,6 +126,7 @@ void Env::reset(std::optional<std::uint64_t> seed, float* obs) {
   }
   for (size_t i = 0; i < r.parameters.size(); ++i)
     drawn_[offsets + i] = rng_.uniform(r.parameters[i].lo, r.parameters[i].hi);
+  if (r.along_track) drawn_.back() = rng_.uniform(r.track_s[0], r.track_s[1]);
   std::shared_ptr<const Model> model;
   State s = initialState(&model);
   // the agents drive their vehicles from rest: no scripted drive of the scene
@@ -139,7 +153,50 @@ void Env::begin(float* obs) {
   needs_reset_ = false;
   std::fill(previous_.begin(), previous_.end(), 0.0f);
   std::fill(action_.begin(), action_.end(), 0.0f);
+  if (ctx_->track) {
+    std::fill(track_.begin(), track_.end(), TrackProgress{});
+    followTrack(true);
+  }
   observe(obs);
+}
+
+void Env::followTrack(bool fresh) {
+  const drivers::TrackLine& line = ctx_->track->line();
+  const Eigen::VectorXd& y = sim_->state().y;
+  // a car covers at most ~100 m/s x the control period between two calls
+  const double reach = 50.0 + 100.0 * ctx_->control_dt;
+  for (size_t a = 0; a < track_.size(); ++a) {
+    gained_[a] = 0.0;
+    if (!fresh && !active_[a]) continue;
+    const Vec3 c = bodyPos(y, ctx_->agents[a].body);
+    TrackProgress& p = track_[a];
+    const double before = p.at.s;
+    p.at = fresh ? line.locate({c.x(), c.y()}) : line.locate({c.x(), c.y()}, before, reach);
+    if (!fresh) gained_[a] = ctx_->track->gained(before, p.at.s);
+    p.travelled += gained_[a];
+  }
+}
+
+double Env::trackReward(size_t a, bool* term) {
+  const TaskSpec& t = ctx_->task();
+  const drivers::TrackCourse& course = *ctx_->track;
+  TrackProgress& p = track_[a];
+  const Vec3 c = bodyPos(sim_->state().y, ctx_->agents[a].body);
+  const double beyond = course.beyondEdge({c.x(), c.y()}, p.at);
+  // a circuit's lap is its length travelled (from wherever the start was); a
+  // stage is done within a metre of its finish
+  constexpr double kFinishSlack = 1.0;  // m
+  const int laps = course.circuit() ? static_cast<int>(std::floor(p.travelled / course.finish()))
+                                    : (p.at.s >= course.finish() - kFinishSlack ? 1 : 0);
+  double r = t.reward.track_progress * gained_[a];
+  if (laps > p.laps) {
+    r += t.reward.lap * (laps - p.laps);
+    p.laps = laps;
+  }
+  if (beyond > 0.0) r -= t.reward.off_track;
+  if (t.off_track_end > 0.0 && beyond > t.off_track_end) *term = true;
+  if (t.laps > 0 && p.laps >= t.laps) *term = true;
+  return r;
 }
 
 void Env::setAction(const float* a) {
@@ -237,6 +294,7 @@ void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::
   ++steps_;
   const bool time_up = ctx_->max_steps > 0 && steps_ >= ctx_->max_steps;
   const Eigen::VectorXd& y = sim_->state().y;
+  if (ctx_->track) followTrack(false);
   bool all_done = true;
   for (size_t a = 0; a < n; ++a) {
     if (!active_[a]) {  // finished earlier: nothing to report
@@ -280,9 +338,11 @@ void Env::finishStep(float* obs, double* reward, std::uint8_t* terminated, std::
     if (w.collision != 0.0) r -= w.collision * bump_[a];
     r += w.alive;
     if (at_goal) r += w.goal;
+    bool track_end = false;
+    if (ctx_->track) r += trackReward(a, &track_end);
     if (!std::isfinite(r)) r = 0.0;
 
-    bool term = diverged_ || at_goal;
+    bool term = diverged_ || at_goal || track_end;
     if (t.max_tilt_deg > 0.0 && std::acos(up_z) > t.max_tilt_deg * kDeg) term = true;
     if (t.has_region && (c.x() < t.region_min[0] || c.x() > t.region_max[0] || c.y() < t.region_min[1] ||
                          c.y() > t.region_max[1]))
@@ -310,6 +370,7 @@ void Env::observe(float* obs) {
     // a finished agent's row keeps its last observation
     if (done_[a] && !active_[a]) continue;
     in.previous_action = previous_.data() + a * static_cast<size_t>(ctx_->layout.actionSize());
+    in.track = ctx_->track ? &track_[a].at : nullptr;
     readSensors(sensors_[a], *ctx_, static_cast<int>(a), sim_->model(), sim_->state(), sim_->workspace(), in,
                 feature_.data());
     for (size_t i = 0; i < o; ++i) last_obs_[a * o + i] = toFloat(feature_[i]);
@@ -350,6 +411,9 @@ EnvSnapshot Env::save() const {
   s.drawn = drawn_;
   s.ranges = rangesJson(ranges_).dump();
   s.observation = last_obs_;
+  if (ctx_->track)
+    for (const TrackProgress& p : track_)
+      s.track.insert(s.track.end(), {p.at.s, p.at.offset, p.travelled, static_cast<double>(p.laps)});
   return s;
 }
 
@@ -364,8 +428,9 @@ void Env::load(const EnvSnapshot& s, float* obs) {
     bad("its randomisation ranges do not fit this task: " + e.lines("; "));
   }
   const size_t nparams = ranges.parameters.size(), offsets = static_cast<size_t>(kDrawnPerAgent * agents());
-  if (s.drawn.size() != offsets + nparams)
-    bad(std::to_string(s.drawn.size()) + " drawn values, this task draws " + std::to_string(offsets + nparams));
+  const size_t ndrawn = offsets + nparams + (ranges.along_track ? 1 : 0);
+  if (s.drawn.size() != ndrawn)
+    bad(std::to_string(s.drawn.size()) + " drawn values, this task draws " + std::to_string(ndrawn));
   for (size_t i = 0; i < nparams; ++i) {
     const double v = s.drawn[offsets + i];
     if (!(v >= ranges.parameters[i].lo && v <= ranges.parameters[i].hi))
@@ -373,6 +438,11 @@ void Env::load(const EnvSnapshot& s, float* obs) {
   }
   if (s.previous_action.size() != action_.size()) bad("previous action of the wrong size");
   if (s.observation.size() != last_obs_.size()) bad("observation of the wrong size");
+  const size_t ntrack = ctx_->track ? kTrackValues * static_cast<size_t>(agents()) : 0;
+  if (s.track.size() != ntrack)
+    bad(std::to_string(s.track.size()) + " track progress values, this task keeps " + std::to_string(ntrack));
+  for (double v : s.track)
+    if (!std::isfinite(v)) bad("non-finite track progress");
   const size_t n = static_cast<size_t>(agents());
   if (s.returns.size() != n || s.done.size() != n || s.active.size() != n)
     bad("per-agent counters for " + std::to_string(s.returns.size()) + " agents, this task has " + std::to_string(n));
@@ -415,6 +485,12 @@ void Env::load(const EnvSnapshot& s, float* obs) {
   previous_ = s.previous_action;
   drawn_ = s.drawn;
   last_obs_ = s.observation;
+  for (size_t a = 0; a < track_.size() && !s.track.empty(); ++a) {
+    const double* v = s.track.data() + kTrackValues * a;
+    track_[a].at = {v[0], v[1]};
+    track_[a].travelled = v[2];
+    track_[a].laps = static_cast<int>(std::clamp(v[3], -1e6, 1e6));
+  }
   std::copy(last_obs_.begin(), last_obs_.end(), obs);
 }
 

@@ -11,6 +11,7 @@
 #include <optional>
 #include <vector>
 
+#include "drivers/track_course.hpp"
 #include "experiments/batch_env.hpp"
 #include "experiments/rng.hpp"
 #include "experiments/sensors.hpp"
@@ -44,6 +45,8 @@ struct TaskContext {
   std::vector<Agent> agents;        // the task's agents (one unless it lists `agents`)
   double control_dt = 0.0;          // s   control_period * dt
   std::int64_t max_steps = 0;       // actions per episode before truncation; 0 = none
+  // the scenario's race track, when the task reads it (TaskSpec::usesTrack)
+  std::shared_ptr<const drivers::TrackCourse> track;
 
   const scenario::TaskSpec& task() const { return *scenario.task; }
 };
@@ -69,6 +72,17 @@ inline constexpr int kDrawnY = 1;          // m
 inline constexpr int kDrawnYaw = 2;        // rad
 inline constexpr int kDrawnSpeed = 3;      // m/s
 inline constexpr int kDrawnPerAgent = 4;
+// then, when the task starts along its track (Randomization::along_track),
+// one more: the distance along it (m) that every agent's start moved
+
+// An agent's progress along the task's track this episode.
+struct TrackProgress {
+  drivers::TrackLine::Where at;  // where its body centre is on the line
+  double travelled = 0.0;        // m gained along the line since the episode began
+  int laps = 0;                  // laps completed and rewarded (a stage: 1 at its finish)
+};
+// Values of one agent's TrackProgress in a snapshot: s, offset, travelled, laps.
+inline constexpr int kTrackValues = 4;
 
 // One environment: its agents (one unless the task lists `agents`) act
 // together; each has an observation row, an action row, a reward and flags.
@@ -128,6 +142,15 @@ class Env {
   void applyActions();
   void observe(float* obs);
   void addBumps();
+  // Every agent located on the task's track (fresh: the whole line searched,
+  // at a reset; else near where it was), its progress updated.
+  void followTrack(bool fresh);
+  // Agent a's reward terms from the track for the last action; sets *term
+  // when its episode ends by them (off track beyond the limit, laps done).
+  double trackReward(size_t a, bool* term);
+  // Drawn offsets (and a distance along the track) applied to the start
+  // pose of agent a.
+  void placeAgent(int a, CarPlacement& at) const;
 
   std::shared_ptr<const TaskContext> ctx_;
   std::unique_ptr<Simulator> sim_;
@@ -146,6 +169,8 @@ class Env {
   std::vector<std::uint8_t> done_;  // per agent: terminated this episode
   std::vector<std::uint8_t> active_;  // per agent: took part in the last step (or episode just began)
   std::vector<Vec3> before_;        // per agent: chassis position when the current action was applied
+  std::vector<TrackProgress> track_;  // per agent, when the task reads its track
+  std::vector<double> gained_;      // per agent: m gained along the track by the last action
   bool diverged_ = false, needs_reset_ = false;
 };
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "drivers/track_course.hpp"
 #include "experiments/env.hpp"
 #include "physics/ground/ground.hpp"
 #include "physics/road_car/road_car.hpp"
@@ -106,6 +107,10 @@ std::vector<Sensor> resolveSensors(const TaskContext& ctx, int agent, const Mode
         for (int other = 0; other < static_cast<int>(ctx.agents.size()); ++other)
           if (other != agent) add(Kind::OtherAgent, 4, other);
         break;
+      case Feature::TrackAhead: add(Kind::TrackAhead, 2 * static_cast<int>(t.track_ahead.size())); break;
+      case Feature::TrackPose: add(Kind::TrackPose, 3); break;
+      case Feature::TrackCurvature: add(Kind::TrackCurvature, static_cast<int>(t.track_ahead.size())); break;
+      case Feature::NextGate: add(Kind::NextGate, 2); break;
     }
   }
   return out;
@@ -116,10 +121,12 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int
   const scenario::TaskSpec& t = ctx.task();
   const Eigen::VectorXd& y = st.y;
   const int b = ctx.agents[static_cast<size_t>(agent)].body;
-  // the frame every body-relative sensor shares
-  const Vec3 c = bodyPos(y, b);
-  const Mat3 R = bodyRotation(y, b);
-  const Vec3 v = bodyVel(y, b);
+  // the frame every body-relative sensor shares (the policy driver reads
+  // its car through the same view: drivers/track_course.hpp)
+  const drivers::BodyView car = drivers::viewBody(m, y, b);
+  const Vec3& c = car.c;
+  const Mat3& R = car.R;
+  const Vec3& v = car.v;
   const Vec3 fwd = R.col(0);
   const double fh = std::hypot(fwd.x(), fwd.y());
   // the heading: the forward axis on the ground plane (+x when it points straight up)
@@ -147,9 +154,9 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int
       case Kind::Zero: o[0] = 0.0; break;
       case Kind::Position: put3(s.slot, c); break;
       case Kind::Heading: o[0] = hc, o[1] = hs; break;
-      case Kind::UpBody: put3(s.slot, R.row(2).transpose()); break;  // R^T e_z
-      case Kind::VelocityBody: put3(s.slot, R.transpose() * v); break;
-      case Kind::AngularVelocityBody: put3(s.slot, R.transpose() * omegaWorld(m, y, b)); break;
+      case Kind::UpBody: drivers::upBody(car, o); break;
+      case Kind::VelocityBody: drivers::velocityBody(car, o); break;
+      case Kind::AngularVelocityBody: drivers::angularVelocityBody(car, o); break;
       case Kind::Speed: o[0] = v.norm(); break;
       case Kind::StateEntry: o[0] = y[s.index]; break;
       case Kind::WheelSpin: o[0] = wheelSpin(s.index); break;
@@ -172,6 +179,10 @@ void readSensors(const std::vector<Sensor>& sensors, const TaskContext& ctx, int
         o[0] = d.x(), o[1] = d.y(), o[2] = dv.x(), o[3] = dv.y();
         break;
       }
+      case Kind::TrackAhead: drivers::trackAhead(*ctx.track, *in.track, car, t.track_ahead, o); break;
+      case Kind::TrackPose: drivers::trackPose(*ctx.track, *in.track, car, o); break;
+      case Kind::TrackCurvature: drivers::trackCurvature(*ctx.track, *in.track, t.track_ahead, o); break;
+      case Kind::NextGate: drivers::nextGate(*ctx.track, *in.track, car, o); break;
     }
   }
 }

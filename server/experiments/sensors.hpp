@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "drivers/track_line.hpp"
 #include "physics/core/model.hpp"
 #include "physics/core/state.hpp"
 #include "physics/core/workspace.hpp"
@@ -40,6 +41,10 @@ struct Sensor {
     PreviousAction,  // 1  component `index` of the previous action
     Time,            // 1
     OtherAgent,      // 4  agent `index` relative to this one: position x, y and velocity x, y in the body frame
+    TrackAhead,      // 2t the task's track (drivers/track_course.hpp), from SensorInputs::track
+    TrackPose,       // 3
+    TrackCurvature,  // t
+    NextGate,        // 2
   };
   Kind kind = Kind::Zero;
   int slot = 0;          // first output component
@@ -61,6 +66,7 @@ struct SensorInputs {
   const float* previous_action = nullptr;
   double time = 0.0;      // s since the episode began
   bool fresh = false;     // no step taken yet this episode: contact and slip read 0
+  const drivers::TrackLine::Where* track = nullptr;  // the agent on the task's track (track features)
 };
 
 // Writes every sensor's components of agent `agent` into out (doubles;

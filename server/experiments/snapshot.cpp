@@ -212,6 +212,8 @@ std::string encodeSnapshot(const std::string& scenario_hash, const EnvSnapshot& 
   w.bytes(s.ranges);
   w.count(s.observation.size());
   for (float v : s.observation) w.f32(v);
+  w.count(s.track.size());
+  for (double v : s.track) w.f64(v);
   w.u64(fnv1a64(w.str().data(), w.str().size()));
   return std::move(w.str());
 }
@@ -278,6 +280,8 @@ EnvSnapshot decodeSnapshot(const std::string& bytes, const std::string& scenario
   s.ranges = r.bytes(kMaxRangesText, "randomisation ranges");
   s.observation.resize(r.count(4, "observation"));
   for (float& v : s.observation) v = r.f32();
+  s.track.resize(r.count(8, "track progress"));
+  for (double& v : s.track) v = r.f64();
   if (r.pos() != end) bad(std::to_string(end - r.pos()) + " unexpected bytes after the payload");
   return s;
 }

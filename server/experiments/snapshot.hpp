@@ -11,8 +11,9 @@
 //           finished and active flags per agent), the previous
 //           action, the drawn initial offsets and parameters, the ranges
 //           the next resets draw from (the task's `randomize` as JSON
-//           text: a curriculum may have changed them) and the last
-//           observation; doubles as their IEEE-754 bits, vectors and text
+//           text: a curriculum may have changed them), the last
+//           observation and the agents' progress along a task's track;
+//           doubles as their IEEE-754 bits, vectors and text
 //           as a u32 count then the elements
 //   check   u64      FNV-1a 64 of every byte before it
 //
@@ -30,7 +31,8 @@
 namespace groundsim::experiments {
 
 // 2: the ranges (a curriculum's) and the agents' counters travel with the env
-inline constexpr std::uint32_t kSnapshotVersion = 2;
+// 3: the agents' progress along a task's track (TrackProgress)
+inline constexpr std::uint32_t kSnapshotVersion = 3;
 
 struct EnvSnapshot {
   State state;
@@ -43,6 +45,7 @@ struct EnvSnapshot {
   std::vector<double> drawn;
   std::string ranges;               // JSON, the task's `randomize` schema
   std::vector<float> observation;
+  std::vector<double> track;        // per agent, a task on a track: kTrackValues values (env.hpp)
 };
 
 std::string encodeSnapshot(const std::string& scenario_hash, const EnvSnapshot& s);

@@ -72,6 +72,7 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
     for (const char* d : {"x", "y", "yaw", "speed"}) l.drawn.push_back(prefix + d);
   }
   for (const scenario::ParameterRange& p : t.randomize.parameters) l.drawn.push_back(p.path);
+  if (t.randomize.along_track) l.drawn.push_back("track_s");
   if (t.action == scenario::ActionKind::CarControls) {
     addAction(l, "throttle", 0.0f, 1.0f);
     addAction(l, "brake", 0.0f, 1.0f);
@@ -126,6 +127,22 @@ Layout makeLayout(const scenario::Scenario& s, const scenario::Scene& scene) {
         // the others in agent order, from each agent's own view: "the k-th other"
         for (size_t k = 1; k < t.agents.size(); ++k)
           for (const char* c : {"x", "y", "vx", "vy"}) add(l, name + "." + std::to_string(k - 1) + "." + c);
+        break;
+      case Feature::TrackAhead:
+        for (size_t k = 0; k < t.track_ahead.size(); ++k)
+          for (const char* c : {"x", "y"}) add(l, name + "." + std::to_string(k) + "." + c);
+        break;
+      case Feature::TrackPose:
+        add(l, name + ".offset");
+        add(l, name + ".sin", -1.0f, 1.0f);
+        add(l, name + ".cos", -1.0f, 1.0f);
+        break;
+      case Feature::TrackCurvature:
+        for (size_t k = 0; k < t.track_ahead.size(); ++k) add(l, name + "." + std::to_string(k));
+        break;
+      case Feature::NextGate:
+        add(l, name + ".x");
+        add(l, name + ".y");
         break;
     }
   }
@@ -254,6 +271,7 @@ std::shared_ptr<const TaskContext> makeTaskContext(scenario::Scenario s, const s
         a.road_car = static_cast<int>(c);
     ctx->agents.push_back(a);
   }
+  if (t.usesTrack()) ctx->track = std::make_shared<const drivers::TrackCourse>(*s.race);  // validated: s.race has a line
   ctx->control_dt = s.options.dt * t.control_period;
   ctx->max_steps = t.time_limit > 0.0 ? static_cast<std::int64_t>(std::ceil(t.time_limit / ctx->control_dt - 1e-9)) : 0;
   ctx->layout = makeLayout(s, ctx->scene);

@@ -98,6 +98,14 @@ RaceSpec readRace(ObjectReader r, int vehicles) {
   if (s.bots > vehicles)
     r.issue("bots", std::to_string(s.bots) + " bots for " + std::to_string(vehicles) +
                         " vehicles: a bot drives one of the scenario's vehicles (the last ones)");
+  if (r.has("bot_policy")) {
+    if (const auto name = r.requiredString("bot_policy")) s.bot_policy = *name;
+    if (s.bots == 0) r.issue("bot_policy", "names a driver for no bots (race.bots is 0)");
+  } else {
+    r.allow("bot_policy");
+  }
+  if (r.has("bot_skill")) s.bot_skill = r.number("bot_skill", def.bot_skill, Range::closed(0.2, 1.0));
+  else r.allow("bot_skill");
   if (!s.circuit && s.laps != 1) r.issue("laps", "a stage (\"circuit\": false) is driven once: laps must be 1, got " +
                                                      std::to_string(s.laps));
 

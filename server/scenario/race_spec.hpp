@@ -4,6 +4,8 @@
 #pragma once
 
 #include <array>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace groundsim::scenario {
@@ -37,6 +39,13 @@ struct RaceSpec {
   // (server/drivers, docs/drivers.md) in a session, through the players'
   // controls path and applied log
   int bots = 0;
+  // the bots' driver: a trained policy file (drivers/policy.hpp, named
+  // like a heightfield and sent with the scenario) instead of the
+  // classical one; its text is read with the scenario
+  std::string bot_policy;
+  std::shared_ptr<const std::string> bot_policy_text;
+  // the bots' difficulty in [0.2, 1]: their throttle is capped at it
+  double bot_skill = 1.0;
 };
 
 // Limits of the section (each refused above, naming its field).

@@ -13,6 +13,7 @@
 #include "scenario/presets.hpp"
 #include "scenario/scenario_error.hpp"
 #include "scenario/sections.hpp"
+#include "scenario/terrain_loader.hpp"
 
 namespace groundsim::scenario {
 namespace {
@@ -83,6 +84,38 @@ void placeOnGrid(const RaceSpec& race, std::vector<VehicleSpec>& vehicles) {
     p.position.y() = race.grid[k].position[1];
     p.yaw = race.grid[k].yaw;
   }
+}
+
+// The bots' policy file, read as a heightfield is (a client collecting the
+// files to send only notes its name); what it holds is checked where it is
+// used (drivers/policy.hpp), when a session gives it the wheel.
+void readBotPolicy(RaceSpec& race, const FileAccess& files, IssueList& issues) {
+  constexpr std::size_t kMaxPolicyBytes = 16u << 20;
+  if (race.bot_policy.empty()) return;
+  if (files.mode == FileAccess::Mode::Collect) {
+    if (files.collected) files.collected->push_back(race.bot_policy);
+    return;
+  }
+  try {
+    race.bot_policy_text = std::make_shared<const std::string>(loadFileBytes(files, race.bot_policy, kMaxPolicyBytes));
+  } catch (const TerrainError& e) {
+    issues.add("/race/bot_policy", e.what());
+  }
+}
+
+// A task that reads a race track needs one: a line to follow (the track's
+// centre line, or 2 gates or more) and, to tell off track, its width.
+void checkTaskTrack(const TaskSpec& t, const std::optional<RaceSpec>& race, IssueList& issues) {
+  if (!t.usesTrack()) return;
+  if (!race || (race->centerline.size() < 2 && race->gates.size() < 2)) {
+    issues.add("/task", "its track features, track rewards or track terminations need a race section with a track "
+                        "(race.track.centerline) or at least 2 gates");
+    return;
+  }
+  const bool width = t.reward.off_track != 0.0 || t.off_track_end > 0.0;
+  if (width && race->centerline.empty())
+    issues.add(t.off_track_end > 0.0 ? "/task/termination/off_track" : "/task/reward/off_track",
+               "needs the track's width: the race section has no track (race.track.half_width)");
 }
 
 }  // namespace
@@ -182,9 +215,11 @@ Scenario validate(Scenario s, const Budget& budget, const FileAccess& files) {
   if (top.has("race")) {
     s.race = readRace(top.object("race"), static_cast<int>(s.vehicles.size()));
     placeOnGrid(*s.race, s.vehicles);
+    readBotPolicy(*s.race, files, issues);
   } else {
     top.allow("race");
   }
+  if (s.task) checkTaskTrack(*s.task, s.race, issues);
   top.finish();
   issues.throwIfAny();
   checkBudget(s, budget);

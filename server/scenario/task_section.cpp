@@ -14,8 +14,16 @@ const std::vector<std::string>& featureNames() {
       "position",     "heading",       "up_body",    "velocity_body", "angular_velocity_body",
       "speed",        "wheel_spin",    "wheel_contact", "wheel_slip", "suspension_travel",
       "height_samples", "goal_body",   "goal_distance", "previous_action", "time",
-      "agents_body"};
+      "agents_body",  "track_ahead",   "track_pose", "track_curvature", "next_gate"};
   return names;
+}
+
+bool TaskSpec::usesTrack() const {
+  for (Feature f : observation)
+    if (f == Feature::TrackAhead || f == Feature::TrackPose || f == Feature::TrackCurvature || f == Feature::NextGate)
+      return true;
+  return reward.track_progress != 0.0 || reward.lap != 0.0 || reward.off_track != 0.0 || off_track_end > 0.0 ||
+         laps > 0 || randomize.along_track;
 }
 
 namespace {
@@ -162,12 +170,17 @@ void readReward(ObjectReader r, RewardWeights& w) {
   w.alive = r.number("alive", 0.0, any);
   w.goal = r.number("goal", 0.0, any);
   w.collision = r.number("collision", 0.0, any);
+  w.track_progress = r.number("track_progress", 0.0, any);
+  w.lap = r.number("lap", 0.0, any);
+  w.off_track = r.number("off_track", 0.0, any);
   r.finish();
 }
 
 void readTermination(ObjectReader r, TaskSpec& t) {
   t.max_tilt_deg = r.number("max_tilt_deg", 0.0, Range::closed(0.0, 180.0));
   t.goal_radius = r.number("goal_radius", 0.0, Range::nonNegative(1e6));
+  t.off_track_end = r.number("off_track", 0.0, Range::nonNegative(1e6));
+  t.laps = r.integer("laps", 0, 0, 1000);
   if (r.has("region")) {
     ObjectReader region = r.object("region");
     const auto lo = region.numbers("min", {}, Range::any(), 2, 2);
@@ -229,6 +242,15 @@ void readOffsets(ObjectReader& r, const Randomization& current, Randomization& o
   out.y = range("y", Range::closed(-1e4, 1e4), current.y);
   out.yaw_deg = range("yaw_deg", Range::closed(-360.0, 360.0), current.yaw_deg);
   out.speed = range("speed", Range::closed(-1e3, 1e3), current.speed);
+  // a curriculum may change the range along the track of a task that has one
+  if (r.has("track_s") && curriculum && !current.along_track)
+    r.issue("track_s", "this task does not start along a track (its own randomize has no track_s)");
+  else if (r.has("track_s")) {
+    out.along_track = true;
+    out.track_s = interval(r, "track_s", Range::closed(-1e6, 1e6));
+  } else {
+    r.allow("track_s");
+  }
 }
 
 void readRandomize(ObjectReader r, TaskSpec& t) {
@@ -250,6 +272,11 @@ TaskSpec readTask(ObjectReader r, const std::vector<VehicleSpec>& vehicles) {
   const VehicleSpec* v = t.vehicle >= 0 ? &vehicles[static_cast<size_t>(t.vehicle)] : nullptr;
   readObservation(r, t, v);
   readHeightSamples(r.object("height_samples"), t);
+  {
+    ObjectReader track = r.object("track");
+    t.track_ahead = track.numbers("ahead", t.track_ahead, Range::closed(-1e4, 1e4), 1, kMaxTrackAhead);
+    track.finish();
+  }
   readAction(r.object("action"), t, v);
   t.control_period = r.integer("control_period", 1, 1, 100000);
   t.time_limit = r.number("time_limit", 0.0, Range::nonNegative(1e6));

@@ -32,6 +32,12 @@ enum class Feature {
   Time,                 // 1  time since the episode started (s)
   AgentsBody,           // 4(A-1) each other agent's position (x, y) and velocity (x, y) relative to
                         //    this one, in its body frame (m, m/s); A = number of agents
+  // the scenario's race track (drivers/track_course.hpp): the centre line
+  // a driver follows, located from the car's body centre
+  TrackAhead,           // 2t the line's point at each `track.ahead` distance past the car, body frame (m)
+  TrackPose,            // 3  offset from the line (m, + = left), sin and cos of the heading error
+  TrackCurvature,       // t  the line's curvature at each `track.ahead` distance (1/m, + = left)
+  NextGate,             // 2  the centre of the next gate along the line, body frame (m)
 };
 
 // Feature names as written in a task, in enum order.
@@ -56,6 +62,11 @@ struct Randomization {
   std::array<double, 2> yaw_deg{0.0, 0.0};           // deg
   std::array<double, 2> speed{0.0, 0.0};             // m/s
   std::vector<ParameterRange> parameters;
+  // a task on a race track may start anywhere along it: the agents' start
+  // poses are moved by a distance drawn from track_s along the line (x and
+  // y are then offsets along it and to its left)
+  bool along_track = false;
+  std::array<double, 2> track_s{0.0, 0.0};           // m
 };
 
 struct RewardWeights {
@@ -68,6 +79,9 @@ struct RewardWeights {
   double alive = 0.0;               // +1 per action
   double goal = 0.0;                // +1 on the action that reaches the goal
   double collision = 0.0;           // -(velocity change from hits with other bodies and objects, m/s)
+  double track_progress = 0.0;      // per metre gained along the race track's line
+  double lap = 0.0;                 // +1 on the action that completes a lap (a stage: reaches its finish)
+  double off_track = 0.0;           // -1 per action ending off the track (farther than its half width)
 };
 
 struct TaskSpec {
@@ -91,7 +105,13 @@ struct TaskSpec {
   bool has_region = false;          // terminate when the body centre leaves [min, max] (x, y)
   std::array<double, 2> region_min{0.0, 0.0}, region_max{0.0, 0.0};
   double goal_radius = 0.0;         // terminate within this distance of the goal; 0 = never
+  double off_track_end = 0.0;       // m  terminate this far beyond the track's edge; 0 = never
+  int laps = 0;                     // terminate after this many laps (a stage: at its finish); 0 = never
+  std::vector<double> track_ahead{5.0, 10.0, 20.0, 40.0};  // m  distances of track_ahead, track_curvature
   Randomization randomize;
+
+  // Whether any feature, reward or termination reads the race track.
+  bool usesTrack() const;
 };
 
 // A curriculum's `randomize` object (the task's schema, every key
@@ -105,5 +125,6 @@ Randomization readCurriculum(nlohmann::json randomize, const Randomization& curr
 inline constexpr int kMaxTaskParameters = 64;
 inline constexpr int kMaxAgents = 16;
 inline constexpr int kMaxHeightSamples = 1024;
+inline constexpr int kMaxTrackAhead = 64;
 
 }  // namespace groundsim::scenario

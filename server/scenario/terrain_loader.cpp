@@ -118,6 +118,19 @@ Grid loadGrid(const FileAccess& access, const std::string& name, std::size_t max
   return readGridFile(resolveTerrainPath(access, name), max_samples);
 }
 
+std::string loadFileBytes(const FileAccess& access, const std::string& name, std::size_t max_bytes) {
+  if (access.mode == FileAccess::Mode::Assets && access.assets) {
+    const auto it = access.assets->find(name);
+    if (it != access.assets->end() && it->second) {
+      if (it->second->size() > max_bytes)
+        throw TerrainError(quoted(name) + ": " + countText(it->second->size()) + " bytes, more than the limit of " +
+                           countText(max_bytes));
+      return *it->second;
+    }
+  }
+  return readFileBytes(resolveTerrainPath(access, name), max_bytes);
+}
+
 std::string readFileBytes(const fs::path& path, std::size_t max_bytes) {
   const std::string who = quoted(path.filename().string());
   std::error_code ec;

@@ -59,6 +59,9 @@ Grid readCsv(const std::filesystem::path& path, std::size_t max_samples = kMaxTe
 Grid readGridBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
 Grid readPngBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
 Grid readCsvBytes(const std::string& name, const std::string& bytes, std::size_t max_samples = kMaxTerrainSamples);
+// The bytes of the file a scenario names `name`, wherever `access` finds
+// it (as loadGrid), refused when larger than max_bytes.
+std::string loadFileBytes(const FileAccess& access, const std::string& name, std::size_t max_bytes);
 // A whole file, refused unread when larger than max_bytes.
 std::string readFileBytes(const std::filesystem::path& path, std::size_t max_bytes);
 

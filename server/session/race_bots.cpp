@@ -4,26 +4,70 @@
 #include <cmath>
 
 #include "drivers/lap_run.hpp"
+#include "drivers/policy_driver.hpp"
+#include "scenario/scenario_error.hpp"
 
 namespace groundsim::session {
+namespace {
 
-RaceBots::RaceBots(const scenario::RaceSpec& race, const Model& m)
-    : line_(drivers::racingLine(race), race.circuit, 1.0),
-      profile_(line_, drivers::CarLimits{}, drivers::frictionAlong(m, line_)),
-      period_(std::max<std::int64_t>(1, std::llround(kControlPeriod / m.opt.dt))) {}
+// The classical driver on one road car, sensing it as lap_run does.
+class ClassicalBot : public drivers::Driver {
+ public:
+  ClassicalBot(const drivers::TrackLine& line, const drivers::SpeedProfile& profile, const Model& m, int road_car)
+      : driver_(line, profile, drivers::carGeometry(m, road_car)), road_car_(road_car) {}
+  drivers::Pedals drive(const Model& m, const State& s) override {
+    return driver_.drive(drivers::senseCar(m, s, road_car_));
+  }
+  void relocate() override { driver_.relocate(); }
+
+ private:
+  drivers::ClassicalDriver driver_;
+  int road_car_ = 0;
+};
+
+std::shared_ptr<const drivers::Policy> loadPolicy(const scenario::RaceSpec& race) {
+  try {
+    if (!race.bot_policy_text) throw drivers::PolicyError("the file was not read with the scenario");
+    return std::make_shared<const drivers::Policy>(drivers::Policy::parse(*race.bot_policy_text));
+  } catch (const drivers::PolicyError& e) {
+    throw scenario::ScenarioError({scenario::Issue{"/race/bot_policy", e.what()}});
+  }
+}
+
+}  // namespace
 
 std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const Model& m,
                                          const std::vector<int>& road_car) {
   if (race.bots <= 0) return nullptr;
-  std::unique_ptr<RaceBots> b(new RaceBots(race, m));
+  std::unique_ptr<RaceBots> b(new RaceBots());
+  b->skill_ = race.bot_skill;
+  std::shared_ptr<const drivers::Policy> policy;
+  std::shared_ptr<const drivers::TrackCourse> course;
+  if (!race.bot_policy.empty()) {
+    policy = loadPolicy(race);
+    course = std::make_shared<const drivers::TrackCourse>(race);
+    b->period_ = std::max<std::int64_t>(1, std::llround(policy->controlPeriod() * policy->dt() / m.opt.dt));
+  } else {
+    b->line_ = std::make_unique<drivers::TrackLine>(drivers::racingLine(race), race.circuit, 1.0);
+    b->profile_ = std::make_unique<drivers::SpeedProfile>(*b->line_, drivers::CarLimits{},
+                                                          drivers::frictionAlong(m, *b->line_));
+    b->period_ = std::max<std::int64_t>(1, std::llround(kControlPeriod / m.opt.dt));
+  }
   const int n = static_cast<int>(road_car.size());
   for (int v = std::max(0, n - race.bots); v < n; ++v) {
-    if (road_car[static_cast<size_t>(v)] < 0) continue;
+    const int rc = road_car[static_cast<size_t>(v)];
+    if (rc < 0) continue;
     Bot bot;
     bot.vehicle = v;
-    bot.road_car = road_car[static_cast<size_t>(v)];
-    bot.driver = std::make_unique<drivers::ClassicalDriver>(b->line_, b->profile_,
-                                                            drivers::carGeometry(m, bot.road_car));
+    try {
+      if (policy)
+        bot.driver = std::make_unique<drivers::PolicyDriver>(policy, course, m.road_cars[static_cast<size_t>(rc)].body,
+                                                             race.bot_skill);
+      else
+        bot.driver = std::make_unique<ClassicalBot>(*b->line_, *b->profile_, m, rc);
+    } catch (const drivers::PolicyError& e) {
+      throw scenario::ScenarioError({scenario::Issue{"/race/bot_policy", e.what()}});
+    }
     b->bots_.push_back(std::move(bot));
   }
   if (b->bots_.empty()) return nullptr;
@@ -33,13 +77,13 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
 const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s) {
   commands_.resize(bots_.size());  // sized once: no allocation in the step loop
   for (size_t k = 0; k < bots_.size(); ++k) {
-    const drivers::Pedals p = bots_[k].driver->drive(drivers::senseCar(m, s, bots_[k].road_car));
+    const drivers::Pedals p = bots_[k].driver->drive(m, s);
     Command& c = commands_[k];
     c.vehicle = bots_[k].vehicle;
     c.controls = CarControls{};
-    c.controls.throttle = p.throttle;
-    c.controls.brake = p.brake;
-    c.controls.steer = p.steer;
+    c.controls.throttle = static_cast<float>(std::min(p.throttle, skill_));  // the skill caps the throttle
+    c.controls.brake = static_cast<float>(p.brake);
+    c.controls.steer = static_cast<float>(p.steer);
   }
   return commands_;
 }

@@ -1,16 +1,17 @@
 // Computer drivers in a race session (issue 39, docs/drivers.md): the
-// classical driver at the wheel of the race's last `bots` road cars. Every
-// control period each bot's command goes through Session::apply as a
-// player's would (the same clamping, controls timeout and applied log), so
-// a race with bots re-simulates bit for bit from its log without them, and
-// a standby that resumes the session replays their commands as logged.
+// classical driver, or a trained policy (race.bot_policy), at the wheel of
+// the race's last `bots` road cars. Every control period each bot's
+// command goes through Session::apply as a player's would (the same
+// clamping, controls timeout and applied log), so a race with bots
+// re-simulates bit for bit from its log without them, and a standby that
+// resumes the session replays their commands as logged.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-#include "drivers/classical_driver.hpp"
+#include "drivers/driver.hpp"
 #include "drivers/track_line.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/race_spec.hpp"
@@ -19,10 +20,12 @@ namespace groundsim::session {
 
 class RaceBots {
  public:
-  static constexpr double kControlPeriod = 0.02;  // s: 50 commands a second
+  static constexpr double kControlPeriod = 0.02;  // s: the classical driver's 50 commands a second
 
   // Null when the race has no bots. `road_car[v]`: vehicle v's index among
-  // the model's road cars (-1: not a road car, never a bot).
+  // the model's road cars (-1: not a road car, never a bot). Throws
+  // scenario::ScenarioError at /race/bot_policy when the policy file is
+  // not one a bot can drive with.
   static std::unique_ptr<RaceBots> make(const scenario::RaceSpec& race, const Model& m,
                                         const std::vector<int>& road_car);
 
@@ -30,7 +33,8 @@ class RaceBots {
     int vehicle = 0;
     CarControls controls;
   };
-  // Whether the bots act before step `tick` (one in every control period).
+  // Whether the bots act before step `tick` (one in every control period:
+  // the classical driver's, or the policy's own from its training).
   bool due(std::int64_t tick) const { return tick % period_ == 0; }
   // Each bot's command from its car's state (valid until the next call).
   const std::vector<Command>& drive(const Model& m, const State& s);
@@ -43,16 +47,18 @@ class RaceBots {
   RaceBots& operator=(const RaceBots&) = delete;
 
  private:
-  RaceBots(const scenario::RaceSpec& race, const Model& m);
+  RaceBots() = default;
   struct Bot {
-    int vehicle = 0, road_car = 0;
-    std::unique_ptr<drivers::ClassicalDriver> driver;
+    int vehicle = 0;
+    std::unique_ptr<drivers::Driver> driver;
   };
-  drivers::TrackLine line_;          // the drivers hold references to these two
-  drivers::SpeedProfile profile_;
+  // what the classical drivers share (they hold references)
+  std::unique_ptr<drivers::TrackLine> line_;
+  std::unique_ptr<drivers::SpeedProfile> profile_;
   std::vector<Bot> bots_;
   std::vector<Command> commands_;
   std::int64_t period_ = 1;
+  double skill_ = 1.0;
 };
 
 }  // namespace groundsim::session

@@ -41,6 +41,10 @@ Grid loadGrid(const FileAccess&, const std::string& name, std::size_t) {
   throw TerrainError(name + ": the page's predictor reads no files (grids inline only)");
 }
 
+std::string loadFileBytes(const FileAccess&, const std::string& name, std::size_t) {
+  throw TerrainError(name + ": the page's predictor reads no files");
+}
+
 // the manifest only lists files the server checks; the page reads none
 std::vector<AssetRef> readAssetManifest(const nlohmann::json&, IssueList&) { return {}; }
 
