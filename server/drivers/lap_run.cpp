@@ -52,14 +52,26 @@ LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& s
   if (!scenario.race) throw std::invalid_argument("runClassical: the scenario has no race section");
   const Model& m = *scene.built.model;
   if (m.road_cars.empty()) throw std::invalid_argument("runClassical: the scenario has no road car");
-  // 1. the line, its friction and speed profile, the driver
   const scenario::RaceSpec& spec = *scenario.race;
   const TrackLine line(racingLine(spec), spec.circuit, 1.0);
   const SpeedProfile profile(line, setup.limits, frictionAlong(m, line));
-  ClassicalDriver driver(line, profile, carGeometry(m, 0), setup.tuning);
-  LapRun run;
+  ClassicalBot driver(line, profile, m, 0, setup.tuning);
+  LapRun run = runDriver(scenario, scene, driver, setup.control_period, setup.time_limit);
   run.profile_lap = profile.lapTime();
+  return run;
+}
+
+LapRun runDriver(const scenario::Scenario& scenario, const scenario::Scene& scene, Driver& driver,
+                 double control_period, double time_limit) {
+  if (!scenario.race) throw std::invalid_argument("runDriver: the scenario has no race section");
+  const Model& m = *scene.built.model;
+  if (m.road_cars.empty()) throw std::invalid_argument("runDriver: the scenario has no road car");
+  // 1. the line the offset is measured from
+  const scenario::RaceSpec& spec = *scenario.race;
+  const TrackLine line(racingLine(spec), spec.circuit, 1.0);
+  LapRun run;
   run.line_length = line.length();
+  double s = -1.0;
   // 2. the race, the other cars braked where they stand
   Simulator sim(scene.built.model, scene.built.initial);
   race::Race race(spec, static_cast<int>(m.road_cars.size()));
@@ -67,20 +79,23 @@ LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& s
   parked.brake = 1.0;
   for (size_t k = 0; k < m.road_cars.size(); ++k) sim.setCarControls(static_cast<int>(k), parked);
   const double dt = m.opt.dt;
-  const long long per_control = std::max(1LL, std::llround(setup.control_period / dt));
-  const long long last = std::llround((race.goTime() + setup.time_limit) / dt);
+  const long long per_control = std::max(1LL, std::llround(control_period / dt));
+  const long long last = std::llround((race.goTime() + time_limit) / dt);
   // 3. step: the driver acts every control period once the race is on
   std::vector<race::Vec2> before, after;
   for (long long k = 0; k < last && run.race_time == 0.0; ++k) {
     const double t0 = sim.state().t;
     if (k % per_control == 0 && !race.held(t0)) {
-      const Pedals p = driver.drive(senseCar(m, sim.state(), 0));
+      const Pedals p = driver.drive(m, sim.state());
       CarControls c;
       c.throttle = p.throttle;
       c.brake = p.brake;
       c.steer = p.steer;
       sim.setCarControls(0, c);
-      if (race.standing(0).started) run.worst_offset = std::max(run.worst_offset, std::abs(driver.offset()));
+      const Vec3 at = bodyPos(sim.state().y, m.road_cars[0].body);
+      const TrackLine::Where w = line.locate({at.x(), at.y()}, s);
+      s = w.s;
+      if (race.standing(0).started) run.worst_offset = std::max(run.worst_offset, std::abs(w.offset));
     }
     positions(m, sim.state(), before);
     if (!sim.step()) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "drivers/classical_driver.hpp"
+#include "drivers/driver.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
@@ -16,6 +17,21 @@ CarSense senseCar(const Model& m, const State& s, int car);
 
 // The driver's car as the model has it: wheelbase and steering lock.
 CarGeometry carGeometry(const Model& m, int car);
+
+// The classical driver at the wheel of road car `road_car`, sensing it with
+// senseCar (a session's bots, runClassical).
+class ClassicalBot : public Driver {
+ public:
+  ClassicalBot(const TrackLine& line, const SpeedProfile& profile, const Model& m, int road_car,
+               const DriverTuning& tuning = {})
+      : driver_(line, profile, carGeometry(m, road_car), tuning), road_car_(road_car) {}
+  Pedals drive(const Model& m, const State& s) override { return driver_.drive(senseCar(m, s, road_car_)); }
+  void relocate() override { driver_.relocate(); }
+
+ private:
+  ClassicalDriver driver_;
+  int road_car_ = 0;
+};
 
 // Friction along the line: the ground's mu at each sample (its patches and
 // friction map, else the scene's contact.friction).
@@ -43,5 +59,10 @@ struct LapSetup {
 // the classical driver until it finishes or time_limit passes; the other
 // vehicles stand braked on the grid.
 LapRun runClassical(const scenario::Scenario& scenario, const scenario::Scene& scene, const LapSetup& setup);
+
+// The same with any driver of vehicle 0, acting every `control_period` s
+// (worst_offset measured from the race's driving line, profile_lap 0).
+LapRun runDriver(const scenario::Scenario& scenario, const scenario::Scene& scene, Driver& driver,
+                 double control_period, double time_limit);
 
 }  // namespace groundsim::drivers

@@ -10,21 +10,6 @@
 namespace groundsim::session {
 namespace {
 
-// The classical driver on one road car, sensing it as lap_run does.
-class ClassicalBot : public drivers::Driver {
- public:
-  ClassicalBot(const drivers::TrackLine& line, const drivers::SpeedProfile& profile, const Model& m, int road_car)
-      : driver_(line, profile, drivers::carGeometry(m, road_car)), road_car_(road_car) {}
-  drivers::Pedals drive(const Model& m, const State& s) override {
-    return driver_.drive(drivers::senseCar(m, s, road_car_));
-  }
-  void relocate() override { driver_.relocate(); }
-
- private:
-  drivers::ClassicalDriver driver_;
-  int road_car_ = 0;
-};
-
 std::shared_ptr<const drivers::Policy> loadPolicy(const scenario::RaceSpec& race) {
   try {
     if (!race.bot_policy_text) throw drivers::PolicyError("the file was not read with the scenario");
@@ -64,7 +49,7 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
         bot.driver = std::make_unique<drivers::PolicyDriver>(policy, course, m.road_cars[static_cast<size_t>(rc)].body,
                                                              race.bot_skill);
       else
-        bot.driver = std::make_unique<ClassicalBot>(*b->line_, *b->profile_, m, rc);
+        bot.driver = std::make_unique<drivers::ClassicalBot>(*b->line_, *b->profile_, m, rc);
     } catch (const drivers::PolicyError& e) {
       throw scenario::ScenarioError({scenario::Issue{"/race/bot_policy", e.what()}});
     }

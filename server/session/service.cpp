@@ -310,6 +310,7 @@ void SessionService::build(const Request& r) {
     setup.token = newToken();
     setup.name = sc.name;
     setup.scenario_json = scenario_json;
+    if (sc.race) setup.bot_policy = sc.race->bot_policy_text;
     setup.live_estimate = std::move(live);
     setup.refinement = refinement;
     setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
@@ -666,6 +667,7 @@ std::string SessionService::adopt(const Replica& scenario, const Replica& snapsh
       setup.token = meta.at("token").get<std::string>();
       setup.name = sc.name;
       setup.scenario_json = scenario.data;
+      if (sc.race) setup.bot_policy = sc.race->bot_policy_text;
       setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh) ? scene.vehicle_names
                                                                                    : scene.built.model->vehicle_names;
       setup.duration = meta.value("duration", scene.duration);

@@ -55,7 +55,9 @@ Session::Session(SessionSetup setup, std::shared_ptr<const Model> model, State i
   if (race_) {
     std::vector<int> road_car;
     for (const VehicleWheels& v : vehicles_) road_car.push_back(v.road_car);
-    bots_ = RaceBots::make(race_->race.spec(), m, road_car);
+    scenario::RaceSpec spec = race_->race.spec();
+    spec.bot_policy_text = setup_.bot_policy;  // read with the scenario, where its files are
+    bots_ = RaceBots::make(spec, m, road_car);
   }
   updateInfo(now);
 }

@@ -47,6 +47,9 @@ struct SessionSetup {
   // The files its scenario named (sent with the create), kept with the
   // session: they stay in the server's asset store while it runs.
   std::shared_ptr<const scenario::AssetBytes> assets;
+  // The text of the race's bot policy file (race.bot_policy), as the
+  // scenario's parse read it (null: none, or the classical driver).
+  std::shared_ptr<const std::string> bot_policy;
   // A scenario with a tolerance (docs/accuracy.md): the live error estimate
   // the session steps beside its simulation (null otherwise), and the
   // tolerance and refinement it is watched with (accuracy/refinement.hpp:

@@ -293,8 +293,13 @@ namespace {
 // from the owner's newest snapshot and the applied entries after it, both
 // in real time on one manual clock.
 struct FailoverRig {
-  FailoverRig(const char* doc, std::vector<std::string> names, double duration)
-      : scene(scenario::buildScene(scenario::parseScenario(std::string(doc)))) {
+  // `assets`: the files the document names, sent with it (a bot policy)
+  FailoverRig(const char* doc, std::vector<std::string> names, double duration,
+              std::shared_ptr<const scenario::AssetBytes> assets = nullptr)
+      : scenario(scenario::parseScenario(nlohmann::json::parse(doc), scenario::Budget{},
+                                         assets ? scenario::FileAccess::fromAssets(assets) : scenario::FileAccess::none())),
+        scene(scenario::buildScene(scenario)) {
+    if (scenario.race) setup.bot_policy = scenario.race->bot_policy_text;  // as the service does
     cfg.replica_interval = 0.2;  // a snapshot every 50 ticks
     setup.id = "0000FAIL";
     setup.token = "t";
@@ -340,6 +345,7 @@ struct FailoverRig {
       standby->run(clock.now());
     }
   }
+  scenario::Scenario scenario;
   scenario::Scene scene;
   ServiceConfig cfg;
   ManualClock clock;
@@ -455,6 +461,76 @@ TEST(RaceSession, ABotDrivesTheLastCarThroughThePlayersPath) {
   EXPECT_EQ(sfin[0]["race_time"].get<double>(), fin[0]["race_time"].get<double>());
   std::printf("the bot finished the stage in %.6f s (on the standby: %.6f s); %d commands logged by then\n",
               fin[0]["race_time"].get<double>(), sfin[0]["race_time"].get<double>(), bot_entries);
+}
+
+// A trained driver at the wheel (race.bot_policy): the policy file travels
+// with the scenario as an asset, the bot senses its car as the task did
+// and drives through the players' path. The policy here is written down,
+// not trained: one linear layer steering towards the track's point 10 m
+// ahead (steer = 0.15 y of that point in the body frame, throttle half,
+// no brake) -- pure pursuit in the policy file's own terms. It finishes
+// the stage, acting every 40 ms (its control period of 10 steps of 4 ms),
+// and a standby resumes it to the same bit.
+TEST(RaceSession, ATrainedBotsPolicyFileDrivesThroughThePlayersPath) {
+  const nlohmann::json policy = {
+      {"format", "groundsim.policy"}, {"version", 1}, {"task", "pursuit"}, {"observation", {"track_ahead"}},
+      {"track_ahead", {10.0}}, {"control_period", 10}, {"dt", 0.004},
+      {"normalise", {{"mean", {0.0, 0.0}}, {"var", {1.0, 1.0}}, {"clip", 100.0}}},
+      {"layers", {{{"weight", {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.15}}}, {"bias", {0.0, -1.0, 0.0}}, {"activation", "none"}}}},
+      {"action_low", {0.0, 0.0, -1.0}}, {"action_high", {1.0, 1.0, 1.0}}};
+  auto assets = std::make_shared<scenario::AssetBytes>();
+  (*assets)["pursuit.json"] = std::make_shared<const std::string>(policy.dump());
+  const char* doc = R"({"name": "trained bots", "duration": 60, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "player", "kind": "road_car"}, {"name": "bot", "kind": "road_car"}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1, "bots": 1, "bot_policy": "pursuit.json",
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [60, 10], "width": 14, "heading_deg": 30},
+                       {"center": [120, 30], "width": 14, "heading_deg": 0}, {"center": [180, 20], "width": 14, "heading_deg": -20}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  FailoverRig rig(doc, {"player", "bot"}, 60, assets);
+  ASSERT_TRUE(rig.setup.bot_policy);
+  rig.runOwnerUntil([&] { return !raceEvents(rig.owner_out, "gate", 1).empty(); });
+  ASSERT_EQ(raceEvents(rig.owner_out, "start", 1).size(), 1u) << "the bot never crossed the start line";
+  int bot_entries = 0;
+  for (const Applied& a : rig.owner_out.applied)
+    if (a.kind == AppliedKind::Controls && a.vehicle == 1) ++bot_entries;
+  EXPECT_NEAR(bot_entries, rig.owner_out.frames.back().t / 0.04, 2.0);
+  ASSERT_EQ(rig.failOver(), "");
+  rig.runBothUntil([&] { return !raceEvents(rig.standby_out, "finish", 1).empty(); });
+  const auto fin = raceEvents(rig.owner_out, "finish", 1), sfin = raceEvents(rig.standby_out, "finish", 1);
+  ASSERT_EQ(fin.size(), 1u) << "the trained bot did not finish the stage";
+  ASSERT_EQ(sfin.size(), 1u);
+  EXPECT_EQ(sfin[0]["race_time"].get<double>(), fin[0]["race_time"].get<double>());
+  std::printf("the policy bot finished the stage in %.6f s (on the standby: %.6f s)\n",
+              fin[0]["race_time"].get<double>(), sfin[0]["race_time"].get<double>());
+}
+
+// A policy file a bot cannot drive with is refused when the session is
+// made, at /race/bot_policy, naming what is wrong.
+TEST(RaceSession, APolicyFileABotCannotUseIsRefusedAtItsField) {
+  auto assets = std::make_shared<scenario::AssetBytes>();
+  (*assets)["bad.json"] = std::make_shared<const std::string>(R"({"format": "groundsim.policy", "version": 1})");
+  const char* doc = R"({"name": "bad bots", "duration": 5, "physics": {"dt": 0.004}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "player", "kind": "road_car"}, {"name": "bot", "kind": "road_car"}],
+    "race": {"bots": 1, "bot_policy": "bad.json",
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [60, 0], "width": 14, "heading_deg": 0}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  try {
+    FailoverRig rig(doc, {"player", "bot"}, 5, assets);
+    FAIL() << "a session was made with a policy file that has no layers";
+  } catch (const scenario::ScenarioError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/race/bot_policy"), std::string::npos) << what;
+    EXPECT_NE(what.find("task: missing"), std::string::npos) << what;
+    std::printf("refused: %s\n", what.c_str());
+  }
+  // and a policy named but not sent: refused when the scenario is read
+  try {
+    FailoverRig rig(doc, {"player", "bot"}, 5, std::make_shared<scenario::AssetBytes>());
+    FAIL() << "a policy file that was not sent was accepted";
+  } catch (const scenario::ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("/race/bot_policy"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
