@@ -12,6 +12,7 @@
 #include "protocol/limits.hpp"
 #include "protocol/names.hpp"
 #include "protocol/text.hpp"
+#include "scenario/bots_override.hpp"
 #include "scenario/presets.hpp"
 #include "scenario/scenario.hpp"
 
@@ -69,11 +70,18 @@ void addCreateOptions(CLI::App* cmd, CreateOptions& o, bool positional) {
   cmd->add_option("--preset", o.preset, "speed/accuracy preset (" + presetList() + "), as `groundsim run --preset`")
       ->check(CLI::IsMember(scenario::presetNames()));
   cmd->add_option("--set", o.overrides, "override a scenario value, e.g. --set vehicle.placement.speed=2");
+  cmd->add_option("--bots", o.bots, "a race: this many computer drivers, in cars of their own after the players'")
+      ->check(CLI::Range(0, 64));
+  cmd->add_option("--bot-skill", o.bot_skill, "a race: the bots' skill in [0.2, 1] (their throttle's cap)")
+      ->check(CLI::Range(0.2, 1.0));
+  cmd->add_option("--bot-policy", o.bot_policy,
+                  "a race: the bots drive this trained policy file (examples/export_policy.py) instead of the "
+                  "classical driver; sent with the scenario");
 }
 
 CreateRequest createRequest(const CreateOptions& o) {
   std::string text = readFile(o.file);
-  if (!o.overrides.empty() || !o.preset.empty()) {
+  if (!o.overrides.empty() || !o.preset.empty() || o.changesBots()) {
     // local changes need a parseable document; the server reports anything else
     if (nestingDepth(text) > kMaxLocalDepth)
       fail(kExitRefused, net::quoted(o.file) + ": nested deeper than " + std::to_string(kMaxLocalDepth) +
@@ -88,6 +96,17 @@ CreateRequest createRequest(const CreateOptions& o) {
         scenario::applyPreset(doc, /*force=*/true);
       }
       for (const auto& a : o.overrides) scenario::applyOverride(doc, a);
+      if (o.changesBots()) {
+        scenario::BotsChoice bots;
+        const nlohmann::json* race = doc.contains("race") ? &doc["race"] : nullptr;
+        bots.count = o.bots >= 0 ? o.bots
+                     : race && race->is_object() && race->value("bots", 0) > 0 ? (*race)["bots"].get<int>()
+                                                                               : 0;
+        if (o.bot_skill > 0.0) bots.skill = o.bot_skill;
+        // named as its path from here: the scenario's files are found next to it, this one where it is
+        if (!o.bot_policy.empty()) bots.policy = std::filesystem::absolute(o.bot_policy).string();
+        scenario::setBots(doc, bots);
+      }
     } catch (const scenario::ScenarioError& e) {
       fail(kExitRefused, e.what());
     }

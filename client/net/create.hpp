@@ -19,6 +19,11 @@ struct CreateOptions {
   std::string file, mode = "realtime", preset;
   double rate = 1.0, publish_rate = 0.0, duration = 0.0;
   std::vector<std::string> overrides;
+  // a race's computer drivers (docs/drivers.md): -1 keeps the scenario's
+  int bots = -1;
+  double bot_skill = 0.0;          // 0: the scenario's
+  std::string bot_policy;          // a trained driver's policy file ("": the scenario's)
+  bool changesBots() const { return bots >= 0 || bot_skill > 0.0 || !bot_policy.empty(); }
 };
 
 // SCENARIO is positional when `positional`, else the option --create (and

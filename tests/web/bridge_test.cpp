@@ -64,6 +64,10 @@ TEST(BrowserMessage, RefusalsNameTheField) {
   EXPECT_EQ(refusal(R"({"op":"join","session":"ABCDEF12","role":"admin"})").field, "/role");
   EXPECT_EQ(refusal(R"({"op":"create","config":"../../etc/passwd.json"})").field, "/config");
   EXPECT_EQ(refusal(R"({"op":"create","config":"plain.json","vehicles":100})").field, "/vehicles");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"race/circuit.json","bots":8})").field, "/bots");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"race/circuit.json","bots":-2})").field, "/bots");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"race/circuit.json","bot_skill":0.1})").field, "/bot_skill");
+  EXPECT_EQ(refusal(R"({"op":"create","config":"race/circuit.json","bot_skill":2})").field, "/bot_skill");
   EXPECT_EQ(refusal(R"({"op":"ground","cx":0})").field, "/cy");
   EXPECT_EQ(refusal(R"({"op":"warp"})").field, "/op");
   EXPECT_EQ(refusal(R"({"op":null})").field, "/op");
@@ -216,8 +220,37 @@ TEST(Layout, ARaceWithBotsGetsACarPerBotAfterThePlayers) {
   const groundsim::scenario::Scenario sc = groundsim::scenario::parseScenario(two);
   ASSERT_EQ(sc.vehicles.size(), 3u);
   EXPECT_EQ(sc.vehicles[1].name, "car-2");
-  EXPECT_EQ(sc.vehicles[2].name, "bot-1");
+  EXPECT_EQ(sc.vehicles[2].name, "ada-bot");
   EXPECT_EQ(sc.race->bots, 1);
+}
+
+// The lobby's bots choice (a create's "bots" and "bot_skill"): the race's
+// own bots are replaced by as many as asked, named from the roster, the
+// players kept; a scenario without a race is refused at /race.
+TEST(Layout, TheLobbysBotsChoiceReplacesTheRacesBots) {
+  json doc = json::parse(scenarioWithGround(R"({"type":"plane"})"));
+  json gates = json::array();
+  gates.push_back({{"center", {10, 0}}, {"width", 10}, {"heading_deg", 0}});
+  gates.push_back({{"center", {60, 0}}, {"width", 10}, {"heading_deg", 0}});
+  doc["race"] = {{"bots", 1}, {"gates", gates}};
+  const std::string one_bot = withVehicles(doc.dump(), 1, 1.0);  // a player and a bot
+  const groundsim::scenario::Scenario three =
+      groundsim::scenario::parseScenario(withBots(one_bot, 3, 0.6));
+  ASSERT_EQ(three.vehicles.size(), 4u);
+  EXPECT_EQ(three.vehicles[0].name, "car-1");
+  EXPECT_EQ(three.vehicles[1].name, "ada-bot");
+  EXPECT_EQ(three.vehicles[3].name, "carla-bot");
+  EXPECT_EQ(three.race->bots, 3);
+  EXPECT_EQ(three.race->bot_skill, 0.6);
+  const groundsim::scenario::Scenario none = groundsim::scenario::parseScenario(withBots(one_bot, 0, 0.0));
+  EXPECT_EQ(none.vehicles.size(), 1u);
+  EXPECT_EQ(none.race->bots, 0);
+  try {
+    withBots(scenarioWithGround(R"({"type":"plane"})"), 2, 0.0);
+    FAIL() << "bots without a race were accepted";
+  } catch (const groundsim::scenario::ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("/race"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ShippedScenarios, EveryConfigIsListedWithItsDescriptionAndCapacity) {

@@ -103,6 +103,9 @@ BrowserMessage readOp(const std::string& op, Fields& f) {
       refuse("/mode", "must be realtime, fast or lockstep, got \"" + m.mode + "\"");
     m.publish_rate = f.number("publish_rate", 0, 1000, 0.0);
     m.vehicles = f.integer("vehicles", 0, kMaxCreateVehicles, 0);
+    m.bots = f.integer("bots", -1, kMaxCreateBots, -1);
+    m.bot_skill = f.number("bot_skill", 0.0, 1.0, 0.0);
+    if (m.bot_skill != 0.0 && m.bot_skill < 0.2) refuse("/bot_skill", "must be 0 (the scenario's) or in [0.2, 1]");
     m.drive = f.boolean("drive", true);
     m.player = playerName(f);
     return m;

@@ -18,6 +18,8 @@ inline constexpr std::size_t kMaxMessageBytes = 4096;
 inline constexpr int kMaxMessageDepth = 4;
 // the most cars a create may ask for ("vehicles"); the lobby offers no more
 inline constexpr int kMaxCreateVehicles = 8;
+// the most bots a create may ask for ("bots"): with one player, a grid of 8
+inline constexpr int kMaxCreateBots = 7;
 
 enum class Role { Drive, Spectate };
 
@@ -26,6 +28,8 @@ struct CreateMsg {
   std::string mode = "realtime";
   double publish_rate = 0.0;   // Hz, 0: the scenario's
   int vehicles = 0;            // 0: the scenario's; n > 0 puts n copies of its car side by side
+  int bots = -1;               // a race: -1 the scenario's bots, else this many (race.bots; docs/drivers.md)
+  double bot_skill = 0.0;      // a race's bots' skill in [0.2, 1]; 0: the scenario's
   bool drive = true;           // join it as its first driver
   std::string player;          // the player's name as others see it ("" : none given); printable, <= 24 bytes
 };

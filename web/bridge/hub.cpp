@@ -50,7 +50,8 @@ Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus) : io_(io), cfg_(std::move
     configs_.push_back(sc.id);
     scenarios_[sc.id] = sc;
     offered.push_back({{"id", sc.id}, {"name", sc.name}, {"description", sc.description}, {"vehicles", sc.vehicles},
-                       {"min_cars", sc.min_cars}, {"max_cars", sc.max_cars}, {"limit", sc.limit}});
+                       {"min_cars", sc.min_cars}, {"max_cars", sc.max_cars}, {"limit", sc.limit},
+                       {"race", sc.race}, {"bots", sc.bots}, {"grid", sc.grid}});
   }
   if (cfg_.log) {
     std::fprintf(stderr, "groundsim-web: %zu scenarios from %s\n", configs_.size(), cfg_.configs_dir.c_str());
@@ -202,6 +203,14 @@ void Hub::handle(Peer* p, PeerState& ps, const BrowserMessage& m) {
                     c->config + " hosts " + std::to_string(s.min_cars) +
                         (s.max_cars > s.min_cars ? "-" + std::to_string(s.max_cars) : std::string()) + " cars (" +
                         s.limit + "), got " + std::to_string(c->vehicles));
+    if ((c->bots >= 0 || c->bot_skill > 0.0) && !s.race)
+      return refuse(p, "create", "/bots", c->config + " is not a race: bots drive in races");
+    const int players = c->vehicles > 0 ? c->vehicles : s.vehicles - s.bots;
+    if (c->bots > 0 && s.grid > 0 && players + c->bots > s.grid)
+      return refuse(p, "create", "/bots",
+                    c->config + "'s grid has " + std::to_string(s.grid) + " slots: " + std::to_string(players) +
+                        " players leave room for " + std::to_string(std::max(0, s.grid - players)) + " bots, got " +
+                        std::to_string(c->bots));
     if (!allowCreate(p, ps, *c, s)) return;
     return create(p, ps, *c, s);
   }
@@ -293,6 +302,13 @@ void Hub::create(Peer* p, PeerState& ps, const CreateMsg& m, const ShippedScenar
   std::stringstream text;
   text << f.rdbuf();
   std::string doc = text.str();
+  if (m.bots >= 0 || m.bot_skill > 0.0) {
+    try {
+      doc = withBots(doc, m.bots, m.bot_skill);
+    } catch (const scenario::ScenarioError& e) {
+      return refuse(p, "create", "/bots", e.lines("; "));
+    }
+  }
   if (m.vehicles > 0) {
     try {
       doc = withVehicles(doc, m.vehicles, cfg_.vehicle_margin);

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 
+#include "scenario/bots_override.hpp"
+
 namespace groundsim::web {
 namespace {
 
@@ -300,6 +302,16 @@ json groundGrid(const Ground& g, double cx, double cy, int n, double step) {
   return out;
 }
 
+std::string withBots(const std::string& scenario_json, int bots, double skill) {
+  json doc = scenario::parseScenarioDocument(scenario_json);
+  scenario::BotsChoice choice;
+  const bool race = doc.contains("race") && doc["race"].is_object();
+  choice.count = bots >= 0 ? bots : race && doc["race"].value("bots", 0) > 0 ? doc["race"]["bots"].get<int>() : 0;
+  if (skill > 0.0) choice.skill = skill;
+  scenario::setBots(doc, choice);
+  return doc.dump();
+}
+
 std::string withVehicles(const std::string& scenario_json, int count, double margin) {
   json doc = scenario::parseScenarioDocument(scenario_json);
   if (count <= 0) return scenario_json;
@@ -329,7 +341,7 @@ std::string withVehicles(const std::string& scenario_json, int count, double mar
   for (int i = 0; i < count + bots; ++i) {
     json v = base;
     const std::string name = v.value("name", std::string("car"));
-    v["name"] = i < count ? name + "-" + std::to_string(i + 1) : "bot-" + std::to_string(i - count + 1);
+    v["name"] = i < count ? name + "-" + std::to_string(i + 1) : scenario::botName(i - count);
     json& init = v["initial"];
     if (!init.is_object()) init = json::object();
     json pos = init.contains("position") ? init["position"] : json::array({0, 0, 0});

@@ -60,5 +60,9 @@ bool surfaceHeight(const Ground& g, double x, double y, double z_start, double* 
 // bot-1, bot-2, ...: the session's classical drivers take the last cars).
 // Only the vehicles are read: the files the scenario names are not.
 std::string withVehicles(const std::string& scenario_json, int count, double margin);
+// A race scenario with `bots` bots (-1: its own count) at `skill` (0: its
+// own), as the lobby's race button asks (scenario::setBots); throws
+// ScenarioError naming the field.
+std::string withBots(const std::string& scenario_json, int bots, double skill);
 
 }  // namespace groundsim::web

@@ -102,6 +102,11 @@ ShippedList listShippedScenarios(const std::string& dir, double margin, int max_
       s.description = sc.description;
       s.vehicles = static_cast<int>(sc.vehicles.size());
       s.output_rate = sc.output_rate;
+      if (sc.race) {
+        s.race = true;
+        s.bots = sc.race->bots;
+        s.grid = static_cast<int>(sc.race->grid.size());
+      }
     } catch (const std::exception& e) {
       out.skipped.push_back(id + ": " + firstLine(e.what()));
       continue;

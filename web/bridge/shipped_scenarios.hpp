@@ -21,6 +21,9 @@ struct ShippedScenario {
   int min_cars = 1;         // the cars a create may ask for (vehicles 0 or n copies of its car)
   int max_cars = 1;
   std::string limit;        // why no more than max_cars: the first refusal, or the cap
+  bool race = false;        // it has a race section: the lobby offers bots for it
+  int bots = 0;             // its race's own bots (race.bots)
+  int grid = 0;             // its race's grid slots
 };
 
 struct ShippedList {

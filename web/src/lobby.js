@@ -82,7 +82,10 @@ function renderCards() {
       <div class="desc"></div>
       <div class="cap"></div>
       <div class="live"></div>
-      <div class="go">cars <input class="ncars" type="number" style="width:3em"> <button data-act="race">race</button></div>`;
+      <div class="go"><span class="cars-label">cars</span> <input class="ncars" type="number" style="width:3em">
+        <span class="bots-box hidden">bots <select class="nbots"></select> <select class="skill">
+          <option value="0.6">easy</option><option value="0.8">medium</option><option value="1" selected>hard</option></select></span>
+        <button data-act="race">race</button></div>`;
     card.querySelector('.title b').textContent = s.name || s.id;
     card.querySelector('.cid').textContent = s.id;
     card.querySelector('.desc').textContent = s.description || '(no description)';
@@ -90,6 +93,17 @@ function renderCards() {
     const n = card.querySelector('.ncars');
     Object.assign(n, { min: s.min_cars, max: s.max_cars, value: String(defaultCars(s)) });
     n.disabled = s.max_cars === s.min_cars;
+    if (s.race) {
+      // a race: players and computer drivers (docs/drivers.md); the bots' cars come on top of the players'
+      card.querySelector('.cars-label').textContent = 'players';
+      card.querySelector('.bots-box').classList.remove('hidden');
+      const players = Math.max(1, s.vehicles - (s.bots || 0));
+      Object.assign(n, { min: 1, max: Math.max(1, s.max_cars - (s.bots || 0)), value: String(players) });
+      n.disabled = false;
+      const most = Math.max(0, Math.min(7, (s.grid || 8) - 1));
+      const sel = card.querySelector('.nbots');
+      for (let k = 0; k <= most; k += 1) sel.add(new Option(String(k), String(k), false, k === (s.bots || 0)));
+    }
     if (app.previews && app.previews[s.id]) drawPreview(card.querySelector('canvas'), app.previews[s.id]);
     return card;
   }));
@@ -227,7 +241,8 @@ export async function refreshRecordings() {
   $('lobby-replays').replaceChildren(...rows);
 }
 
-// handlers: {join(session, role), create(config, vehicles), replay(name, session), preview(config)}
+// handlers: {join(session, role), create(config, vehicles, extra), replay(name, session), preview(config)}
+// (extra: a race's {bots, bot_skill})
 export function wireLobby(h) {
   handlers = h;
   const name = $('player-name');
@@ -239,6 +254,14 @@ export function wireLobby(h) {
     const row = e.target.closest('.session');
     if (act === 'race') {
       const s = scenarioById(card.dataset.config);
+      if (s.race) {
+        // n players and the bots chosen: the bridge builds the grid (race.bots, withVehicles)
+        const n = Math.max(1, parseInt(card.querySelector('.ncars').value, 10) || 1);
+        const bots = parseInt(card.querySelector('.nbots').value, 10) || 0;
+        const skill = parseFloat(card.querySelector('.skill').value) || 1;
+        handlers.create(s.id, n, { bots, bot_skill: skill });
+        return;
+      }
       const n = Math.max(s.min_cars, Math.min(s.max_cars, parseInt(card.querySelector('.ncars').value, 10) || 1));
       handlers.create(s.id, n === s.vehicles ? 0 : n);
     } else if (act === 'join' && row) handlers.join(row.dataset.session, 'drive');

@@ -210,7 +210,7 @@ function namePlayers() {
 const named = (m) => (playerName() ? { ...m, player: playerName() } : m);
 wireLobby({
   join: (session, role) => net.send(named({ op: 'join', session, role })),
-  create: (config, vehicles) => net.send(named({ op: 'create', config, vehicles, drive: true })),
+  create: (config, vehicles, extra = {}) => net.send(named({ op: 'create', config, vehicles, drive: true, ...extra })),
   replay: (name, session) => openReplay(name, session),
   preview: (config) => net.send({ op: 'preview', config }),
 });
