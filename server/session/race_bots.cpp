@@ -5,6 +5,7 @@
 
 #include "drivers/lap_run.hpp"
 #include "drivers/policy_driver.hpp"
+#include "drivers/traffic.hpp"
 #include "scenario/scenario_error.hpp"
 
 namespace groundsim::session {
@@ -44,15 +45,24 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
     if (rc < 0) continue;
     Bot bot;
     bot.vehicle = v;
+    const int body = m.road_cars[static_cast<size_t>(rc)].body;
+    std::unique_ptr<drivers::Driver> driver;
     try {
-      if (policy)
-        bot.driver = std::make_unique<drivers::PolicyDriver>(policy, course, m.road_cars[static_cast<size_t>(rc)].body,
-                                                             race.bot_skill);
-      else
-        bot.driver = std::make_unique<drivers::ClassicalBot>(*b->line_, *b->profile_, m, rc);
+      if (policy) driver = std::make_unique<drivers::PolicyDriver>(policy, course, body, race.bot_skill);
+      else driver = std::make_unique<drivers::ClassicalBot>(*b->line_, *b->profile_, m, rc);
     } catch (const drivers::PolicyError& e) {
       throw scenario::ScenarioError({scenario::Issue{"/race/bot_policy", e.what()}});
     }
+    // every other road car, players' and bots', in vehicle order: the traffic rules' order of way
+    std::vector<int> others;
+    int rank = 0;
+    for (int o = 0; o < n; ++o) {
+      const int orc = road_car[static_cast<size_t>(o)];
+      if (o == v || orc < 0) continue;
+      if (o < v) ++rank;
+      others.push_back(m.road_cars[static_cast<size_t>(orc)].body);
+    }
+    bot.driver = std::make_unique<drivers::TrafficAware>(std::move(driver), body, std::move(others), rank);
     b->bots_.push_back(std::move(bot));
   }
   if (b->bots_.empty()) return nullptr;

@@ -1,6 +1,7 @@
 // Computer drivers in a race session (issue 39, docs/drivers.md): the
 // classical driver, or a trained policy (race.bot_policy), at the wheel of
-// the race's last `bots` road cars. Every control period each bot's
+// the race's last `bots` road cars, each keeping the traffic rules
+// (drivers/traffic.hpp: off the cars ahead, players' and bots'). Every control period each bot's
 // command goes through Session::apply as a player's would (the same
 // clamping, controls timeout and applied log), so a race with bots
 // re-simulates bit for bit from its log without them, and a standby that

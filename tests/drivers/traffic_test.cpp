@@ -1,0 +1,119 @@
+// The traffic rules (server/drivers/traffic.*): a bot on a straight behind
+// a car stopped on its line stops behind it, the gap kept (min_gap, 2 m,
+// bumper to bumper) and no contact, where the same driver without the
+// rules runs into it; two bots side by side on a grid merge onto one line
+// without touching, one letting the other in first.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "drivers/lap_run.hpp"
+#include "drivers/traffic.hpp"
+#include "scenario/scenario.hpp"
+
+namespace groundsim::drivers {
+namespace {
+
+const char* kStraight = R"({"physics": {"dt": 0.004}, "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+  "vehicles": [{"name": "bot", "kind": "road_car", "initial": {"position": [0, 0, 0]}},
+               {"name": "stopped", "kind": "road_car", "initial": {"position": [60, 0, 0]}}],
+  "race": {"circuit": false, "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0},
+                                       {"center": [400, 0], "width": 14, "heading_deg": 0}],
+           "track": {"centerline": [[-10, 0], [200, 0], [400, 0]], "half_width": 7}}})";
+
+struct Behind {
+  double gap = 0.0;   // m  bumper to bumper at the end
+  int touches = 0;    // steps with the two cars in contact
+  double speed = 0.0; // m/s of the bot at the end
+};
+
+Behind driveBehind(bool rules) {
+  const scenario::Scenario s = scenario::parseScenario(std::string(kStraight));
+  const scenario::Scene scene = scenario::buildScene(s);
+  const Model& m = *scene.built.model;
+  Simulator sim(scene.built.model, scene.built.initial);
+  const TrackLine line(racingLine(*s.race), false, 1.0);
+  const SpeedProfile profile(line, CarLimits{}, frictionAlong(m, line));
+  std::unique_ptr<Driver> d = std::make_unique<ClassicalBot>(line, profile, m, 0);
+  const TrafficRules tr;
+  if (rules) d = std::make_unique<TrafficAware>(std::move(d), m.road_cars[0].body, std::vector<int>{m.road_cars[1].body}, 0, tr);
+  CarControls stopped;
+  stopped.brake = 1.0;
+  sim.setCarControls(1, stopped);
+  Behind r;
+  for (int k = 0; k < 5000; ++k) {  // 20 s
+    if (k % 5 == 0) {
+      const Pedals p = d->drive(m, sim.state());
+      CarControls c;
+      c.throttle = static_cast<float>(p.throttle);
+      c.brake = static_cast<float>(p.brake);
+      c.steer = static_cast<float>(p.steer);
+      sim.setCarControls(0, c);
+    }
+    EXPECT_TRUE(sim.step());
+    for (const Hit& h : sim.hits())
+      if (m.groups[h.a].vehicle >= 0 && m.groups[h.b].vehicle >= 0) ++r.touches;
+  }
+  const Vec3 a = bodyPos(sim.state().y, m.road_cars[0].body), b = bodyPos(sim.state().y, m.road_cars[1].body);
+  r.gap = (b - a).norm() - tr.length;
+  r.speed = Vec3(bodyVel(sim.state().y, m.road_cars[0].body)).norm();
+  return r;
+}
+
+TEST(Traffic, ABotStopsBehindACarOnItsLineWhereWithoutTheRulesItHitsIt) {
+  const Behind with = driveBehind(true), without = driveBehind(false);
+  std::printf("with the rules: gap %.2f m, speed %.3f m/s, %d steps touching; without: %d steps touching\n", with.gap,
+              with.speed, with.touches, without.touches);
+  EXPECT_GT(without.touches, 0) << "the scene does not test anything: the bare driver never reaches the car";
+  EXPECT_EQ(with.touches, 0);
+  EXPECT_LT(with.speed, 0.2);
+  // it keeps about min_gap (2 m) bumper to bumper: more than half of it, not far behind
+  EXPECT_GT(with.gap, 0.5 * TrafficRules{}.min_gap);
+  EXPECT_LT(with.gap, TrafficRules{}.min_gap + 4.0);
+}
+
+TEST(Traffic, TwoBotsSideBySideMergeOntoOneLineWithoutTouching) {
+  const char* doc = R"({"physics": {"dt": 0.004}, "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "a", "kind": "road_car"}, {"name": "b", "kind": "road_car"}],
+    "race": {"circuit": false, "countdown": 0,
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [400, 0], "width": 14, "heading_deg": 0}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}],
+             "track": {"centerline": [[-10, 0], [200, 0], [400, 0]], "half_width": 7}}})";
+  const scenario::Scenario s = scenario::parseScenario(std::string(doc));
+  const scenario::Scene scene = scenario::buildScene(s);
+  const Model& m = *scene.built.model;
+  Simulator sim(scene.built.model, scene.built.initial);
+  const TrackLine line(racingLine(*s.race), false, 1.0);
+  const SpeedProfile profile(line, CarLimits{}, frictionAlong(m, line));
+  const int body[2] = {m.road_cars[0].body, m.road_cars[1].body};
+  TrafficAware a(std::make_unique<ClassicalBot>(line, profile, m, 0), body[0], {body[1]}, 0);
+  TrafficAware b(std::make_unique<ClassicalBot>(line, profile, m, 1), body[1], {body[0]}, 1);
+  int touches = 0;
+  for (int k = 0; k < 3000; ++k) {  // 12 s: both on the line, one behind the other
+    if (k % 5 == 0) {
+      TrafficAware* d[2] = {&a, &b};
+      for (int c = 0; c < 2; ++c) {
+        const Pedals p = d[c]->drive(m, sim.state());
+        CarControls cc;
+        cc.throttle = static_cast<float>(p.throttle);
+        cc.brake = static_cast<float>(p.brake);
+        cc.steer = static_cast<float>(p.steer);
+        sim.setCarControls(c, cc);
+      }
+    }
+    ASSERT_TRUE(sim.step());
+    for (const Hit& h : sim.hits())
+      if (m.groups[h.a].vehicle >= 0 && m.groups[h.b].vehicle >= 0) ++touches;
+  }
+  const Vec3 pa = bodyPos(sim.state().y, body[0]), pb = bodyPos(sim.state().y, body[1]);
+  std::printf("after 12 s: a at (%.1f, %.2f), b at (%.1f, %.2f), %d steps touching\n", pa.x(), pa.y(), pb.x(), pb.y(),
+              touches);
+  EXPECT_EQ(touches, 0);
+  EXPECT_LT(std::abs(pa.y()), 1.0);  // both on the line
+  EXPECT_LT(std::abs(pb.y()), 1.0);
+  EXPECT_GT(pa.x() - pb.x(), TrafficRules{}.length) << "the first in the order goes first, the other behind";
+}
+
+}  // namespace
+}  // namespace groundsim::drivers
