@@ -12,6 +12,10 @@ configs/tasks/rally_drive.json     one sedan on configs/race/rally_stage.json,
 configs/tasks/circuit_pack.json    four sedans from the circuit's grid, one
                                    agent each, seeing each other
 
+Each task's track half width is half its race's narrowest gate less 1 m
+(the circuit's asphalt, 6 m; the stage's 5 m), so that a driver trained on
+it passes between every gate's posts.
+
 The observation is what a trained driver can sense in a session too
 (server/drivers/policy_driver.hpp): the body's motion, the track ahead in
 the body frame, its curvature, the pose against the line, the next gate,
@@ -36,6 +40,14 @@ def task_of(race, name, description, time_limit, agents=None, laps=0):
     doc["description"] = description
     for key in ("duration", "output_rate"):
         doc.pop(key, None)
+    # the task's track is what a race counts: between the gates' posts. Its
+    # half width (off_track) is half the narrowest gate less 1 m, not the
+    # race's looser off-track limit, so a driver trained here passes every
+    # gate (a car outside a gate's posts has not passed it)
+    gates = doc["race"]["gates"]
+    widths = [g["width"] if "width" in g else
+              ((g["left"][0] - g["right"][0]) ** 2 + (g["left"][1] - g["right"][1]) ** 2) ** 0.5 for g in gates]
+    doc["race"]["track"]["half_width"] = round(min(widths) / 2 - 1.0, 3)
     # the files the race names sit next to it in configs/race
     ground = doc["ground"]
     if "file" in ground and not ground["file"].startswith(".."):
