@@ -12,9 +12,12 @@ configs/tasks/rally_drive.json     one sedan on configs/race/rally_stage.json,
 configs/tasks/circuit_pack.json    four sedans from the circuit's grid, one
                                    agent each, seeing each other
 
-Each task's track half width is half its race's narrowest gate less 1 m
-(the circuit's asphalt, 6 m; the stage's 5 m), so that a driver trained on
-it passes between every gate's posts.
+The circuit's tasks take half its narrowest gate less 1 m as the track's
+half width (its asphalt, 6 m; the race's own is 9), so that a driver
+trained on them passes between every gate's posts. The rally stage's
+task keeps the race's 14 m (its trained driver, configs/race/drivers/
+rally.policy, was trained on that and keeps within 5.3 m of the line,
+inside its gates' 6 m, from every held-out start: docs/drivers.md).
 
 The observation is what a trained driver can sense in a session too
 (server/drivers/policy_driver.hpp): the body's motion, the track ahead in
@@ -34,7 +37,7 @@ OBSERVATION = ["velocity_body", "angular_velocity_body", "up_body", "track_pose"
 AHEAD = [5, 10, 20, 30, 45, 60]
 
 
-def task_of(race, name, description, time_limit, agents=None, laps=0):
+def task_of(race, name, description, time_limit, agents=None, laps=0, gate_width=True, off_track=0.05):
     doc = copy.deepcopy(race)
     doc["name"] = name
     doc["description"] = description
@@ -47,7 +50,8 @@ def task_of(race, name, description, time_limit, agents=None, laps=0):
     gates = doc["race"]["gates"]
     widths = [g["width"] if "width" in g else
               ((g["left"][0] - g["right"][0]) ** 2 + (g["left"][1] - g["right"][1]) ** 2) ** 0.5 for g in gates]
-    doc["race"]["track"]["half_width"] = round(min(widths) / 2 - 1.0, 3)
+    if gate_width:
+        doc["race"]["track"]["half_width"] = round(min(widths) / 2 - 1.0, 3)
     # the files the race names sit next to it in configs/race
     ground = doc["ground"]
     if "file" in ground and not ground["file"].startswith(".."):
@@ -58,7 +62,10 @@ def task_of(race, name, description, time_limit, agents=None, laps=0):
         "action": {"type": "car_controls"},
         "control_period": 10,
         "time_limit": time_limit,
-        "reward": {"track_progress": 0.1, "lap": 5.0, "off_track": 0.5, "collision": 0.05, "effort": 0.01},
+        # leaving the track costs about what 12 m/s of progress earns (the
+        # circuit's): the termination 2 m beyond its edge is what keeps a
+        # driver on it. The rally stage's task (trained first) charges 0.5
+        "reward": {"track_progress": 0.1, "lap": 5.0, "off_track": off_track, "collision": 0.05, "effort": 0.01},
         "termination": {"off_track": 2.0, "max_tilt_deg": 45, "laps": laps},
     }
     if agents:
@@ -93,7 +100,8 @@ def main():
                     "Drive configs/race/rally_stage.json's stage over asphalt, wet, grass, snow and ice: one sedan "
                     "started anywhere along the first 1300 m, rewarded per metre gained and for the finish, charged "
                     "for leaving the road and for hits (cones); the episode ends at the finish, 2 m beyond the "
-                    "road's edge, on tipping over, or after 60 s", 60.0, laps=1)
+                    "road's edge, on tipping over, or after 60 s", 60.0, laps=1, gate_width=False,
+                    off_track=0.5)
     stage["task"]["randomize"]["track_s"] = [0, 1300]
     docs["rally_drive.json"] = stage
     pack = copy.deepcopy(circuit)

@@ -112,8 +112,9 @@ export async function launch() {
   return browser;
 }
 
-export async function newPage(url, size = { width: 960, height: 540 }) {
-  const ctx = await browser.newContext({ viewport: size });
+// `context`: more options of the browser context (recordVideo, ...).
+export async function newPage(url, size = { width: 960, height: 540 }, context = {}) {
+  const ctx = await browser.newContext({ viewport: size, ...context });
   const page = await ctx.newPage();
   page.on('pageerror', (e) => console.error(`[page] ${e.message}`));
   await page.goto(url);
