@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
   const int races = argc > 4 ? std::max(1, std::atoi(argv[4])) : 10;
   const double seconds = argc > 5 ? std::atof(argv[5]) : 60.0;
   const bool traffic = !(argc > 6 && std::string(argv[6]) == "alone");
+  // BOTS_RACE_IDLE_FIRST=1: car 0 stays braked on its slot, as a player who never drives
+  const bool idle_first = std::getenv("BOTS_RACE_IDLE_FIRST") != nullptr;
   std::shared_ptr<const drivers::Policy> policy;
   if (which != "classical") {
     std::ifstream in(which, std::ios::binary);
@@ -111,13 +113,8 @@ int main(int argc, char** argv) {
       const double t = sim.state().t;
       if (step % per == 0 && !race.held(t)) {
         const auto p0 = Clock::now();
-        for (int c = 0; c < cars; ++c) {
-          const drivers::Pedals p = bots[static_cast<size_t>(c)]->drive(m, sim.state());
-          CarControls cc;
-          cc.throttle = static_cast<float>(p.throttle);
-          cc.brake = static_cast<float>(p.brake);
-          cc.steer = static_cast<float>(p.steer);
-          sim.setCarControls(c, cc);
+        for (int c = idle_first ? 1 : 0; c < cars; ++c) {
+          sim.setCarControls(c, drivers::toControls(bots[static_cast<size_t>(c)]->drive(m, sim.state())));
         }
         policy_wall += std::chrono::duration<double>(Clock::now() - p0).count();
       }
@@ -156,6 +153,12 @@ int main(int argc, char** argv) {
     total_laps += laps;
     std::string each;
     for (int l : car_laps) each += (each.empty() ? "" : " ") + std::to_string(l);
+    if (std::getenv("BOTS_RACE_VERBOSE"))
+      for (int c = 0; c < cars; ++c) {
+        const Vec3 q = bodyPos(sim.state().y, m.road_cars[static_cast<size_t>(c)].body);
+        std::printf("    car %d ends at (%.1f, %.1f) at %.1f m/s\n", c, q.x(), q.y(),
+                    Vec3(bodyVel(sim.state().y, m.road_cars[static_cast<size_t>(c)].body)).norm());
+      }
     std::printf("  race %2d: laps %d (car by car: %s), hits between cars %d, with walls and objects %d, %.2f s wall\n",
                 k, laps, each.c_str(), car_hits, wall_hits, w);
   }

@@ -23,6 +23,7 @@ struct CarSense {
 // in [0, 1] (never both), steer in [-1, 1], + = left.
 struct Pedals {
   double throttle = 0.0, brake = 0.0, steer = 0.0;
+  bool reverse = false;  // in reverse gear (the traffic rules back out from behind a stopped car)
 };
 
 // The car as the driver knows it.

@@ -7,8 +7,19 @@
 #include "drivers/classical_driver.hpp"
 #include "physics/core/model.hpp"
 #include "physics/core/state.hpp"
+#include "physics/road_car/road_car.hpp"
 
 namespace groundsim::drivers {
+
+// The road car's controls of a driver's pedals (automatic gears, or reverse).
+inline CarControls toControls(const Pedals& p) {
+  CarControls c;
+  c.throttle = p.throttle;
+  c.brake = p.brake;
+  c.steer = p.steer;
+  c.gear = p.reverse ? CarControls::kReverse : CarControls::kAuto;
+  return c;
+}
 
 class Driver {
  public:

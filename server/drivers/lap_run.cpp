@@ -86,12 +86,7 @@ LapRun runDriver(const scenario::Scenario& scenario, const scenario::Scene& scen
   for (long long k = 0; k < last && run.race_time == 0.0; ++k) {
     const double t0 = sim.state().t;
     if (k % per_control == 0 && !race.held(t0)) {
-      const Pedals p = driver.drive(m, sim.state());
-      CarControls c;
-      c.throttle = p.throttle;
-      c.brake = p.brake;
-      c.steer = p.steer;
-      sim.setCarControls(0, c);
+      sim.setCarControls(0, toControls(driver.drive(m, sim.state())));
       const Vec3 at = bodyPos(sim.state().y, m.road_cars[0].body);
       const TrackLine::Where w = line.locate({at.x(), at.y()}, s);
       s = w.s;

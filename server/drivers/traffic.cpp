@@ -6,6 +6,16 @@
 namespace groundsim::drivers {
 namespace {
 constexpr double kMergeThrottle = 0.3;
+// a car in the path slower than kStoppedSpeed for kBlockedFor is passed:
+// the bot holds it kPassOffset to one side at kPassThrottle until it is a
+// car length behind
+constexpr double kStoppedSpeed = 1.0;   // m/s
+constexpr double kBlockedFor = 2.0;     // s
+constexpr double kPassOffset = 3.5;     // m, centre to centre
+constexpr double kPassThrottle = 0.35;
+constexpr double kPassSteerGain = 0.3;  // steer per m of lateral error
+constexpr double kPassSteer = 0.6;
+constexpr double kRoomToPass = 5.0;     // m bumper to bumper: closer, it backs off first
 }  // namespace
 
 TrafficAware::TrafficAware(std::unique_ptr<Driver> inner, int body, std::vector<int> others, int rank,
@@ -13,16 +23,34 @@ TrafficAware::TrafficAware(std::unique_ptr<Driver> inner, int body, std::vector<
     : inner_(std::move(inner)), body_(body), others_(std::move(others)), rank_(rank), rules_(rules) {}
 
 Pedals TrafficAware::drive(const Model& m, const State& s) {
+  (void)m;
   Pedals p = inner_->drive(m, s);
   yielded_ = false;
+  const double dt = last_t_ < 0.0 ? 0.0 : std::max(0.0, s.t - last_t_);
+  last_t_ = s.t;
   const Mat3 R = bodyRot(s.y, body_).normalized().toRotationMatrix();
   const Vec3 c = bodyPos(s.y, body_), v = bodyVel(s.y, body_);
   const Vec3 fwd = R.col(0);
   const double speed = std::max(0.0, v.dot(fwd));
-  // the nearest car in the path (its gap bumper to bumper and closing
-  // speed), and whether one merges from alongside, clearly ahead
-  double gap = 1e300, closing = 0.0;
-  bool merging = false;
+  // 1. the cars about it: the nearest in its path, one merging from alongside
+  const Ahead ahead = look(s, R, c, fwd, speed, p);
+  // 2. a car stopped in its path for kBlockedFor: go round it
+  passIfBlocked(s, R, c, ahead, dt, p);
+  if (passing_ >= 0) return p;
+  if (ahead.merging && p.throttle > kMergeThrottle) {
+    // let the car alongside and ahead in first (never to a stop: two cars
+    // that each see the other ahead must not wait for each other)
+    p.throttle = kMergeThrottle;
+    yielded_ = true;
+  }
+  // 3. the gap kept behind the car ahead
+  keepGap(ahead, speed, p);
+  return p;
+}
+
+TrafficAware::Ahead TrafficAware::look(const State& s, const Mat3& R, const Vec3& c, const Vec3& fwd, double speed,
+                                       Pedals& p) {
+  Ahead a;
   for (size_t k = 0; k < others_.size(); ++k) {
     const int o = others_[k];
     const Vec3 d = R.transpose() * Vec3(bodyPos(s.y, o) - c);
@@ -35,24 +63,67 @@ Pedals TrafficAware::drive(const Model& m, const State& s) {
     // alongside: ahead by more than a metre, or level and before this car in the order
     const bool first = d.x() > 1.0 || (d.x() > -1.0 && static_cast<int>(k) < rank_);
     if (std::abs(d.y()) > rules_.corridor && std::abs(d.y()) < rules_.lane && d.x() < rules_.length && first) {
-      merging = true;
+      a.merging = true;
       continue;
     }
     if (d.x() <= 0.0 || d.x() > rules_.look || std::abs(d.y()) > rules_.corridor) continue;
     const double g = d.x() - rules_.length;
-    if (g < gap) {
-      gap = g;
-      closing = speed - Vec3(bodyVel(s.y, o)).dot(fwd);
+    if (g < a.gap) {
+      a.gap = g;
+      a.index = static_cast<int>(k);
+      a.their_speed = Vec3(bodyVel(s.y, o)).norm();
+      a.closing = speed - Vec3(bodyVel(s.y, o)).dot(fwd);
     }
   }
-  if (merging && p.throttle > kMergeThrottle) {
-    // let the car alongside and ahead in first (never to a stop: two cars
-    // that each see the other ahead must not wait for each other)
-    p.throttle = kMergeThrottle;
-    yielded_ = true;
+  return a;
+}
+
+void TrafficAware::passIfBlocked(const State& s, const Mat3& R, const Vec3& c, const Ahead& ahead, double dt,
+                                 Pedals& p) {
+  if (passing_ < 0) {
+    const bool stuck = ahead.index >= 0 && ahead.their_speed < kStoppedSpeed && ahead.gap < rules_.min_gap + 3.0;
+    blocked_ = stuck ? blocked_ + dt : 0.0;
+    if (blocked_ < kBlockedFor) return;
+    // round it on the side where it leaves more room (its own offset from
+    // this car's axis: a car a little to the right is passed on the left)
+    const Vec3 d = R.transpose() * Vec3(bodyPos(s.y, others_[static_cast<size_t>(ahead.index)]) - c);
+    passing_ = ahead.index;
+    side_ = d.y() > 0.0 ? -1.0 : 1.0;
+    blocked_ = 0.0;
+    backing_ = true;
   }
-  if (gap > rules_.look) return p;
-  (void)m;
+  const Vec3 d = R.transpose() * Vec3(bodyPos(s.y, others_[static_cast<size_t>(passing_)]) - c);
+  if (d.x() < -rules_.length || d.x() > rules_.look) {  // behind it (passed), or far: done
+    passing_ = -1;
+    return;
+  }
+  yielded_ = true;
+  // 1. too close to turn out: back off straight, unless a car is right behind
+  if (backing_ && d.x() - rules_.length < kRoomToPass && std::abs(d.y()) < rules_.corridor && !carBehind(s, R, c)) {
+    p = Pedals{};
+    p.reverse = true;
+    p.throttle = kPassThrottle;
+    return;
+  }
+  backing_ = false;
+  // 2. hold it kPassOffset to the other side at a walking pace
+  const double error = -side_ * kPassOffset - d.y();
+  p = Pedals{};
+  p.steer = std::clamp(-kPassSteerGain * error, -kPassSteer, kPassSteer);
+  p.throttle = kPassThrottle;
+}
+
+bool TrafficAware::carBehind(const State& s, const Mat3& R, const Vec3& c) const {
+  for (int o : others_) {
+    const Vec3 d = R.transpose() * Vec3(bodyPos(s.y, o) - c);
+    if (d.x() < 0.0 && d.x() > -(rules_.length + rules_.min_gap) && std::abs(d.y()) < rules_.corridor) return true;
+  }
+  return false;
+}
+
+void TrafficAware::keepGap(const Ahead& ahead, double speed, Pedals& p) {
+  if (ahead.index < 0) return;
+  const double gap = ahead.gap, closing = ahead.closing;
   // the gap it keeps at its speed, and the distance it needs to shed the closing speed
   const double keep = rules_.min_gap + rules_.headway * speed;
   const double shed = closing > 0.0 ? closing * closing / (2.0 * rules_.decel) : 0.0;
@@ -70,7 +141,6 @@ Pedals TrafficAware::drive(const Model& m, const State& s) {
       yielded_ = true;
     }
   }
-  return p;
 }
 
 }  // namespace groundsim::drivers

@@ -4,7 +4,8 @@
 // collision avoidance of TORCS robots does: a car ahead in the bot's path
 // (a corridor about its heading) closer than a time headway caps the
 // throttle, and closer than the distance the closing speed needs to shed
-// brakes. Other cars are read from the simulation's state, so a race with
+// brakes; a car stopped in its path for 2 s (an idle player on the grid, a
+// crashed car) it goes round, backing off first when too close to turn out. Other cars are read from the simulation's state, so a race with
 // bots still re-simulates from its applied log alone.
 #pragma once
 
@@ -36,17 +37,39 @@ class TrafficAware : public Driver {
   // bots exactly one does (`rank`: this car's place in that order).
   TrafficAware(std::unique_ptr<Driver> inner, int body, std::vector<int> others, int rank, TrafficRules rules = {});
   Pedals drive(const Model& m, const State& s) override;
-  void relocate() override { inner_->relocate(); }
+  void relocate() override {
+    inner_->relocate();
+    last_t_ = -1.0, blocked_ = 0.0, passing_ = -1;
+  }
   // Whether the last call changed the inner driver's pedals.
   bool yielded() const { return yielded_; }
+  // Whether it is going round a car stopped in its path.
+  bool passing() const { return passing_ >= 0; }
 
  private:
+  struct Ahead {
+    int index = -1;           // in others_: the nearest car in the path, -1: none
+    double gap = 1e300;       // m   bumper to bumper
+    double closing = 0.0;     // m/s
+    double their_speed = 0.0; // m/s
+    bool merging = false;     // a car alongside and ahead of it merges
+  };
+  Ahead look(const State& s, const Mat3& R, const Vec3& c, const Vec3& fwd, double speed, Pedals& p);
+  void passIfBlocked(const State& s, const Mat3& R, const Vec3& c, const Ahead& ahead, double dt, Pedals& p);
+  void keepGap(const Ahead& ahead, double speed, Pedals& p);
+  bool carBehind(const State& s, const Mat3& R, const Vec3& c) const;
+
   std::unique_ptr<Driver> inner_;
   int body_ = 0;
   std::vector<int> others_;
   int rank_ = 0;
   TrafficRules rules_;
   bool yielded_ = false;
+  double last_t_ = -1.0;     // s   the state's time at the last call
+  double blocked_ = 0.0;     // s   behind a stopped car so far
+  int passing_ = -1;         // the car it goes round (in others_), -1: none
+  double side_ = 1.0;        // +1 round it on the left, -1 on the right
+  bool backing_ = false;     // backing off from it first
 };
 
 }  // namespace groundsim::drivers

@@ -75,10 +75,8 @@ const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const Stat
     const drivers::Pedals p = bots_[k].driver->drive(m, s);
     Command& c = commands_[k];
     c.vehicle = bots_[k].vehicle;
-    c.controls = CarControls{};
-    c.controls.throttle = static_cast<float>(std::min(p.throttle, skill_));  // the skill caps the throttle
-    c.controls.brake = static_cast<float>(p.brake);
-    c.controls.steer = static_cast<float>(p.steer);
+    c.controls = drivers::toControls(p);
+    c.controls.throttle = std::min(p.throttle, skill_);  // the skill caps the throttle
   }
   return commands_;
 }
