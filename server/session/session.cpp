@@ -214,6 +214,11 @@ void Session::apply(const Request& r, TimePoint now) {
       status_ = Status::Running;
       logApplied(entry(AppliedKind::Resume));
       reanchor(now);
+      // the time it stood paused is no one's silence: every held command's
+      // timeout counts from the resume (a bot, which commands as the clock
+      // runs, would otherwise lose its pedals at every resume)
+      for (Held& h : car_held_) h.last = now;
+      for (Held& h : drive_held_) h.last = now;
       frame_pending_ = true;
       return reply(to, true, ErrorCode::None, "");
     case Op::Step:

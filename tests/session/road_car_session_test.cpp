@@ -97,6 +97,38 @@ TEST(RoadCarSession, CommandTimeoutReleasesThrottleAndBrake) {
   EXPECT_TRUE(named);
 }
 
+// Paused time is no one's silence: a command held across a pause keeps
+// its pedals for the timeout counted from the resume (a bot commands as
+// the clock runs: it would otherwise lose them at every resume); the
+// timeout still releases them when the silence goes on after it.
+TEST(RoadCarSession, APauseDoesNotCountTowardsTheCommandTimeout) {
+  CarRig rig;
+  rig.run();
+  rig.session->post(rig.controls(0.8, 0.0, 0.0));
+  rig.clock.advance(0.1);
+  rig.run();
+  Request pause;
+  pause.op = Op::Pause;
+  pause.session_id = "0000CAR5";
+  pause.token = "t";
+  rig.session->post(pause);
+  rig.run();
+  rig.clock.advance(3.0);  // paused for 3 s of wall time
+  rig.run();
+  Request resume = pause;
+  resume.op = Op::Resume;
+  rig.session->post(resume);
+  rig.run();
+  rig.clock.advance(0.3);
+  rig.run();
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 0);
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).commanded.throttle, 0.8);
+  rig.clock.advance(0.3);  // 0.6 s after the resume
+  rig.run();
+  EXPECT_EQ(rig.out.eventsWith(ErrorCode::CommandTimeout), 1);
+  EXPECT_EQ(rig.out.frames.back().cars.at(0).commanded.throttle, 0.0);
+}
+
 }  // namespace
 }  // namespace groundsim::session::test
 

@@ -109,8 +109,10 @@ net.on('joined', (m) => {
   closeReplay(false);
   clearScene();
   app.session = m.session; app.role = m.role; app.vehicle = m.vehicle; app.layout = m.layout; app.note = m.note;
-  app.followed = Math.max(0, m.vehicle);
   const q = new URLSearchParams(location.search);
+  // a spectator may follow any car (?follow=k: a bot, another player)
+  const follow = parseInt(q.get('follow'), 10), cars = ((m.layout && m.layout.vehicles) || []).length;
+  app.followed = m.role !== 'drive' && follow >= 0 && follow < cars ? follow : Math.max(0, m.vehicle);
   q.set('session', m.session);
   history.replaceState(null, '', `?${q}`);
   showLobby(false);
