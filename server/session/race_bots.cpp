@@ -69,10 +69,12 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
   return b;
 }
 
-const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s) {
+const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s, bool held) {
   commands_.resize(bots_.size());  // sized once: no allocation in the step loop
+  drivers::Pedals hold;
+  hold.brake = 1.0;
   for (size_t k = 0; k < bots_.size(); ++k) {
-    const drivers::Pedals p = bots_[k].driver->drive(m, s);
+    const drivers::Pedals p = held ? hold : bots_[k].driver->drive(m, s);
     Command& c = commands_[k];
     c.vehicle = bots_[k].vehicle;
     c.controls = drivers::toControls(p);

@@ -38,7 +38,10 @@ class RaceBots {
   // the classical driver's, or the policy's own from its training).
   bool due(std::int64_t tick) const { return tick % period_ == 0; }
   // Each bot's command from its car's state (valid until the next call).
-  const std::vector<Command>& drive(const Model& m, const State& s);
+  // While the race holds the cars (`held`: its countdown) the drivers are
+  // not asked (a car ahead that stands on the grid is not one to go round)
+  // and every bot holds its brakes.
+  const std::vector<Command>& drive(const Model& m, const State& s, bool held = false);
   // A car put elsewhere (a respawn, a reset): its bot finds it again.
   void relocate(int vehicle);
   void relocateAll();

@@ -285,7 +285,8 @@ void Session::botsDrive() {
   CarDrive d;
   d.client_id = "bot";
   d.received = clock_.now();
-  for (const RaceBots::Command& c : bots_->drive(sim_.model(), sim_.state())) {
+  const bool held = race_->race.held(sim_.state().t);
+  for (const RaceBots::Command& c : bots_->drive(sim_.model(), sim_.state(), held)) {
     d.vehicle = c.vehicle;
     d.controls = c.controls;
     if (race_->race.standing(c.vehicle).finished) {  // past the flag: slow down and stop on the line

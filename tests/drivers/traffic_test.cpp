@@ -28,14 +28,26 @@ struct Behind {
   double ahead = 0.0;         // m  how far past the stopped car it is at the end (x)
 };
 
+// A race scene with its simulator, the race's line and the classical
+// driver's speed profile on it.
+struct Scene {
+  explicit Scene(const char* doc)
+      : s(scenario::parseScenario(std::string(doc))), scene(scenario::buildScene(s)), m(*scene.built.model),
+        sim(scene.built.model, scene.built.initial), line(racingLine(*s.race), false, 1.0),
+        profile(line, CarLimits{}, frictionAlong(m, line)) {}
+  scenario::Scenario s;
+  scenario::Scene scene;
+  const Model& m;
+  Simulator sim;
+  TrackLine line;
+  SpeedProfile profile;
+};
+
 Behind driveBehind(bool rules) {
-  const scenario::Scenario s = scenario::parseScenario(std::string(kStraight));
-  const scenario::Scene scene = scenario::buildScene(s);
-  const Model& m = *scene.built.model;
-  Simulator sim(scene.built.model, scene.built.initial);
-  const TrackLine line(racingLine(*s.race), false, 1.0);
-  const SpeedProfile profile(line, CarLimits{}, frictionAlong(m, line));
-  std::unique_ptr<Driver> d = std::make_unique<ClassicalBot>(line, profile, m, 0);
+  Scene sc(kStraight);
+  const Model& m = sc.m;
+  Simulator& sim = sc.sim;
+  std::unique_ptr<Driver> d = std::make_unique<ClassicalBot>(sc.line, sc.profile, m, 0);
   const TrafficRules tr;
   if (rules) d = std::make_unique<TrafficAware>(std::move(d), m.road_cars[0].body, std::vector<int>{m.road_cars[1].body}, 0, tr);
   CarControls stopped;
@@ -78,15 +90,12 @@ TEST(Traffic, TwoBotsSideBySideMergeOntoOneLineWithoutTouching) {
              "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [400, 0], "width": 14, "heading_deg": 0}],
              "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}],
              "track": {"centerline": [[-10, 0], [200, 0], [400, 0]], "half_width": 7}}})";
-  const scenario::Scenario s = scenario::parseScenario(std::string(doc));
-  const scenario::Scene scene = scenario::buildScene(s);
-  const Model& m = *scene.built.model;
-  Simulator sim(scene.built.model, scene.built.initial);
-  const TrackLine line(racingLine(*s.race), false, 1.0);
-  const SpeedProfile profile(line, CarLimits{}, frictionAlong(m, line));
+  Scene sc(doc);
+  const Model& m = sc.m;
+  Simulator& sim = sc.sim;
   const int body[2] = {m.road_cars[0].body, m.road_cars[1].body};
-  TrafficAware a(std::make_unique<ClassicalBot>(line, profile, m, 0), body[0], {body[1]}, 0);
-  TrafficAware b(std::make_unique<ClassicalBot>(line, profile, m, 1), body[1], {body[0]}, 1);
+  TrafficAware a(std::make_unique<ClassicalBot>(sc.line, sc.profile, m, 0), body[0], std::vector<int>{body[1]}, 0);
+  TrafficAware b(std::make_unique<ClassicalBot>(sc.line, sc.profile, m, 1), body[1], std::vector<int>{body[0]}, 1);
   int touches = 0;
   for (int k = 0; k < 3000; ++k) {  // 12 s: both on the line, one behind the other
     if (k % 5 == 0) {
