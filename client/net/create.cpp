@@ -98,10 +98,7 @@ CreateRequest createRequest(const CreateOptions& o) {
       for (const auto& a : o.overrides) scenario::applyOverride(doc, a);
       if (o.changesBots()) {
         scenario::BotsChoice bots;
-        const nlohmann::json* race = doc.contains("race") ? &doc["race"] : nullptr;
-        bots.count = o.bots >= 0 ? o.bots
-                     : race && race->is_object() && race->value("bots", 0) > 0 ? (*race)["bots"].get<int>()
-                                                                               : 0;
+        bots.count = o.bots;  // -1: the race's own
         if (o.bot_skill > 0.0) bots.skill = o.bot_skill;
         // named as its path from here: the scenario's files are found next to it, this one where it is
         if (!o.bot_policy.empty()) bots.policy = std::filesystem::absolute(o.bot_policy).string();

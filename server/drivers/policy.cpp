@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scenario/json_limits.hpp"
+
 namespace groundsim::drivers {
 namespace {
 
@@ -42,15 +44,22 @@ std::vector<double> numbers(const nlohmann::json& j, const std::string& field, s
 }  // namespace
 
 Policy Policy::parse(const std::string& text) {
-  if (text.size() > kMaxFileBytes)
-    fail("", std::to_string(text.size()) + " bytes, at most " + std::to_string(kMaxFileBytes));
-  // nlohmann's parser is recursive: a policy file is 4 levels deep at most
-  int depth = 0, deepest = 0;
-  for (char c : text) {
-    if (c == '[' || c == '{') deepest = std::max(deepest, ++depth);
-    else if (c == ']' || c == '}') --depth;
+  // size, depth, value count and duplicate keys, as a scenario's text is
+  // checked, before a tree is built (a policy file is 4 levels deep)
+  {
+    scenario::Budget limits;
+    limits.source = "a policy file's limit";
+    limits.max_document_bytes = kMaxFileBytes;
+    limits.max_depth = 16;
+    limits.max_json_values = kMaxJsonValues;
+    scenario::IssueList issues;
+    scenario::scanText(text, limits, issues);
+    try {
+      issues.throwIfAny();
+    } catch (const scenario::ScenarioError& e) {
+      fail("", e.lines("; "));
+    }
   }
-  if (deepest > 16) fail("", "nested " + std::to_string(deepest) + " levels deep, at most 16");
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) fail("", "not a JSON object");
   if (need(j, "format") != "groundsim.policy") fail("format", "expected \"groundsim.policy\"");

@@ -11,6 +11,8 @@
 
 #include <Eigen/Dense>
 
+#include "scenario/race_spec.hpp"
+
 namespace groundsim::drivers {
 
 struct PolicyError : std::runtime_error {
@@ -26,7 +28,8 @@ class Policy {
   static Policy parse(const std::string& text);
   static constexpr int kMaxLayers = 8;
   static constexpr int kMaxUnits = 1024;
-  static constexpr std::size_t kMaxFileBytes = 16u << 20;
+  static constexpr std::size_t kMaxFileBytes = scenario::kMaxBotPolicyBytes;
+  static constexpr std::size_t kMaxJsonValues = 12u << 20;  // 8 layers of 1024 x 1024 weights and their rows
 
   // What it observes, as the task wrote it: scenario feature names in
   // order, and the distances of the track features.

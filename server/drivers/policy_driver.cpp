@@ -5,18 +5,6 @@
 #include <limits>
 
 namespace groundsim::drivers {
-namespace {
-
-// As the environment publishes a value (experiments/env.cpp): non-finite
-// as 0, clamped to float's range.
-float toFloat(double v) {
-  if (!std::isfinite(v)) return 0.0f;
-  constexpr double most = std::numeric_limits<float>::max();
-  return static_cast<float>(std::clamp(v, -most, most));
-}
-
-}  // namespace
-
 PolicyDriver::PolicyDriver(std::shared_ptr<const Policy> policy, std::shared_ptr<const TrackCourse> course, int body,
                            double skill)
     : policy_(std::move(policy)), course_(std::move(course)), body_(body), skill_(std::clamp(skill, 0.0, 1.0)) {
@@ -79,7 +67,7 @@ const std::vector<float>& PolicyDriver::observe(const Model& m, const State& s) 
       case Part::NextGate: nextGate(*course_, at_, car, o), o += 2; break;
     }
   }
-  for (std::size_t i = 0; i < feature_.size(); ++i) obs_[i] = toFloat(feature_[i]);
+  for (std::size_t i = 0; i < feature_.size(); ++i) obs_[i] = publishedFloat(feature_[i]);
   return obs_;
 }
 

@@ -23,6 +23,8 @@ TrackCourse::TrackCourse(const scenario::RaceSpec& race) : line_(racingLine(race
     gate_s_.push_back(line_.locate(c).s);
     gate_c_.push_back(c);
   }
+  // a stage ends at its last gate (in driving order, before the sort below)
+  finish_ = line_.closed() || gate_s_.empty() ? line_.length() : gate_s_.back();
   // in order along the line (a circuit's start gate may sit anywhere on it)
   std::vector<size_t> order(gate_s_.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -32,10 +34,6 @@ TrackCourse::TrackCourse(const scenario::RaceSpec& race) : line_(racingLine(race
   for (size_t i : order) s.push_back(gate_s_[i]), c.push_back(gate_c_[i]);
   gate_s_ = std::move(s);
   gate_c_ = std::move(c);
-  finish_ = line_.closed() || race.gates.empty() ? line_.length()
-                                                 : line_.locate({0.5 * (race.gates.back().left[0] + race.gates.back().right[0]),
-                                                                 0.5 * (race.gates.back().left[1] + race.gates.back().right[1])})
-                                                       .s;
   if (!race.centerline.empty() && race.half_width > 0.0) {
     half_width_ = race.half_width;
     own_bounds_ = race.centerline.size() < 3;  // racingLine took the gates instead

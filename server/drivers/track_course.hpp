@@ -6,6 +6,9 @@
 // its policy saw in training, bit for bit.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "drivers/track_line.hpp"
@@ -14,6 +17,15 @@
 #include "scenario/race_spec.hpp"
 
 namespace groundsim::drivers {
+
+// An observation value as an environment publishes it (float32): a
+// non-finite one as 0 (only a diverged step could hold one), clamped to
+// float's range. The policy driver rounds its senses the same way.
+inline float publishedFloat(double v) {
+  if (!std::isfinite(v)) return 0.0f;
+  constexpr double most = std::numeric_limits<float>::max();
+  return static_cast<float>(std::clamp(v, -most, most));
+}
 
 // A car's body as the features read it (world frame).
 struct BodyView {

@@ -21,12 +21,6 @@ using scenario::TaskSpec;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-float toFloat(double v) {
-  if (!std::isfinite(v)) return 0.0f;  // never published (only a diverged step's workspace could hold one)
-  constexpr double most = std::numeric_limits<float>::max();
-  return static_cast<float>(std::clamp(v, -most, most));
-}
-
 }  // namespace
 
 Env::Env(std::shared_ptr<const TaskContext> ctx, std::uint64_t seed) : ctx_(std::move(ctx)) {
@@ -373,7 +367,7 @@ void Env::observe(float* obs) {
     in.track = ctx_->track ? &track_[a].at : nullptr;
     readSensors(sensors_[a], *ctx_, static_cast<int>(a), sim_->model(), sim_->state(), sim_->workspace(), in,
                 feature_.data());
-    for (size_t i = 0; i < o; ++i) last_obs_[a * o + i] = toFloat(feature_[i]);
+    for (size_t i = 0; i < o; ++i) last_obs_[a * o + i] = drivers::publishedFloat(feature_[i]);
   }
   if (obs != last_obs_.data()) std::copy(last_obs_.begin(), last_obs_.end(), obs);
 }

@@ -20,7 +20,7 @@ void setBots(nlohmann::json& doc, const BotsChoice& choice) {
   auto refuse = [](const std::string& where, const std::string& why) { throw ScenarioError({Issue{where, why}}); };
   if (!doc.is_object() || !doc.contains("race") || !doc["race"].is_object())
     refuse("/race", "bots drive in a race: this scenario has no race section");
-  if (choice.count < 0 || choice.count > kMaxGridSlots)
+  if (choice.count < -1 || choice.count > kMaxGridSlots)
     refuse("/race/bots", "expected 0 to " + std::to_string(kMaxGridSlots) + " bots, got " + std::to_string(choice.count));
   if (choice.skill && !(*choice.skill >= 0.2 && *choice.skill <= 1.0))
     refuse("/race/bot_skill", "expected a skill in [0.2, 1], got " + std::to_string(*choice.skill));
@@ -31,10 +31,11 @@ void setBots(nlohmann::json& doc, const BotsChoice& choice) {
   else if (doc.contains("vehicle") && doc["vehicle"].is_object()) list.push_back(doc["vehicle"]);
   if (list.empty() || !list[0].is_object()) refuse("/vehicles", "no vehicle to copy for the bots");
   const int had = race.contains("bots") && race["bots"].is_number_integer() ? race["bots"].get<int>() : 0;
+  const int count = choice.count >= 0 ? choice.count : std::clamp(had, 0, kMaxGridSlots);
   const int players = std::max(1, static_cast<int>(list.size()) - std::clamp(had, 0, static_cast<int>(list.size())));
   nlohmann::json out = nlohmann::json::array();
   for (int i = 0; i < players; ++i) out.push_back(list[static_cast<size_t>(i)]);
-  for (int k = 0; k < choice.count; ++k) {
+  for (int k = 0; k < count; ++k) {
     nlohmann::json v = list[0];
     v["name"] = botName(k);
     nlohmann::json& init = v["initial"];
@@ -51,7 +52,7 @@ void setBots(nlohmann::json& doc, const BotsChoice& choice) {
   }
   doc.erase("vehicle");
   doc["vehicles"] = std::move(out);
-  race["bots"] = choice.count;
+  race["bots"] = count;
   if (choice.skill) race["bot_skill"] = *choice.skill;
   if (choice.policy) race["bot_policy"] = *choice.policy;
 }

@@ -15,12 +15,12 @@ namespace groundsim::scenario {
 std::string botName(int k);
 
 struct BotsChoice {
-  int count = 0;                     // [0, 64]
+  int count = 0;                     // [0, 64]; -1: the race's own bots
   std::optional<double> skill;       // race.bot_skill, [0.2, 1]
   std::optional<std::string> policy; // race.bot_policy: a file name as the scenario names its files
 };
 
-// Gives the document's race `choice.count` bots: its own bots' vehicles
+// Gives the document's race `choice.count` bots (-1: as many as it has): its own bots' vehicles
 // (the last race.bots) are removed, and one copy of its first vehicle per
 // bot is appended, named botName(k), placed behind it (the race's grid
 // places every car it has a slot for); race.bots, bot_skill and bot_policy

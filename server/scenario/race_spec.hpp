@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,5 +54,7 @@ inline constexpr int kMaxRaceGates = 1000;
 inline constexpr int kMaxRaceLaps = 1000;
 inline constexpr int kMaxGridSlots = 64;
 inline constexpr int kMaxCenterlinePoints = 10000;
+// The largest bot policy file read with a scenario (drivers/policy.hpp).
+inline constexpr std::size_t kMaxBotPolicyBytes = 16u << 20;
 
 }  // namespace groundsim::scenario

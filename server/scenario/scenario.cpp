@@ -90,14 +90,13 @@ void placeOnGrid(const RaceSpec& race, std::vector<VehicleSpec>& vehicles) {
 // files to send only notes its name); what it holds is checked where it is
 // used (drivers/policy.hpp), when a session gives it the wheel.
 void readBotPolicy(RaceSpec& race, const FileAccess& files, IssueList& issues) {
-  constexpr std::size_t kMaxPolicyBytes = 16u << 20;
   if (race.bot_policy.empty()) return;
   if (files.mode == FileAccess::Mode::Collect) {
     if (files.collected) files.collected->push_back(race.bot_policy);
     return;
   }
   try {
-    race.bot_policy_text = std::make_shared<const std::string>(loadFileBytes(files, race.bot_policy, kMaxPolicyBytes));
+    race.bot_policy_text = std::make_shared<const std::string>(loadFileBytes(files, race.bot_policy, kMaxBotPolicyBytes));
   } catch (const TerrainError& e) {
     issues.add("/race/bot_policy", e.what());
   }

@@ -305,8 +305,7 @@ json groundGrid(const Ground& g, double cx, double cy, int n, double step) {
 std::string withBots(const std::string& scenario_json, int bots, double skill) {
   json doc = scenario::parseScenarioDocument(scenario_json);
   scenario::BotsChoice choice;
-  const bool race = doc.contains("race") && doc["race"].is_object();
-  choice.count = bots >= 0 ? bots : race && doc["race"].value("bots", 0) > 0 ? doc["race"]["bots"].get<int>() : 0;
+  choice.count = bots;  // -1: the race's own
   if (skill > 0.0) choice.skill = skill;
   scenario::setBots(doc, choice);
   return doc.dump();
