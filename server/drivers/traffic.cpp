@@ -20,7 +20,12 @@ constexpr double kRoomToPass = 5.0;     // m bumper to bumper: closer, it backs 
 
 TrafficAware::TrafficAware(std::unique_ptr<Driver> inner, int body, std::vector<int> others, int rank,
                            TrafficRules rules)
-    : inner_(std::move(inner)), body_(body), others_(std::move(others)), rank_(rank), rules_(rules) {}
+    : inner_(std::move(inner)),
+      body_(body),
+      others_(std::move(others)),
+      protected_(others_.size(), 0),
+      rank_(rank),
+      rules_(rules) {}
 
 Pedals TrafficAware::drive(const Model& m, const State& s) {
   (void)m;
@@ -28,6 +33,10 @@ Pedals TrafficAware::drive(const Model& m, const State& s) {
   yielded_ = false;
   const double dt = last_t_ < 0.0 ? 0.0 : std::max(0.0, s.t - last_t_);
   last_t_ = s.t;
+  if (ghost_) {  // passing through the others: nothing to keep off
+    blocked_ = 0.0, passing_ = -1;
+    return p;
+  }
   const Mat3 R = bodyRot(s.y, body_).normalized().toRotationMatrix();
   const Vec3 c = bodyPos(s.y, body_), v = bodyVel(s.y, body_);
   const Vec3 fwd = R.col(0);
@@ -60,13 +69,23 @@ TrafficAware::Ahead TrafficAware::look(const State& s, const Mat3& R, const Vec3
       p.steer = d.y() > 0.0 ? std::min(p.steer, 0.0) : std::max(p.steer, 0.0);
       yielded_ = yielded_ || p.steer != before;
     }
-    // alongside: ahead by more than a metre, or level and before this car in the order
-    const bool first = d.x() > 1.0 || (d.x() > -1.0 && static_cast<int>(k) < rank_);
-    if (std::abs(d.y()) > rules_.corridor && std::abs(d.y()) < rules_.lane && d.x() < rules_.length && first) {
+    // a car under respawn protection has the way: ahead it is in the path
+    // across the whole lane, and level with this one it goes first
+    const bool has_way = protected_[k] != 0;
+    const double corridor = has_way ? rules_.lane : rules_.corridor;
+    // alongside and merging: ahead by more than a metre, or level and
+    // before this car in the order
+    bool first = d.x() > 1.0 || (d.x() > -1.0 && static_cast<int>(k) < rank_);
+    bool alongside = std::abs(d.y()) > corridor && std::abs(d.y()) < rules_.lane && d.x() < rules_.length;
+    if (has_way) {
+      first = d.x() > -rules_.length;
+      alongside = std::abs(d.y()) < rules_.lane && d.x() <= 0.0;
+    }
+    if (alongside && first) {
       a.merging = true;
       continue;
     }
-    if (d.x() <= 0.0 || d.x() > rules_.look || std::abs(d.y()) > rules_.corridor) continue;
+    if (d.x() <= 0.0 || d.x() > rules_.look || std::abs(d.y()) > corridor) continue;
     const double g = d.x() - rules_.length;
     if (g < a.gap) {
       a.gap = g;
@@ -81,7 +100,9 @@ TrafficAware::Ahead TrafficAware::look(const State& s, const Mat3& R, const Vec3
 void TrafficAware::passIfBlocked(const State& s, const Mat3& R, const Vec3& c, const Ahead& ahead, double dt,
                                  Pedals& p) {
   if (passing_ < 0) {
-    const bool stuck = ahead.index >= 0 && ahead.their_speed < kStoppedSpeed && ahead.gap < rules_.min_gap + 3.0;
+    // (never a protected car: it was just put there and drives off)
+    const bool stuck = ahead.index >= 0 && protected_[static_cast<size_t>(ahead.index)] == 0 &&
+                       ahead.their_speed < kStoppedSpeed && ahead.gap < rules_.min_gap + 3.0;
     blocked_ = stuck ? blocked_ + dt : 0.0;
     if (blocked_ < kBlockedFor) return;
     // round it on the side where it leaves more room (its own offset from

@@ -5,10 +5,15 @@
 // (a corridor about its heading) closer than a time headway caps the
 // throttle, and closer than the distance the closing speed needs to shed
 // brakes; a car stopped in its path for 2 s (an idle player on the grid, a
-// crashed car) it goes round, backing off first when too close to turn out. Other cars are read from the simulation's state, so a race with
-// bots still re-simulates from its applied log alone.
+// crashed car) it goes round, backing off first when too close to turn
+// out. A car under respawn protection has the way: the bot gives it room
+// across its whole lane, lets it go first when alongside, and never goes
+// round it (it is about to drive off). Other cars are read from the
+// simulation's state (and the race's protections), so a race with bots
+// still re-simulates from its applied log alone.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -37,6 +42,13 @@ class TrafficAware : public Driver {
   // bots exactly one does (`rank`: this car's place in that order).
   TrafficAware(std::unique_ptr<Driver> inner, int body, std::vector<int> others, int rank, TrafficRules rules = {});
   Pedals drive(const Model& m, const State& s) override;
+  // Car k of `others` (its index there) is under respawn protection, or
+  // no longer (race.respawn_protection; the session sets it before each
+  // drive): it has the way.
+  void setProtected(std::size_t k, bool on) { protected_.at(k) = on ? 1 : 0; }
+  // This bot's own car is under respawn protection: it passes through the
+  // others, so it keeps no rule and drives as its inner driver does.
+  void setGhost(bool on) { ghost_ = on; }
   void relocate() override {
     inner_->relocate();
     last_t_ = -1.0, blocked_ = 0.0, passing_ = -1;
@@ -62,9 +74,11 @@ class TrafficAware : public Driver {
   std::unique_ptr<Driver> inner_;
   int body_ = 0;
   std::vector<int> others_;
+  std::vector<char> protected_;  // per car of others_: under respawn protection
   int rank_ = 0;
   TrafficRules rules_;
   bool yielded_ = false;
+  bool ghost_ = false;
   double last_t_ = -1.0;     // s   the state's time at the last call
   double blocked_ = 0.0;     // s   behind a stopped car so far
   int passing_ = -1;         // the car it goes round (in others_), -1: none

@@ -84,24 +84,24 @@ void addServiceOptions(CLI::App& app, ServerOptions& o) {
 // the model budget (scenario/budget.hpp, docs/reliability.md): every create is checked before building
 void addBudgetOptions(CLI::App& app, ServerOptions& o) {
   auto& b = o.cfg.budget;
-  app.add_option("--max-depth", o.cfg.budget.max_depth, "nesting depth of a scenario document")->capture_default_str()
+  app.add_option("--max-depth", b.max_depth, "nesting depth of a scenario document")->capture_default_str()
       ->check(CLI::Range(2, 10000));
-  app.add_option("--max-json-values", o.cfg.budget.max_json_values, "values in a scenario document")->capture_default_str()
+  app.add_option("--max-json-values", b.max_json_values, "values in a scenario document")->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--max-expression-length", o.cfg.budget.max_expression_length, "characters of an expression ground")
+  app.add_option("--max-expression-length", b.max_expression_length, "characters of an expression ground")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--max-points", o.cfg.budget.max_points, "mass and attachment points per session")->capture_default_str()
+  app.add_option("--max-points", b.max_points, "mass and attachment points per session")->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--max-springs", o.cfg.budget.max_springs, "springs per session")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--max-particles", o.cfg.budget.max_particles, "free point masses per session")->capture_default_str()
+  app.add_option("--max-springs", b.max_springs, "springs per session")->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-particles", b.max_particles, "free point masses per session")->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--max-state", o.cfg.budget.max_state, "doubles in a session's state")->capture_default_str()
+  app.add_option("--max-state", b.max_state, "doubles in a session's state")->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--max-implicit-state", o.cfg.budget.max_implicit_state, "state size implicit_euler may factor densely")
+  app.add_option("--max-implicit-state", b.max_implicit_state, "state size implicit_euler may factor densely")
       ->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--max-steps", o.cfg.budget.max_steps, "integrator steps over a session's duration")->capture_default_str()
+  app.add_option("--max-steps", b.max_steps, "integrator steps over a session's duration")->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--max-work", o.cfg.budget.max_work, "estimated work over a session's duration")->capture_default_str()
+  app.add_option("--max-work", b.max_work, "estimated work over a session's duration")->capture_default_str()
       ->check(CLI::PositiveNumber);
 }
 

@@ -101,6 +101,9 @@ class Race {
   // The car was put back at t: its wrong-way and off-track notices end.
   std::vector<RaceEvent> respawned(int car, const Pose& at, double t);
   bool isProtected(int car, double t) const { return t < cars_.at(static_cast<std::size_t>(car)).protected_until; }
+  // Its protection lasts until `until` (the session keeps a car that is
+  // still inside another protected until it is clear).
+  void extendProtection(int car, double until) { cars_.at(static_cast<std::size_t>(car)).protected_until = until; }
 
   const CarStanding& standing(int car) const { return cars_.at(static_cast<std::size_t>(car)); }
   // Every car, leaderboard order: finished by finish time, then by laps

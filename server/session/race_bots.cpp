@@ -5,7 +5,6 @@
 
 #include "drivers/lap_run.hpp"
 #include "drivers/policy_driver.hpp"
-#include "drivers/traffic.hpp"
 #include "scenario/scenario_error.hpp"
 
 namespace groundsim::session {
@@ -45,6 +44,7 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
     if (rc < 0) continue;
     Bot bot;
     bot.vehicle = v;
+    bot.body = m.road_cars[static_cast<size_t>(rc)].body;
     const int body = m.road_cars[static_cast<size_t>(rc)].body;
     std::unique_ptr<drivers::Driver> driver;
     try {
@@ -61,35 +61,65 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
       if (o == v || orc < 0) continue;
       if (o < v) ++rank;
       others.push_back(m.road_cars[static_cast<size_t>(orc)].body);
+      bot.others.push_back(o);
     }
-    bot.driver = std::make_unique<drivers::TrafficAware>(std::move(driver), body, std::move(others), rank);
+    auto traffic = std::make_unique<drivers::TrafficAware>(std::move(driver), body, std::move(others), rank);
+    bot.traffic = traffic.get();
+    bot.driver = std::move(traffic);
     b->bots_.push_back(std::move(bot));
   }
   if (b->bots_.empty()) return nullptr;
   return b;
 }
 
-const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s, bool held) {
+const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const State& s, const race::Race& race) {
   commands_.resize(bots_.size());  // sized once: no allocation in the step loop
+  lost_.clear();
+  const bool held = race.held(s.t);
+  const double dt = static_cast<double>(period_) * m.opt.dt;
   drivers::Pedals hold;
   hold.brake = 1.0;
   for (size_t k = 0; k < bots_.size(); ++k) {
-    const drivers::Pedals p = held ? hold : bots_[k].driver->drive(m, s);
+    Bot& bot = bots_[k];
+    for (size_t o = 0; o < bot.others.size(); ++o) bot.traffic->setProtected(o, race.isProtected(bot.others[o], s.t));
+    bot.traffic->setGhost(race.isProtected(bot.vehicle, s.t) && m.collisions);
+    const drivers::Pedals p = held ? hold : bot.driver->drive(m, s);
     Command& c = commands_[k];
-    c.vehicle = bots_[k].vehicle;
+    c.vehicle = bot.vehicle;
     c.controls = drivers::toControls(p);
     c.controls.throttle = std::min(p.throttle, skill_);  // the skill caps the throttle
+    if (!held) judge(bot, m, s, race, dt);
   }
   return commands_;
 }
 
-void RaceBots::relocate(int vehicle) {
-  for (Bot& bot : bots_)
-    if (bot.vehicle == vehicle) bot.driver->relocate();
+// Whether bot's car wants a respawn (lost_), as a player would see it.
+void RaceBots::judge(Bot& bot, const Model& m, const State& s, const race::Race& race, double dt) {
+  (void)m;
+  const race::CarStanding& st = race.standing(bot.vehicle);
+  if (st.finished || race.isProtected(bot.vehicle, s.t)) {
+    bot.stuck = bot.flipped = bot.astray = 0.0;
+    return;
+  }
+  const Mat3 R = bodyRot(s.y, bot.body).normalized().toRotationMatrix();
+  const double speed = Vec3(bodyVel(s.y, bot.body)).norm();
+  bot.stuck = speed < kStuckSpeed ? bot.stuck + dt : 0.0;
+  bot.flipped = R(2, 2) < 0.3 ? bot.flipped + dt : 0.0;  // its up axis more than ~73 degrees from the vertical
+  bot.astray = st.off_track || st.wrong_way ? bot.astray + dt : 0.0;
+  const double since_gate = s.t - std::max({st.last_cross, race.goTime(), bot.placed});
+  if (bot.stuck >= kStuckFor || bot.flipped >= kFlippedFor || bot.astray >= kLostFor || since_gate >= kNoGateFor) {
+    lost_.push_back(bot.vehicle);
+    bot.stuck = bot.flipped = bot.astray = 0.0;
+  }
 }
 
-void RaceBots::relocateAll() {
-  for (Bot& bot : bots_) bot.driver->relocate();
+void RaceBots::relocate(int vehicle, double t) {
+  for (Bot& bot : bots_)
+    if (bot.vehicle == vehicle) bot.restart(t);
+}
+
+void RaceBots::relocateAll(double t) {
+  for (Bot& bot : bots_) bot.restart(t);
 }
 
 bool RaceBots::drives(int vehicle) const {

@@ -22,6 +22,12 @@ constexpr double kHoldBrakeTorque = 1e4;
 // a respawn spot is free when no other car's centre is this close (m)
 constexpr double kRespawnClearance = 4.0;
 constexpr double kRespawnLateralStep = 3.0;  // m along the gate between tries
+// a protection ends only once its car is clear of every other: no other
+// car's centre within this box about it (a sedan's 4.8 x 1.8 m and a
+// margin); until then it is looked at again every kProtectionRecheck
+constexpr double kClearLength = 5.0;       // m, half the box's length plus half a car's
+constexpr double kClearWidth = 2.4;        // m
+constexpr double kProtectionRecheck = 0.1; // s
 // dropped from this much above its resting height (on a slope the lower
 // wheel would otherwise start in the ground)
 constexpr double kRespawnDrop = 0.05;        // m
@@ -175,10 +181,34 @@ std::string raceRestore(RaceGlue& g, Simulator& sim, const nlohmann::json& j) {
   }
 }
 
+// Whether vehicle v's car overlaps another's (a centre inside the clear box about it).
+bool overlapsAnother(const Simulator& sim, int v, int cars) {
+  const State& s = sim.state();
+  const int body = sim.model().vehicle_body.at(static_cast<std::size_t>(v));
+  const Mat3 R = bodyRot(s.y, body).normalized().toRotationMatrix();
+  const Vec3 c = bodyPos(s.y, body);
+  for (int o = 0; o < cars; ++o) {
+    if (o == v) continue;
+    const Vec3 d = R.transpose() * Vec3(bodyPos(s.y, sim.model().vehicle_body.at(static_cast<std::size_t>(o))) - c);
+    if (std::abs(d.x()) < kClearLength && std::abs(d.y()) < kClearWidth) return true;
+  }
+  return false;
+}
+
 std::vector<race::RaceEvent> raceStepped(RaceGlue& g, Simulator& sim, double t0) {
-  if (g.ghosted) {  // a protection over
+  if (g.ghosted) {  // protections that end now: those of cars clear of the others (a car still in another stays a ghost)
     bool over = false;
-    for (double until : g.ghost_until) over |= until > 0.0 && until <= sim.state().t && until > t0;
+    const double t = sim.state().t;
+    for (std::size_t v = 0; v < g.ghost_until.size(); ++v) {
+      double& until = g.ghost_until[v];
+      if (!(until > 0.0 && until <= t && until > t0)) continue;
+      if (overlapsAnother(sim, static_cast<int>(v), g.race.cars())) {
+        until = t + kProtectionRecheck;
+        g.race.extendProtection(static_cast<int>(v), until);
+      } else {
+        over = true;
+      }
+    }
     if (over) raceGhosts(g, sim);
   }
   const bool was_held = g.race.held(t0);
@@ -273,7 +303,7 @@ void Session::raceAfterStep(double t0) {
 
 void Session::raceReset() {
   if (race_) raceRestart(*race_, sim_);
-  if (bots_) bots_->relocateAll();
+  if (bots_) bots_->relocateAll(sim_.state().t);
 }
 
 // Before a step, once every control period: each bot's command, applied as
@@ -285,8 +315,7 @@ void Session::botsDrive() {
   CarDrive d;
   d.client_id = "bot";
   d.received = clock_.now();
-  const bool held = race_->race.held(sim_.state().t);
-  for (const RaceBots::Command& c : bots_->drive(sim_.model(), sim_.state(), held)) {
+  for (const RaceBots::Command& c : bots_->drive(sim_.model(), sim_.state(), race_->race)) {
     d.vehicle = c.vehicle;
     d.controls = c.controls;
     if (race_->race.standing(c.vehicle).finished) {  // past the flag: slow down and stop on the line
@@ -295,6 +324,8 @@ void Session::botsDrive() {
     }
     apply(d);
   }
+  // a bot lost (stuck, on its roof, off the track): respawned as a player's "R" is
+  for (int v : bots_->lost()) respawnVehicle(v);
 }
 
 void Session::raceRespawn(const Request& r) {
@@ -307,15 +338,21 @@ void Session::raceRespawn(const Request& r) {
                      std::to_string(race_->race.cars()) + ")");
   if (status_ == Status::Diverged)
     return reply(to, false, ErrorCode::Diverged, "respawn: session diverged: " + reason_ + " (reset it)");
+  respawnVehicle(static_cast<int>(v));
+  reply(to, true, ErrorCode::None, "");
+}
+
+// Vehicle v back at its last gate (raceRespawnCar), logged as an applied
+// entry (re-simulation and a standby's replay place it again by the same rule).
+void Session::respawnVehicle(int v) {
   Applied a;
   a.kind = AppliedKind::Respawn;
-  a.vehicle = static_cast<int>(v);
+  a.vehicle = v;
   logApplied(std::move(a));
-  for (const race::RaceEvent& e : raceRespawnCar(*race_, sim_, initial_, static_cast<int>(v)))
+  for (const race::RaceEvent& e : raceRespawnCar(*race_, sim_, initial_, v))
     event(Severity::Info, ErrorCode::None, race::Race::reason(e, setup_.vehicle_names));
-  if (bots_) bots_->relocate(static_cast<int>(v));
+  if (bots_) bots_->relocate(v, sim_.state().t);
   frame_pending_ = true;
-  reply(to, true, ErrorCode::None, "");
 }
 
 }  // namespace groundsim::session

@@ -152,6 +152,7 @@ class Session : public HostedSession {
   void raceAfterStep(double t0);
   void raceReset();
   void raceRespawn(const Request& r);  // OP_RESET with steps = -1 - vehicle
+  void respawnVehicle(int v);          // a player's respawn or a lost bot's
   void botsDrive();  // race_bots.hpp: the bots' commands, applied as players' are
 
   SessionSetup setup_;

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "session/fakes.hpp"
+#include "session/race_bots.hpp"
+#include "session/resimulate.hpp"
 #include "session/session.hpp"
 
 namespace groundsim::session::test {
@@ -503,6 +505,58 @@ TEST(RaceSession, ATrainedBotsPolicyFileDrivesThroughThePlayersPath) {
   EXPECT_EQ(sfin[0]["race_time"].get<double>(), fin[0]["race_time"].get<double>());
   std::printf("the policy bot finished the stage in %.6f s (on the standby: %.6f s)\n",
               fin[0]["race_time"].get<double>(), sfin[0]["race_time"].get<double>());
+}
+
+// A bot whose car is lost respawns as a player presses R (RaceBots::lost):
+// here a wall stands across the stage after the start, so the classical
+// bot drives into it and stays there, pushing. Once it has stood still
+// for kStuckFor it is put back after its last gate, with its protection,
+// through the same path as a player's respawn: a race event of its car and
+// an applied entry of that vehicle, so the race re-simulates from the log
+// to the same bit. The player's car, idle on the grid all along, is never
+// respawned: only bots are put back by the server.
+TEST(RaceSession, ABotStuckAgainstAWallRespawnsAsAPlayerWould) {
+  const char* doc = R"({"name": "wall", "duration": 40, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "objects": [{"name": "wall", "shape": "box", "size": [1, 40, 2], "position": [45, 0, 0]}],
+    "vehicles": [{"name": "player", "kind": "road_car"}, {"name": "bot", "kind": "road_car"}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1, "bots": 1,
+             "gates": [{"center": [10, 0], "width": 14, "heading_deg": 0}, {"center": [80, 0], "width": 14, "heading_deg": 0}],
+             "grid": [{"position": [0, 2.5]}, {"position": [0, -2.5]}]}})";
+  FailoverRig rig(doc, {"player", "bot"}, 40);
+  rig.runOwnerUntil([&] { return raceEvents(rig.owner_out, "respawn").size() >= 2; }, 400);
+  const auto respawns = raceEvents(rig.owner_out, "respawn");
+  ASSERT_GE(respawns.size(), 2u) << "the bot stuck against the wall was never put back";
+  for (const auto& e : respawns) EXPECT_EQ(e["car"], 1) << "only the bot is respawned by the server";
+  // it stood still for kStuckFor first: against the wall, after go and the drive there
+  const double first = respawns[0]["t"].get<double>();
+  EXPECT_GT(first, 1.0 + RaceBots::kStuckFor);
+  double last_moving = 0.0;  // the bot's car last faster than kStuckSpeed before the first respawn
+  for (size_t i = 1; i < rig.owner_out.frames.size(); ++i) {
+    const Frame &a = rig.owner_out.frames[i - 1], &b = rig.owner_out.frames[i];
+    if (b.t > first - 1e-9) break;
+    const double v = (b.vehicles[1].position - a.vehicles[1].position).norm() / (b.t - a.t);
+    if (v > 1.5 * RaceBots::kStuckSpeed) last_moving = b.t;
+  }
+  EXPECT_GE(first - last_moving, RaceBots::kStuckFor - 0.1) << "respawned before it had stood still for long";
+  EXPECT_LT(first - last_moving, RaceBots::kStuckFor + 1.0) << "left standing long after it was stuck";
+  // a player's respawn entry, of vehicle 1
+  int entries = 0;
+  for (const Applied& a : rig.owner_out.applied)
+    if (a.kind == AppliedKind::Respawn) {
+      EXPECT_EQ(a.vehicle, 1);
+      ++entries;
+    }
+  EXPECT_EQ(entries, static_cast<int>(respawns.size()));
+  // the log re-simulates to the owner's last state, bit for bit
+  Resimulator re(doc, scenario::FileAccess::none());
+  for (const Applied& a : rig.owner_out.applied) ASSERT_EQ(re.apply(a), "");
+  const Frame& last = rig.owner_out.frames.back();
+  ASSERT_EQ(re.stepTo(last.tick), "");
+  const Frame got = re.frame();
+  for (size_t v = 0; v < 2; ++v) EXPECT_EQ(got.vehicles[v].position, last.vehicles[v].position) << "vehicle " << v;
+  std::printf("the bot was put back at %.3f s (still since %.3f s), %zu respawns by %.2f s; re-simulated to the bit\n",
+              first, last_moving, respawns.size(), last.t);
 }
 
 // A policy file a bot cannot drive with is refused when the session is

@@ -6,7 +6,12 @@
 //  - with the player driving off the grid (W held), every bot starts
 //    (crosses the start line) and at least one passes gate 3 of 10, on
 //    its own, through the players' controls path;
-//  - no bot is ever off track meanwhile.
+//  - no bot is ever off track meanwhile;
+//  - the rival ghost: once a bot completes a lap, the page keeps the
+//    session's fastest lap by another car as a ghost with its driver's
+//    name (window.groundsim.race.rival): the lap event's time to the bit,
+//    its states from the start line round to the lap's end, and it is
+//    placed into the own car's lap as the page draws.
 // The page runs without drawing (?render=0): what is checked is its state
 // and DOM. Every wait is for a condition in the server's events.
 import * as h from './harness.mjs';
@@ -37,9 +42,40 @@ await h.until('every bot started', async () => new Set((await events()).filter((
 await h.until('a bot past gate 3', async () => (await events()).some((e) => e.type === 'gate' && e.gate >= 3), 120000, 200);
 await page.keyboard.up('w');
 await h.until('the leaderboard with the bots', () => page.evaluate(() => ['ada-bot', 'bruno-bot', 'carla-bot'].every((n) => document.body.innerText.includes(n))), 30000);
+// the rival ghost: the fastest bot lap so far, kept with its states
+const botLap = await h.until('a bot completes a lap', async () => {
+  const laps = (await events()).filter((e) => e.type === 'lap');
+  return laps.length ? laps.reduce((a, b) => (b.lap_time < a.lap_time ? b : a)) : null;
+}, 180000, 250);
+// the page keeps the fastest of the bots' laps it has seen (read together
+// with the events, so that a faster lap arriving meanwhile is no mismatch)
+const rival = await h.until('the rival ghost of the fastest bot lap', () => page.evaluate(() => {
+  const g = window.groundsim.race, r = g.rival.best;
+  const laps = g.events.filter((e) => e.type === 'lap' && typeof e.name === 'string' && e.name.endsWith('-bot'));
+  const fastest = laps.reduce((a, b) => (b.lap_time < a.lap_time ? b : a));
+  return r && r.lap_time === fastest.lap_time && r.name === fastest.name && r.car === fastest.car
+    ? { car: r.car, name: r.name, lap_time: r.lap_time, n: r.samples.length, first: r.samples[0],
+        last: r.samples[r.samples.length - 1], gate: g.layout.gates[0] } : null;
+}), 30000, 200);
+console.log(`rival ghost: ${rival.name}'s lap ${rival.lap_time.toFixed(3)} s (car ${rival.car}), ${rival.n} states; the first bot lap seen: ${botLap.name}'s ${botLap.lap_time.toFixed(3)} s`);
+if (!(rival.first[0] <= 0.1 && rival.last[0] >= rival.lap_time - 0.1))
+  await h.fail(`the ghost's states span ${rival.first[0]}..${rival.last[0]} s of a ${rival.lap_time} s lap`);
+// it begins on the start line: within the gate's width of its centre
+const [lx, ly, rx, ry] = rival.gate;
+const fromStart = Math.hypot(rival.first[1] - (lx + rx) / 2, rival.first[2] - (ly + ry) / 2);
+if (!(fromStart < Math.hypot(rx - lx, ry - ly))) await h.fail(`the ghost's lap begins ${fromStart.toFixed(1)} m from the start line`);
 const bots = await events();
 const off = bots.filter((e) => e.type === 'off_track' && e.on);
 if (off.length > 0) await h.fail(`bots off track: ${off.map((e) => `${e.name} at ${e.t.toFixed(1)} s`).join(', ')}`);
 const gates = bots.filter((e) => e.type === 'gate');
 console.log(`${bots.length} race events of bots; gates passed: ${gates.map((e) => `${e.name} ${e.gate}`).join(', ')}`);
-await h.pass('three bots raced from the lobby');
+// and, kept through a reset, is placed into the own lap as the player drives again
+await page.keyboard.press('r');
+await h.until('the race to restart', () => page.evaluate(() => window.groundsim.lastState.t < 1.0 && !window.groundsim.race.mine.started), 60000);
+const kept = await page.evaluate(() => window.groundsim.race.rival.best?.lap_time);
+if (kept !== rival.lap_time) await h.fail(`the reset dropped the rival ghost (now ${kept})`);
+await page.keyboard.down('w');
+const shown = await h.until('the rival ghost placed', () => page.evaluate(() => window.groundsim.race.rival.shown), 60000, 100);
+await page.keyboard.up('w');
+console.log(`rival ghost placed ${shown.tau.toFixed(2)} s into the own lap at (${shown.p[0].toFixed(1)}, ${shown.p[1].toFixed(1)})`);
+await h.pass(`three bots raced from the lobby; the rival ghost is ${rival.name}'s ${rival.lap_time.toFixed(3)} s lap`);

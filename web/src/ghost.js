@@ -1,8 +1,11 @@
-// The best-lap ghost (docs/front-end.md, Races): the own car's states of its
-// best lap, as the server published them, kept per scenario (in memory and
-// in localStorage) and drawn translucent beside the car on later laps, at
-// the same time into the lap. A ghost passes through everything: it is
-// drawn, never simulated.
+// The lap ghosts (docs/front-end.md, Races), drawn translucent beside the
+// car on later laps at the same time into the lap, from the states the
+// server published:
+//  - Ghost: the own car's best lap, kept per scenario (in memory and in
+//    localStorage);
+//  - RivalGhost: the session's fastest lap by any other car, a player's or
+//    a bot's, with its driver's name (kept for the session).
+// A ghost passes through everything: it is drawn, never simulated.
 import * as THREE from 'three';
 import { app } from './app.js';
 import { Vehicle } from './vehicle.js';
@@ -14,6 +17,58 @@ function slerpQ(a, b, u) {
   const qa = new THREE.Quaternion(a[1], a[2], a[3], a[0]), qb = new THREE.Quaternion(b[1], b[2], b[3], b[0]);
   qa.slerp(qb, u);
   return [qa.w, qa.x, qa.y, qa.z];
+}
+
+// A lap's pose tau seconds into it, interpolated between its states
+// ({lap_time, samples: [[tau, x, y, z, qw, qx, qy, qz]]}); null outside it.
+function poseAt(lap, tau) {
+  const s = lap && lap.samples;
+  if (!s || s.length < 2 || tau < s[0][0] || tau > s[s.length - 1][0]) return null;
+  let lo = 0, hi = s.length - 1;
+  while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (s[mid][0] <= tau) lo = mid; else hi = mid; }
+  const a = s[lo], b = s[hi], u = b[0] > a[0] ? (tau - a[0]) / (b[0] - a[0]) : 0;
+  const p = [0, 1, 2].map((k) => a[1 + k] + u * (b[1 + k] - a[1 + k]));
+  return { p, q: slerpQ(a.slice(4, 8), b.slice(4, 8), u) };
+}
+
+// A translucent car of `layout`, named `name` ('' : no label).
+function buildGhostVehicle(scene, layout, color, name) {
+  const v = new Vehicle(scene, layout, color, name);
+  v.root.traverse((m) => {
+    if (!m.isMesh) return;
+    m.material = m.material.clone();
+    m.material.transparent = true;
+    m.material.opacity = 0.3;
+    m.material.depthWrite = false;
+    m.castShadow = false;
+  });
+  v.root.name = 'ghost';
+  return v;
+}
+
+// A lap being recorded from the published states: {start, samples}.
+function tapeStart(t) { return { start: t, samples: [] }; }
+function tapePush(tape, t, v, minGap = 0) {
+  if (!tape || !v || tape.samples.length >= MAX_SAMPLES || t < tape.start - 0.1) return;
+  const n = tape.samples.length;
+  if (n && t - tape.start - tape.samples[n - 1][0] < minGap) return;
+  tape.samples.push([t - tape.start, ...v.p, ...v.q]);
+}
+
+// Draws `lap` at tau into it on `holder.vehicle` (built on first need by
+// make()); records where in holder.shown ({tau, p}) or hides it.
+function drawLap(holder, lap, tau, make) {
+  const pose = lap && tau !== null ? poseAt(lap, tau) : null;
+  if (!pose) {
+    if (holder.vehicle) holder.vehicle.root.visible = false;
+    holder.shown = null;
+    return;
+  }
+  if (!holder.vehicle) holder.vehicle = make();
+  if (!holder.vehicle) return;
+  holder.vehicle.root.visible = true;
+  holder.vehicle.update({ p: pose.p, q: pose.q, w: [0, 0, 0], v: [0, 0, 0], speed: 0, spin: [], N: [] }, 0, 0, null, false);
+  holder.shown = { tau, p: pose.p };
 }
 
 export class Ghost {
@@ -42,7 +97,7 @@ export class Ghost {
 
   // the own car's lap started at t (simulated): record it, and race the ghost from it
   lapStarted(t) {
-    this.rec = { start: t, samples: [] };
+    this.rec = tapeStart(t);
     this.playStart = t;
   }
   // the own car completed a lap at e.t: keep it when it is the best (once
@@ -55,12 +110,9 @@ export class Ghost {
   onState(m) {
     const v = m.vehicles[app.followed];
     if (!v) return;
-    const push = (r) => {
-      if (r && r.samples.length < MAX_SAMPLES && m.t >= r.start - 0.1) r.samples.push([m.t - r.start, ...v.p, ...v.q]);
-    };
-    push(this.rec);
+    tapePush(this.rec, m.t, v);
     if (!this.cut) return;
-    if (this.cut.rec !== this.rec) push(this.cut.rec);
+    if (this.cut.rec !== this.rec) tapePush(this.cut.rec, m.t, v);
     if (m.t >= this.cut.t) {
       this.best = { lap_time: this.cut.lap_time, samples: this.cut.rec.samples };
       try { localStorage.setItem(STORE + this.key, JSON.stringify(this.best)); } catch { /* full: memory only */ }
@@ -68,49 +120,92 @@ export class Ghost {
     }
   }
 
-  // The ghost's pose tau seconds into its lap, interpolated between its states.
-  pose(tau) {
-    const s = this.best && this.best.samples;
-    if (!s || s.length < 2 || tau < s[0][0] || tau > s[s.length - 1][0]) return null;
-    let lo = 0, hi = s.length - 1;
-    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (s[mid][0] <= tau) lo = mid; else hi = mid; }
-    const a = s[lo], b = s[hi], u = b[0] > a[0] ? (tau - a[0]) / (b[0] - a[0]) : 0;
-    const p = [0, 1, 2].map((k) => a[1 + k] + u * (b[1 + k] - a[1 + k]));
-    return { p, q: slerpQ(a.slice(4, 8), b.slice(4, 8), u) };
-  }
+  // The ghost's pose tau seconds into its lap.
+  pose(tau) { return poseAt(this.best, tau); }
 
   // per drawn state
   frame(s) {
-    const pose = this.best && this.playStart !== null ? this.pose(s.t - this.playStart) : null;
-    if (!pose) {
-      if (this.vehicle) this.vehicle.root.visible = false;
-      this.shown = null;
-      return;
-    }
-    if (!this.vehicle && this.layout) this.vehicle = this.build(this.layout);
-    if (!this.vehicle) return;
-    this.vehicle.root.visible = true;
-    this.vehicle.update({ p: pose.p, q: pose.q, w: [0, 0, 0], v: [0, 0, 0], speed: 0, spin: [], N: [] }, 0, 0, null, false);
-    this.shown = { tau: s.t - this.playStart, p: pose.p };
-  }
-
-  build(layout) {
-    const v = new Vehicle(this.scene, layout, 0x9fd8ff, '');
-    v.root.traverse((m) => {
-      if (!m.isMesh) return;
-      m.material = m.material.clone();
-      m.material.transparent = true;
-      m.material.opacity = 0.3;
-      m.material.depthWrite = false;
-      m.castShadow = false;
-    });
-    v.root.name = 'ghost';
-    return v;
+    drawLap(this, this.best, this.playStart === null ? null : s.t - this.playStart,
+            () => (this.layout ? buildGhostVehicle(this.scene, this.layout, 0x9fd8ff, '') : null));
   }
 
   clear() {
     if (this.vehicle) this.vehicle.dispose(this.scene);
     this.vehicle = null;
     this.rec = null; this.cut = null; this.playStart = null; this.shown = null;
+  }
+}
+
+// The session's fastest lap by another car than the one followed (a
+// player's or a bot's): every other car's current lap is recorded (at most
+// RIVAL_RATE samples a second, for at most MAX_RIVALS cars), and a lap
+// event faster than the kept one replaces it once its states are in. It is
+// drawn in amber with its driver's name, at the own lap's time into it,
+// and kept through the session's resets.
+const RIVAL_RATE = 30;   // samples a second
+const MAX_RIVALS = 16;   // cars recorded at once
+
+export class RivalGhost {
+  constructor(scene) {
+    this.scene = scene;
+    this.vehicle = null;
+    this.key = null;        // the session
+    this.layouts = [];      // the session's vehicles' layouts, by car
+    this.best = null;       // {car, name, lap_time, samples}
+    this.tapes = new Map(); // car -> its current lap being recorded
+    this.cut = null;        // the faster lap waiting for its last state: {car, name, t, lap_time, tape}
+    this.playStart = null;  // the own lap's start (simulated s)
+    this.shown = null;
+  }
+
+  // The race of session `key` with its cars' layouts: the lap kept stays
+  // through a reset of the same session, never into another.
+  use(key, layouts) {
+    this.clear();
+    this.layouts = layouts || [];
+    if (key !== this.key) this.best = null;
+    this.key = key;
+  }
+  ownLapStarted(t) { this.playStart = t; }
+  // car's lap started at t (its start, or the lap after the one it completed)
+  lapStarted(car, t) {
+    if (car === app.followed) return;
+    if (this.tapes.has(car) || this.tapes.size < MAX_RIVALS) this.tapes.set(car, tapeStart(t));
+  }
+  // another car completed a lap: kept when it is the session's fastest by another car
+  lapDone(e) {
+    if (e.car === app.followed) return;
+    const tape = this.tapes.get(e.car);
+    const bar = Math.min(this.best ? this.best.lap_time : Infinity, this.cut ? this.cut.lap_time : Infinity);
+    if (tape && e.lap_time > 0 && e.lap_time < bar)
+      this.cut = { car: e.car, name: String(e.name || `car ${e.car}`), t: e.t, lap_time: e.lap_time, tape };
+  }
+
+  // every state received (raw, not interpolated)
+  onState(m) {
+    for (const [car, tape] of this.tapes) if (car !== app.followed) tapePush(tape, m.t, m.vehicles[car], 1 / RIVAL_RATE);
+    const c = this.cut;
+    if (!c) return;
+    if (this.tapes.get(c.car) !== c.tape) tapePush(c.tape, m.t, m.vehicles[c.car], 1 / RIVAL_RATE);
+    if (m.t < c.t) return;
+    this.best = { car: c.car, name: c.name, lap_time: c.lap_time, samples: c.tape.samples };
+    this.cut = null;
+    if (this.vehicle) this.vehicle.dispose(this.scene);  // its label names the new lap's driver
+    this.vehicle = null;
+  }
+
+  frame(s) {
+    const b = this.best;
+    drawLap(this, b, this.playStart === null ? null : s.t - this.playStart, () => {
+      const layout = b && this.layouts[b.car];
+      return layout ? buildGhostVehicle(this.scene, layout, 0xffb347, `${b.name} ${b.lap_time.toFixed(3)}`) : null;
+    });
+  }
+
+  clear() {
+    if (this.vehicle) this.vehicle.dispose(this.scene);
+    this.vehicle = null;
+    this.tapes.clear();
+    this.cut = null; this.playStart = null; this.shown = null;
   }
 }

@@ -9,7 +9,7 @@
 import * as THREE from 'three';
 import { app } from './app.js';
 import { addEvent } from './hud.js';
-import { Ghost } from './ghost.js';
+import { Ghost, RivalGhost } from './ghost.js';
 
 const fmt = (t) => {
   if (!(t > 0)) return '-';
@@ -30,8 +30,13 @@ export class RaceView {
     this.scene = scene;
     this.group = new THREE.Group();
     scene.add(this.group);
-    this.ghost = new Ghost(scene);
-    app.stateListeners.push((m) => { if (this.layout && m.session === app.session) this.ghost.onState(m); });
+    this.ghost = new Ghost(scene);       // the own best lap
+    this.rival = new RivalGhost(scene);  // the session's fastest lap by another car
+    app.stateListeners.push((m) => {
+      if (!this.layout || m.session !== app.session) return;
+      this.ghost.onState(m);
+      this.rival.onState(m);
+    });
     this.reset();
     // HUD: the panel top centre, the countdown and notices in the middle, the board at the right
     const panel = 'position:absolute;background:rgba(16,20,26,0.82);border-radius:6px;padding:6px 12px;' +
@@ -90,6 +95,7 @@ export class RaceView {
     if (this.events.length > 2000) this.events.shift();
     const own = e.car === app.followed;
     const me = this.mine;
+    if (!own) this.otherCar(e);
     switch (e.type) {
       case 'race': this.setLayout(e); this.events.push(e); break;
       case 'standings': this.standings = e; this.renderBoard(); break;
@@ -97,6 +103,7 @@ export class RaceView {
         if (own) {
           Object.assign(me, { started: true, lapStart: e.t, lap: 1, nextGate: 1, splits: [] });
           this.ghost.lapStarted(e.t);
+          this.rival.ownLapStarted(e.t);
           this.onStart?.(e);
         }
         break;
@@ -123,6 +130,7 @@ export class RaceView {
           this.onLap?.(e, me);
           if (e.lap < (this.layout?.laps || 1) && this.layout?.circuit !== false) {
             this.ghost.lapStarted(e.t);
+            this.rival.ownLapStarted(e.t);
             this.onStart?.(e);
           }
         }
@@ -141,11 +149,22 @@ export class RaceView {
     return true;
   }
 
+  // Another car's start and laps: its laps recorded for the rival ghost.
+  otherCar(e) {
+    if (typeof e.car !== 'number') return;
+    if (e.type === 'start') this.rival.lapStarted(e.car, e.t);
+    if (e.type === 'lap') {
+      this.rival.lapDone(e);
+      if (e.lap < (this.layout?.laps || 1) && this.layout?.circuit !== false) this.rival.lapStarted(e.car, e.t);
+    }
+  }
+
   // The race of the session joined (the joined layout's `race`, or the
   // server's "race" event at its start and after a reset); null: none.
   setLayout(race) {
     this.reset();
     this.ghost.clear();
+    this.rival.clear();
     if (!race) return this.show(false);
     this.layout = race;
     this.build();
@@ -154,6 +173,7 @@ export class RaceView {
     const name = app.layout && app.layout.name ? app.layout.name : `session ${app.session}`;
     const car = app.layout && app.layout.vehicles ? app.layout.vehicles[app.followed] : null;
     this.ghost.use(name, car);
+    this.rival.use(app.session, app.layout && app.layout.vehicles);
   }
 
   // the gates as posts (one instanced mesh per colour: 2 draw calls for
@@ -192,6 +212,7 @@ export class RaceView {
   frame(s) {
     if (!this.layout || !s) return;
     this.ghost.frame(s);
+    this.rival.frame(s);
     const v = s.vehicles[app.followed];
     const me = this.mine;
     const gates = this.layout.gates || [];
@@ -257,6 +278,7 @@ export class RaceView {
   dispose() {
     this.reset();
     this.ghost.clear();
+    this.rival.clear();
     this.show(false);
   }
 }
