@@ -507,6 +507,77 @@ TEST(RaceSession, ATrainedBotsPolicyFileDrivesThroughThePlayersPath) {
               fin[0]["race_time"].get<double>(), sfin[0]["race_time"].get<double>());
 }
 
+// A protection lasts until the car is clear of the others: a car respawned
+// behind a car standing on its line drives into it as a ghost and is still
+// inside it when its 3 s are up; it stays a ghost until no other car's
+// centre is within 5 m ahead or behind and 2.4 m aside, so the two never
+// touch (a protection ending inside another car would meet a penalty
+// force of metres of penetration).
+TEST(RaceSession, AProtectionLastsUntilTheCarIsClearOfTheOthers) {
+  const char* doc = R"({"name": "parked", "duration": 60, "output_rate": 50, "physics": {"dt": 0.004},
+    "contact": {"friction": 1.0}, "ground": {"type": "plane"},
+    "vehicles": [{"name": "a", "kind": "road_car", "controls": [{"t": 0, "throttle": 0.7}, {"t": 8.1, "throttle": 0.7}]},
+                 {"name": "parked", "kind": "road_car", "controls": [{"t": 0, "brake": 1.0}]}],
+    "race": {"laps": 1, "circuit": false, "countdown": 1,
+             "gates": [{"center": [10, 0], "width": 10, "heading_deg": 0}, {"center": [30, 0], "width": 10, "heading_deg": 0},
+                       {"center": [120, 0], "width": 10, "heading_deg": 0}],
+             "grid": [{"position": [0, 0]}, {"position": [PARKED, 0]}]}})";
+  std::string text(doc);  // the parked car 6 m past where a respawns (2 m past gate 1): clear of it, not of where a is 3 s later
+  text.replace(text.find("PARKED"), 6, "38");
+  const scenario::Scenario sc = scenario::parseScenario(text);
+  scenario::Scene scene = scenario::buildScene(sc);
+  ServiceConfig cfg;
+  ManualClock clock;
+  RecordingOutput out;
+  SessionSetup setup;
+  setup.id = "0000PARK";
+  setup.token = "t";
+  setup.scenario_json = text;
+  setup.vehicle_names = {"a", "parked"};
+  setup.mode = Mode::Lockstep;
+  setup.control_tables = scene.control_tables;
+  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  s->post(stepRequest(2000, 1));  // 8 s: past gate 1, into the parked car
+  s->run(clock.now());
+  ASSERT_EQ(raceEvents(out, "gate", 0).size(), 1u) << "car a did not pass gate 1";
+  Request r;
+  r.op = Op::Reset;
+  r.steps = -1;
+  r.request_id = 2;
+  s->post(r);
+  s->run(clock.now());
+  const auto respawn = raceEvents(out, "respawn", 0);
+  ASSERT_EQ(respawn.size(), 1u);
+  const double t_respawn = respawn[0]["t"].get<double>();
+  const size_t first = out.frames.size();
+  for (int k = 0; k < 500; ++k) {  // 10 s more, a frame each 20 ms
+    s->post(stepRequest(5, 3 + k));
+    s->run(clock.now());
+  }
+  auto probes = [](const Frame& f) {
+    for (const CollisionGroup& g : f.model->groups)
+      if (g.vehicle == 0 && g.probe_end > g.probe_begin) return true;
+    return false;
+  };
+  double gap_at_3s = 1e9, ended = -1.0, gap_at_end = 0.0;
+  for (size_t i = first; i < out.frames.size(); ++i) {
+    const Frame& f = out.frames[i];
+    const double gap = f.vehicles[1].position.x() - f.vehicles[0].position.x();
+    if (gap_at_3s > 1e8 && f.t >= t_respawn + 3.0) gap_at_3s = gap;
+    if (ended < 0.0 && probes(f)) ended = f.t, gap_at_end = gap;
+  }
+  int touches = 0;
+  for (size_t i = first; i < out.frames.size(); ++i)
+    for (const Hit& h : out.frames[i].hits) touches += h.begin > t_respawn;  // the crash before it is not one
+  std::printf("respawned at %.2f s; 3 s later %.2f m behind the parked car's centre; protection ended at %.2f s, "
+              "%.2f m past it; %d touches\n", t_respawn, gap_at_3s, ended, -gap_at_end, touches);
+  EXPECT_LT(std::abs(gap_at_3s), 5.0) << "the scene does not test anything: the car is clear when its 3 s are up";
+  ASSERT_GT(ended, t_respawn + 3.0) << "the protection never ended";
+  EXPECT_GE(std::abs(gap_at_end), 5.0) << "the protection ended with the car inside the other";
+  EXPECT_LT(ended, t_respawn + 3.0 + 3.0) << "the protection went on long after the car was clear";
+  EXPECT_EQ(touches, 0);
+}
+
 // A bot whose car is lost respawns as a player presses R (RaceBots::lost):
 // here a wall stands across the stage after the start, so the classical
 // bot drives into it and stays there, pushing. Once it has stood still
