@@ -44,7 +44,7 @@ echo "session $sid on $owner (epoch 1)"
 
 case "$mode" in
   etcd)
-    sleep 3
+    fleet_wait_session_t "$sid" 3  # 3 s into the session (simulated: a loaded lab runs it later, not shorter)
     # the leader: its member id in the status of every endpoint
     status=$("$lab" exec "$name" 4 etcdctl --endpoints "$endpoints" endpoint status -w json)
     leader_host=$(python3 -c '
@@ -55,7 +55,6 @@ print([r["Endpoint"] for r in rows if r["Status"]["header"]["member_id"] == lead
 ' "$status")
     echo "etcd leader on host $leader_host: killed"
     "$lab" kill "$name" "$leader_host"
-    sleep 3
     # a session created after the kill is placed and runs: tried until the
     # cluster has elected a leader again (a loaded lab takes longer;
     # ceiling: 12 tries of up to 10 s)

@@ -68,6 +68,20 @@ fleet_start_servers() {
   fleet_wait_joined
 }
 
+# waits until every server's registration in etcd carries the capacity of
+# its first heartbeat (workers and load beside the counts it registered
+# with): placement reads them
+fleet_wait_capacities() {
+  local n=0
+  for _ in $(seq 600); do
+    n=$("$lab" exec "$name" 4 etcdctl --endpoints "$endpoints" get --prefix /groundsim/servers/ --print-value-only \
+        2>/dev/null | grep -c '"workers"') || true
+    [ "${n:-0}" -ge 3 ] && return 0
+    sleep 0.1
+  done
+  fail "the servers' registrations carry no heartbeat's capacity (${n:-0} of 3)"
+}
+
 fleet_owner_of() {
   "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 2>/dev/null |
     awk -v s="$1" '$1 == s { print $(NF-2), $(NF-1) }'

@@ -26,7 +26,7 @@ max=64
 [ "$placement" = packed ] && max=25
 # 60 creates from this one client: no per-client bounds (--client-*: 0)
 fleet_start_servers --placement "$placement" --max-sessions "$max" --client-sessions 0 --client-creates 0 --quiet
-sleep 1  # every server has beaten once: the capacities are in the members' registrations
+fleet_wait_capacities  # every server has beaten once: the capacities are in the members' registrations
 
 for k in $(seq 60); do
   t0=$(date +%s%N)

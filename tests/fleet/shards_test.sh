@@ -17,7 +17,7 @@ fail() {
   exit 1
 }
 fleet_start_servers
-sleep 1  # every server registered its capacity
+fleet_wait_capacities  # every server registered its capacity
 marker="$tmp/marker"
 (for _ in $(seq 2400); do [ -e "$marker" ] && break; sleep 0.05; done
  [ -e "$marker" ] && sleep 1 && "$lab" kill "$name" 2) &
