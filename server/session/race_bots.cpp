@@ -69,6 +69,7 @@ std::unique_ptr<RaceBots> RaceBots::make(const scenario::RaceSpec& race, const M
     b->bots_.push_back(std::move(bot));
   }
   if (b->bots_.empty()) return nullptr;
+  b->lost_.reserve(b->bots_.size());  // no allocation in the step loop
   return b;
 }
 
@@ -88,14 +89,13 @@ const std::vector<RaceBots::Command>& RaceBots::drive(const Model& m, const Stat
     c.vehicle = bot.vehicle;
     c.controls = drivers::toControls(p);
     c.controls.throttle = std::min(p.throttle, skill_);  // the skill caps the throttle
-    if (!held) judge(bot, m, s, race, dt);
+    if (!held) judge(bot, s, race, dt);
   }
   return commands_;
 }
 
 // Whether bot's car wants a respawn (lost_), as a player would see it.
-void RaceBots::judge(Bot& bot, const Model& m, const State& s, const race::Race& race, double dt) {
-  (void)m;
+void RaceBots::judge(Bot& bot, const State& s, const race::Race& race, double dt) {
   const race::CarStanding& st = race.standing(bot.vehicle);
   if (st.finished || race.isProtected(bot.vehicle, s.t)) {
     bot.stuck = bot.flipped = bot.astray = 0.0;

@@ -84,7 +84,7 @@ class RaceBots {
       placed = t;
     }
   };
-  void judge(Bot& bot, const Model& m, const State& s, const race::Race& race, double dt);
+  void judge(Bot& bot, const State& s, const race::Race& race, double dt);
   // what the classical drivers share (they hold references)
   std::unique_ptr<drivers::TrackLine> line_;
   std::unique_ptr<drivers::SpeedProfile> profile_;
