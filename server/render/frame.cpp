@@ -19,7 +19,6 @@ constexpr std::uint32_t kVehicleColours[] = {0xd94f3d, 0x3d7dd9, 0x4fbf5a, 0xe0a
 constexpr std::uint32_t kSky = 0x9fc4e0, kTyre = 0x222222, kCone = 0xff6a13, kStatic = 0x8a8f96,
                         kMovable = 0x3f7fbf;
 
-using Tri = std::array<Vec3, 3>;
 
 // The triangles of a shape in its own frame (boxes without their rounding).
 void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
@@ -116,20 +115,36 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
         cache.ground[k] = point;
       }
   }
+  // each vertex to the camera once (a vertex is shared by up to six triangles)
   const std::vector<Vec3>& p = cache.ground;
   const std::vector<unsigned char>& found = cache.found;
+  cache.camera.resize(p.size());
+  for (size_t k = 0; k < p.size(); ++k) cache.camera[k] = raster.toCamera(p[k]);
+  const std::vector<Vec3>& q = cache.camera;
   const Rgb white{1.0, 1.0, 1.0};
   for (int i = 0; i + 1 < n; ++i)
     for (int j = 0; j + 1 < n; ++j) {
       const size_t a = static_cast<size_t>(i) * n + j, b = a + 1, cc = a + n, d = cc + 1;
       if (!(found[a] && found[b] && found[cc] && found[d])) continue;
-      raster.triangle(p[a], p[b], p[d], white, true);
-      raster.triangle(p[a], p[d], p[cc], white, true);
+      if (!raster.outside(q[a], q[b], q[d])) raster.triangle(p[a], p[b], p[d], q[a], q[b], q[d], white, true);
+      if (!raster.outside(q[a], q[d], q[cc])) raster.triangle(p[a], p[d], p[cc], q[a], q[d], q[cc], white, true);
     }
 
-  // every collider in its body's pose (static ones in the world)
-  std::vector<Tri> tris;
-  for (const Collider& col : m.colliders) {
+  // every collider in its body's pose (static ones in the world), its
+  // triangles made again only when its shape is not the one they were made of
+  cache.shapes.resize(m.colliders.size());
+  cache.shape_of.resize(m.colliders.size());
+  for (size_t k = 0; k < m.colliders.size(); ++k) {
+    const Shape &now = m.colliders[k].shape, &was = cache.shape_of[k];
+    if (!cache.shapes[k].empty() && now.kind == was.kind && now.half == was.half && now.radius == was.radius &&
+        now.half_height == was.half_height && now.top_radius == was.top_radius)
+      continue;
+    cache.shape_of[k] = now;
+    cache.shapes[k].clear();
+    shapeTriangles(now, cache.shapes[k]);
+  }
+  for (size_t k = 0; k < m.colliders.size(); ++k) {
+    const Collider& col = m.colliders[k];
     Mat3 rot = col.rot;
     Vec3 pos = col.pos;
     if (col.body >= 0) {
@@ -139,10 +154,8 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
     }
     // far beyond the fog: nothing to draw
     if ((pos - eye).norm() > 80.0 + col.shape.bound()) continue;
-    tris.clear();
-    shapeTriangles(col.shape, tris);
     const Rgb colour = colourOf(m, col);
-    for (const Tri& t : tris) raster.triangle(pos + rot * t[0], pos + rot * t[1], pos + rot * t[2], colour);
+    for (const Tri& t : cache.shapes[k]) raster.triangle(pos + rot * t[0], pos + rot * t[1], pos + rot * t[2], colour);
   }
   raster.write(rgb);
 }

@@ -5,6 +5,7 @@
 // model and state give the same bytes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -29,11 +30,15 @@ struct FrameOptions {
 // cell origin moves). A frame does not depend on what is in here, only its
 // cost does. The raster's buffers (a frame's size) belong to the caller,
 // one for any number of scenes drawn in turn.
+using Tri = std::array<Vec3, 3>;
 struct FrameCache {
   double x0 = 0.0, y0 = 0.0, step = 0.0;
   int n = 0;
   std::vector<Vec3> ground;
   std::vector<unsigned char> found;
+  std::vector<Vec3> camera;               // the patch's vertices in this frame's camera coordinates
+  std::vector<Shape> shape_of;            // each collider's shape as its triangles were made
+  std::vector<std::vector<Tri>> shapes;   // each collider's triangles in its own frame
 };
 
 // Writes raster.height() x raster.width() x 3 bytes (RGB, the top row

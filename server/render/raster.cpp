@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace groundsim::render {
 namespace {
@@ -18,9 +19,17 @@ const Vec3 kSun = Vec3(0.4, 0.3, 0.85).normalized();
 constexpr Rgb kGrass{0x6f / 255.0, 0x8f / 255.0, 0x5a / 255.0}, kEdge{0x2f / 255.0, 0x3f / 255.0, 0x28 / 255.0},
     kHalf{0x4d / 255.0, 0x66 / 255.0, 0x40 / 255.0};
 
+// v's fractional part, v - floor(v), for |v| below 2^62 (a ground patch's
+// metres): a truncation, not libm's floor (baseline x86-64 has no rounding
+// instruction, and this runs for every ground pixel)
+double frac(double v) {
+  double f = static_cast<double>(static_cast<long long>(v));
+  if (f > v) f -= 1.0;
+  return v - f;
+}
+
 Rgb groundAt(double x, double y) {
   const Rgb &grass = kGrass, &edge = kEdge, &half = kHalf;
-  auto frac = [](double v) { return v - std::floor(v); };
   const double fx = frac(x), fy = frac(y);
   const double edge_w = 3.0 / 256.0, half_w = 1.0 / 256.0;  // the canvas' line widths over its 256 px
   if (fx < edge_w || fx > 1.0 - edge_w || fy < edge_w || fy > 1.0 - edge_w) return edge;
@@ -39,7 +48,7 @@ Rgb rgbOf(std::uint32_t hex) {
 Raster::Raster(int width, int height, double fov_deg)
     : width_(width), height_(height),
       focal_(0.5 * height / std::tan(0.5 * fov_deg * std::acos(-1.0) / 180.0)),
-      colour_(static_cast<size_t>(width) * height),
+      colour_(static_cast<size_t>(width) * height * 3),
       depth_(static_cast<size_t>(width) * height) {}
 
 void Raster::look(const Vec3& eye, const Vec3& target) {
@@ -53,8 +62,9 @@ void Raster::look(const Vec3& eye, const Vec3& target) {
 
 void Raster::clear(const Rgb& sky) {
   sky_ = sky;
-  std::fill(colour_.begin(), colour_.end(), sky);
-  std::fill(depth_.begin(), depth_.end(), std::numeric_limits<double>::infinity());
+  const std::uint8_t r = byteOf(sky.r), g = byteOf(sky.g), b = byteOf(sky.b);
+  for (size_t k = 0; k < colour_.size(); k += 3) colour_[k] = r, colour_[k + 1] = g, colour_[k + 2] = b;
+  std::fill(depth_.begin(), depth_.end(), 0.0);  // 1 / depth: nothing drawn is infinitely far
 }
 
 Raster::Vertex Raster::project(const Vec3& cam, const Vec3& world) const {
@@ -64,6 +74,26 @@ Raster::Vertex Raster::project(const Vec3& cam, const Vec3& world) const {
 }
 
 void Raster::triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Rgb& colour, bool grid) {
+  const Vec3 ca = toCamera(a), cb = toCamera(b), cc = toCamera(c);
+  if (outside(ca, cb, cc)) return;
+  triangle(a, b, c, ca, cb, cc, colour, grid);
+}
+
+bool Raster::outside(const Vec3& a, const Vec3& b, const Vec3& c) const {
+  if (a.z() < kNear && b.z() < kNear && c.z() < kNear) return true;
+  // the frame's sides through the eye: x = +-(w/2) z / focal, y = +-(h/2) z / focal (a pixel of margin)
+  const double sx = (0.5 * width_ + 1.0) / focal_, sy = (0.5 * height_ + 1.0) / focal_;
+  auto beyond = [](double u, double z, double slope) { return u > slope * z; };
+  if (beyond(a.x(), a.z(), sx) && beyond(b.x(), b.z(), sx) && beyond(c.x(), c.z(), sx)) return true;
+  if (beyond(-a.x(), a.z(), sx) && beyond(-b.x(), b.z(), sx) && beyond(-c.x(), c.z(), sx)) return true;
+  if (beyond(a.y(), a.z(), sy) && beyond(b.y(), b.z(), sy) && beyond(c.y(), c.z(), sy)) return true;
+  if (beyond(-a.y(), a.z(), sy) && beyond(-b.y(), b.z(), sy) && beyond(-c.y(), c.z(), sy)) return true;
+  // beyond the fog's end: drawn as sky
+  return a.z() > kFogEnd && b.z() > kFogEnd && c.z() > kFogEnd;
+}
+
+void Raster::triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& ca, const Vec3& cb, const Vec3& cc,
+                      const Rgb& colour, bool grid) {
   // two-sided Lambert light: the normal turned towards the camera
   Vec3 n = (b - a).cross(c - a);
   const double nn = n.norm();
@@ -72,13 +102,9 @@ void Raster::triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Rgb& co
   if (n.dot(eye_ - a) < 0.0) n = -n;
   const double light = 0.45 + 0.55 * std::max(0.0, n.dot(kSun));
   const Rgb lit{colour.r * light, colour.g * light, colour.b * light};
-  // camera coordinates, then clipped by the near plane (a polygon of up to 4)
-  std::array<Vec3, 3> world = {a, b, c};
-  std::array<Vec3, 3> cam;
-  for (int i = 0; i < 3; ++i) {
-    const Vec3 d = world[i] - eye_;
-    cam[i] = Vec3(d.dot(right_), d.dot(up_), d.dot(forward_));
-  }
+  // clipped by the near plane (a polygon of up to 4)
+  const std::array<Vec3, 3> world = {a, b, c};
+  const std::array<Vec3, 3> cam = {ca, cb, cc};
   std::array<Vec3, 4> pc, pw;
   int n_out = 0;
   for (int i = 0; i < 3; ++i) {
@@ -102,41 +128,53 @@ void Raster::triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Rgb& co
 void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& lit, bool grid) {
   const double area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (!(std::abs(area) > 1e-12)) return;
-  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}))));
-  const int y1 = std::min(height_ - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}))));
+  // the pixels whose centres can be inside: the bounding box's, rounded outwards
+  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}) - 0.5)));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}) - 0.5)));
+  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}) - 0.5)));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}) - 0.5)));
+  if (x0 > x1 || y0 > y1) return;
+  // barycentric weights from the edge functions, linear in x and y: their
+  // values at the box's first pixel centre, then a step per pixel and per row
   const double inv_area = 1.0 / area;
-  const Vertex* v[3] = {&a, &b, &c};
-  for (int py = y0; py <= y1; ++py) {
-    const double y = py + 0.5;
-    // the row's span inside the triangle: where it crosses the edges (a
-    // pixel of margin; the weights below decide each pixel)
-    double xl = std::numeric_limits<double>::infinity(), xr = -xl;
-    for (int e = 0; e < 3; ++e) {
-      const Vertex& p = *v[e];
-      const Vertex& q = *v[(e + 1) % 3];
-      if ((p.y - y) * (q.y - y) > 0.0) continue;
-      const double x = p.y == q.y ? std::min(p.x, q.x) : p.x + (y - p.y) * (q.x - p.x) / (q.y - p.y);
-      const double x2 = p.y == q.y ? std::max(p.x, q.x) : x;
-      xl = std::min(xl, x);
-      xr = std::max(xr, x2);
+  const double dwa_dx = (b.y - c.y) * inv_area, dwa_dy = (c.x - b.x) * inv_area;
+  const double dwb_dx = (c.y - a.y) * inv_area, dwb_dy = (a.x - c.x) * inv_area;
+  const double xs = x0 + 0.5, ys = y0 + 0.5;
+  double wa_row = ((b.x - xs) * (c.y - ys) - (b.y - ys) * (c.x - xs)) * inv_area;
+  double wb_row = ((c.x - xs) * (a.y - ys) - (c.y - ys) * (a.x - xs)) * inv_area;
+  constexpr double kFogStartInv = 1.0 / kFogStart;
+  const int last = x1 - x0;
+  for (int py = y0; py <= y1; ++py, wa_row += dwa_dy, wb_row += dwb_dy) {
+    // the row's pixels inside: where each weight w0 + dw i (i from the box's
+    // first pixel) is >= 0, intersected; the third weight is 1 - wa - wb
+    int lo = 0, hi = last;
+    const double wc_row = 1.0 - wa_row - wb_row, dwc_dx = -dwa_dx - dwb_dx;
+    for (const auto [w0, dw] : {std::pair{wa_row, dwa_dx}, std::pair{wb_row, dwb_dx}, std::pair{wc_row, dwc_dx}}) {
+      if (dw > 0.0) {
+        lo = std::max(lo, static_cast<int>(std::ceil(std::clamp(-w0 / dw, -1.0, last + 1.0))));
+      } else if (dw < 0.0) {
+        hi = std::min(hi, static_cast<int>(std::floor(std::clamp(w0 / -dw, -1.0, last + 1.0))));
+      } else if (w0 < 0.0) {
+        hi = -1;
+      }
     }
-    if (!(xl <= xr)) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(xl - 1.0)));
-    const int x1 = std::min(width_ - 1, static_cast<int>(std::ceil(xr + 1.0)));
-    // barycentric weights from the edge functions, linear in x along the
-    // row: their values at the first pixel's centre, then a step per pixel
-    const double xs = x0 + 0.5;
-    const double dwa = (b.y - c.y) * inv_area, dwb = (c.y - a.y) * inv_area;
-    double wa = ((b.x - xs) * (c.y - y) - (b.y - y) * (c.x - xs)) * inv_area;
-    double wb = ((c.x - xs) * (a.y - y) - (c.y - y) * (a.x - xs)) * inv_area;
-    for (int px = x0; px <= x1; ++px, wa += dwa, wb += dwb) {
-      const double wc = 1.0 - wa - wb;
-      if (wa < 0.0 || wb < 0.0 || wc < 0.0) continue;
+    if (lo > hi) continue;
+    const size_t row = static_cast<size_t>(py) * width_;
+    for (int i = lo; i <= hi; ++i) {
+      const int px = x0 + i;
+      // at the span's ends a weight may be a rounding below 0: clamped
+      const double wa = std::max(0.0, wa_row + dwa_dx * i), wb = std::max(0.0, wb_row + dwb_dx * i);
+      const double wc = std::max(0.0, 1.0 - wa - wb);
+      // nearer: a larger 1 / depth (the buffer holds 1 / depth; no division for a hidden pixel)
       const double inv_z = wa * a.inv_z + wb * b.inv_z + wc * c.inv_z;
+      const size_t k = row + px;
+      if (!(inv_z > depth_[k])) continue;
+      depth_[k] = inv_z;
+      if (!grid && inv_z >= kFogStartInv) {  // unfogged, its own colour: no depth needed
+        put(k, lit);
+        continue;
+      }
       const double z = 1.0 / inv_z;
-      const size_t k = static_cast<size_t>(py) * width_ + px;
-      if (!(z < depth_[k])) continue;
-      depth_[k] = z;
       Rgb col = lit;
       if (grid) {
         const Rgb g = groundAt((wa * a.wx + wb * b.wx + wc * c.wx) * z, (wa * a.wy + wb * b.wy + wc * c.wy) * z);
@@ -144,21 +182,20 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
         col = {g.r * light, g.g * light, g.b * light};
       }
       if (z <= kFogStart) {
-        colour_[k] = col;
+        put(k, col);
         continue;
       }
       const double f = std::min((z - kFogStart) * kFogScale, 1.0);
-      colour_[k] = {col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)};
+      put(k, {col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
     }
   }
 }
 
-void Raster::write(std::uint8_t* rgb) const {
-  for (size_t k = 0; k < colour_.size(); ++k) {
-    rgb[3 * k] = byteOf(colour_[k].r);
-    rgb[3 * k + 1] = byteOf(colour_[k].g);
-    rgb[3 * k + 2] = byteOf(colour_[k].b);
-  }
+void Raster::put(size_t k, const Rgb& c) {
+  std::uint8_t* p = colour_.data() + 3 * k;
+  p[0] = byteOf(c.r), p[1] = byteOf(c.g), p[2] = byteOf(c.b);
 }
+
+void Raster::write(std::uint8_t* rgb) const { std::copy(colour_.begin(), colour_.end(), rgb); }
 
 }  // namespace groundsim::render

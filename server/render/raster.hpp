@@ -8,6 +8,7 @@
 // every machine (plain double arithmetic in a fixed order, one thread).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -30,6 +31,19 @@ class Raster {
   // grid, the colour comes from the page's ground texture at each pixel's
   // world x, y instead.
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Rgb& colour, bool grid = false);
+  // A point in camera coordinates (x right, y up, z along the view).
+  Vec3 toCamera(const Vec3& world) const {
+    const Vec3 d = world - eye_;
+    return {d.dot(right_), d.dot(up_), d.dot(forward_)};
+  }
+  // Whether a triangle whose corners are at these camera coordinates lies
+  // wholly outside the view (behind the near plane, or beyond one side of
+  // the frame): nothing of it can be drawn.
+  bool outside(const Vec3& a, const Vec3& b, const Vec3& c) const;
+  // triangle() with its corners' camera coordinates already known (a mesh
+  // whose vertices are shared: each transformed once).
+  void triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& ca, const Vec3& cb, const Vec3& cc,
+                const Rgb& colour, bool grid = false);
   // The frame as rows of RGB bytes, top row first.
   void write(std::uint8_t* rgb) const;
   int width() const { return width_; }
@@ -47,8 +61,9 @@ class Raster {
   double focal_;          // px
   Vec3 eye_ = Vec3::Zero(), right_ = Vec3::UnitX(), up_ = Vec3::UnitZ(), forward_ = Vec3::UnitY();
   Rgb sky_;
-  std::vector<Rgb> colour_;
-  std::vector<double> depth_;
+  void put(size_t pixel, const Rgb& c);  // the pixel's colour, as bytes
+  std::vector<std::uint8_t> colour_;     // RGB bytes, top row first
+  std::vector<double> depth_;  // 1 / depth of what each pixel shows (0: sky)
 };
 
 }  // namespace groundsim::render
