@@ -16,6 +16,9 @@ struct ModelOption {
   std::string name;  // short: "circle wheels", "stick-slip tyres"
   std::string what;  // each vehicle changed: "car: 20-point rims on rim springs -> circle on a bearing"
   scenario::Scenario scenario;  // s with the vehicles' models swapped (its document says so)
+  // the integrators worth piloting on it beyond the one that bounds its gap
+  // (empty: every one the pilot tries)
+  std::vector<IntegratorKind> only;
 };
 
 // For every vehicle kind the scene holds, one option that swaps that model
@@ -28,7 +31,8 @@ struct ModelOption {
 //    and back (the cheaper of the two is the one the pilot finds cheaper:
 //    their work per evaluation is the same, their stable steps are not).
 // Empty when every vehicle already has the cheapest model it can have.
-std::vector<ModelOption> modelOptions(const scenario::Scenario& s);
+// `regularized_friction`: also the ground's friction as regularized Coulomb.
+std::vector<ModelOption> modelOptions(const scenario::Scenario& s, bool regularized_friction = true);
 
 // Work units (scenario/budget.hpp) of one force evaluation of s's model:
 // what makes evaluations of two models comparable.

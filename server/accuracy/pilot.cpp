@@ -45,8 +45,17 @@ double stepMeeting(const IntegratorTrial& t, double tolerance, const PilotOption
   return 0.0;
 }
 
-// Fits t's error law on the last three runs (steps h, h/2, h/4).
-void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, double duration) {
+// Each run's step: its duration over its steps.
+std::vector<double> stepsOf(const std::vector<Trajectory>& r) {
+  std::vector<double> h;
+  for (const Trajectory& x : r) h.push_back(x.duration / static_cast<double>(std::max<long long>(1, x.steps)));
+  return h;
+}
+
+// Fits t's error law on the last three runs (steps hs: h, h/2, h/4; the
+// adaptive integrator's pseudo-steps).
+void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, const std::vector<double>& hs, double segment,
+         double duration) {
   const size_t n = r.size();
   const Trajectory &a = r[n - 3], &b = r[n - 2], &c = r[n - 1];
   const RunError fine = compareRuns(b, c);
@@ -62,7 +71,7 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
   const double e_half = compareRuns(b, c, half).path, e_all = fine.path;
   t.growth = e_half > kRoundoff && e_all > kRoundoff ? std::clamp(std::log2(e_all / e_half), 0.0, 2.0) : 0.0;
   const double scale = std::pow(std::max(1.0, duration / segment), t.growth);
-  const double finest = c.duration / static_cast<double>(std::max<long long>(1, c.steps));
+  const double finest = hs[n - 1];
   t.error_constant = f.e_fine * scale / std::pow(finest, t.order);
   // each pilot step's error as measured: its difference to the finest run
   // plus that run's error (the triangle inequality; a coarse step out of
@@ -77,7 +86,7 @@ void fit(IntegratorTrial& t, const std::vector<Trajectory>& r, double segment, d
   for (size_t k = 0; k < n; ++k) {
     t.level_windows[k] = r[k].windows;
     const double e = f.e_fine + (k + 1 < n ? compareRuns(r[k], c).value() : 0.0);
-    t.level_dt[k] = r[k].duration / static_cast<double>(std::max<long long>(1, r[k].steps));
+    t.level_dt[k] = hs[k];
     t.level_error[k] = e * scale;
   }
   // the cost: force evaluations per step (contact substeps included), a
@@ -168,7 +177,7 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
     }
     if (!healthy) continue;
     t.dt0 = r.front().duration / static_cast<double>(std::max<long long>(1, r.front().steps));
-    fit(t, r, segment, s.duration);
+    fit(t, r, stepsOf(r), segment, s.duration);
     // a fit that is not clean is not extrapolated far: while the step it
     // asks for lies below the finest run, run finer and fit again. A
     // stalled one is not trusted at its finest run either (that run's error
@@ -191,7 +200,7 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
         break;
       }
       finest /= 2;
-      fit(t, r, segment, s.duration);
+      fit(t, r, stepsOf(r), segment, s.duration);
     }
     t.clean_fit = clean(t);
     if (!t.clean_fit)
@@ -204,6 +213,114 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
     return t;
   }
   t.refusal = (avoided.empty() ? "" : avoided + "; ") + "no step down to " + fmt(o.min_dt) + " s stays healthy";
+  return t;
+}
+
+// The adaptive integrator's trial (IntegratorTrial::output_dt): runs at
+// local tolerances tau0, tau0/8, tau0/64 (pseudo-steps h, h/2, h/4; tau0
+// the user's tolerance), each covering the output step `top` in internal
+// steps, fitted as a fixed step's three runs are, and refined by 8 while
+// the fit is not clean and the tolerance asks for less than the finest run.
+// Its runs stay within the work budget like a trial's (an evaluation
+// counted as a third of a step: the method's three new stages a step).
+IntegratorTrial adaptiveTrial(const scenario::Scenario& s, double segment, double top, double tolerance,
+                              const PilotOptions& o, Trajectory& finest_run) {
+  IntegratorTrial t;
+  t.kind = IntegratorKind::Adaptive;
+  t.output_dt = top;
+  t.stability_dt = std::numeric_limits<double>::infinity();  // its internal steps follow the error, not a limit
+  const double tau0 = std::clamp(tolerance, o.min_local_tolerance, 1.0);
+  std::optional<scenario::Scene> scene;
+  try {
+    scene = scenario::buildScene(withSettings(s, IntegratorKind::Adaptive, top, 1, tau0));
+  } catch (const scenario::ScenarioError& e) {
+    t.refusal = e.lines("; ");
+    return t;
+  }
+  t.contact_substeps = contactSubstepsBound(*scene->built.model, top);
+  const double step_work = std::max(1.0, scenario::estimateModelSize(s).work_per_step);
+  double spent = 0.0;
+  std::vector<Trajectory> r;
+  std::vector<double> hs;
+  double evaluations = 0.0;  // so far, in all
+  auto run = [&](double tau) {
+    // the next run's evaluations: the last ones' growth again (at least 2x), 4 a step for the first
+    const size_t n = r.size();
+    const double last = n ? static_cast<double>(r[n - 1].evaluations) : 0.0;
+    const double growth = n >= 2 ? std::max(2.0, last / std::max(1.0, static_cast<double>(r[n - 2].evaluations))) : 4.0;
+    const double next = n ? last * growth : 4.0 * segment / t.output_dt;
+    const double guess = next / 3.0 * std::max(1, t.contact_substeps) * step_work;
+    if (spent + guess > o.max_work) {
+      t.refusal = "the pilot's run at local tolerance " + fmt(tau) + " would pass the work budget (" +
+                  fmt(o.max_work) + " units, --max-work)";
+      return false;
+    }
+    if (o.max_adaptive_evaluations > 0.0 && evaluations + next > o.max_adaptive_evaluations) {
+      t.refusal = "the pilot's run at local tolerance " + fmt(tau) + " and output step " + fmt(t.output_dt) +
+                  " s would take more force evaluations than twice the scene's own integrators' pilot (" +
+                  fmt(o.max_adaptive_evaluations) + ")";
+      return false;
+    }
+    r.push_back(runTrajectory(withSettings(s, IntegratorKind::Adaptive, t.output_dt, t.contact_substeps, tau), segment,
+                              nominalOrder(IntegratorKind::Adaptive)));
+    spent += static_cast<double>(r.back().evaluations) / 3.0 * std::max(1, t.contact_substeps) * step_work;
+    evaluations += static_cast<double>(r.back().evaluations);
+    hs.push_back(std::cbrt(tau));
+    if (!r.back().healthy) {
+      t.refusal = "local tolerance " + fmt(tau) + " diverged in the pilot (" + r.back().failure + ")";
+      return false;
+    }
+    return true;
+  };
+  // the output step: what it costs at the top, from two accurate runs
+  // (the finest tolerance of the ladder) at the top and half of it, then
+  // halved until that is within a fourth of the tolerance (first order)
+  const double probe = tau0 / 64.0;
+  double out = top;
+  if (!run(probe)) return t;
+  t.output_dt = top / 2;
+  if (!run(probe)) return t;
+  const double at_top = 2.0 * compareRuns(r[0], r[1]).value();
+  r.clear(), hs.clear();
+  int halvings = 0;
+  while (at_top * (out / top) * o.safety > 0.25 * tolerance && out / 2 >= o.min_dt * (1 - 1e-9) &&
+         halvings < o.max_output_halvings)
+    out /= 2, ++halvings;
+  t.output_dt = out;
+  t.tick_offset = at_top * (out / top);
+  for (int k = 0; k < 3; ++k)
+    if (!run(tau0 / std::pow(8.0, k))) return t;
+  auto refit = [&] {  // the fit, each level's error with the output step's part
+    fit(t, r, hs, segment, s.duration);
+    for (double& e : t.level_error) e += t.tick_offset;
+  };
+  refit();
+  t.dt0 = hs.front();
+  PilotOptions oa = o;
+  oa.min_dt = std::cbrt(o.min_local_tolerance);
+  while (!clean(t)) {
+    const double finest = hs.back();
+    const bool asks_finer = stalled(t) ? stepMeeting(t, tolerance, oa) <= finest * (1 + 1e-9)
+                                       : stepMeeting(t, tolerance, oa) < finest * (1 - 1e-9);
+    const double tau = IntegratorTrial::localTolerance(finest) / 8.0;
+    if (!asks_finer || tau < o.min_local_tolerance * (1 - 1e-9)) break;
+    if (!run(tau)) {
+      if (!r.back().healthy) r.pop_back(), hs.pop_back();
+      t.refusal.clear();
+      break;
+    }
+    refit();
+  }
+  t.clean_fit = clean(t);
+  if (!t.clean_fit)
+    t.refusal = "its error law is not clean (observed order " + fmt(t.raw_order) +
+                " in tau^(1/3), nominal 3): below local tolerance " +
+                fmt(IntegratorTrial::localTolerance(hs.back())) + " no error is credited beyond that run's";
+  t.level_cost.clear();
+  for (const Trajectory& x : r) t.level_cost.push_back(static_cast<double>(x.evaluations) / std::max(x.duration, 1e-12));
+  t.step_cost = t.level_cost.back() * hs.back();  // evaluations per simulated s times h: cost(h) = this / h below
+  finest_run = std::move(r.back());
+  t.usable = true;
   return t;
 }
 
@@ -235,6 +352,7 @@ ErrorFit fitErrorLaw(double d_coarse, double d_fine, int nominal) {
 PilotOptions pilotOptions(const scenario::AccuracySpec& a, const scenario::Budget& budget) {
   PilotOptions o;
   o.pilot_duration = a.pilot_duration;
+  o.regularized_friction = a.regularized_friction;
   o.max_work = budget.max_work;
   return o;
 }
@@ -262,7 +380,15 @@ double IntegratorTrial::error(double h) const {
     if (std::abs(h / level_dt[k] - 1.0) < 1e-9) return model_gap + level_error[k];
   // a law that is not clean is not extrapolated: finer steps keep the finest run's error
   if (!clean_fit) return model_gap + level_error.back();
-  return model_gap + contact_offset + error_constant * std::pow(h, order);
+  return model_gap + contact_offset + tick_offset + error_constant * std::pow(h, order);
+}
+
+double IntegratorTrial::cost(double h) const {
+  if (level_cost.empty()) return step_cost / h;
+  if (level_dt.empty() || h > level_dt.front() * (1 + 1e-9)) return std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < level_dt.size(); ++k)
+    if (std::abs(h / level_dt[k] - 1.0) < 1e-9) return level_cost[k];
+  return level_cost.back() * level_dt.back() / h;  // finer: steps grow as tau^(-1/3) = 1 / h
 }
 
 namespace {
@@ -280,6 +406,17 @@ void pilotIntegrator(const scenario::Scenario& s, IntegratorKind k, double toler
                      double pilot_duration, double short_segment, bool whole, double top, ModelPilot& out) {
   Trajectory refined, automatic;
   double segment = pilot_duration;
+  if (k == IntegratorKind::Adaptive) {  // its own tolerance ladder, its contact substeps what contact needs at top
+    IntegratorTrial a = adaptiveTrial(s, segment, top, tolerance, o, refined);
+    if (!a.usable && whole && segment > short_segment && a.refusal.find("--max-work") != std::string::npos) {
+      segment = short_segment;
+      a = adaptiveTrial(s, segment, top, tolerance, o, refined);
+    }
+    a.segment = segment;
+    out.trials.push_back(a);
+    out.finest.push_back(a.usable ? refined : Trajectory{});
+    return;
+  }
   IntegratorTrial first = trial(s, k, segment, top, tolerance, o, 0, refined);
   if (!first.usable && whole && segment > short_segment && first.refusal.find("--max-work") != std::string::npos) {
     segment = short_segment;
@@ -341,6 +478,12 @@ void boundModelGap(const ModelPilot& user, const ModelPilot& other, double durat
   m.user_error = tu.level_error.back();
   m.own_error = ta.level_error.back();
   m.gap = m.difference + m.user_error + m.own_error;
+  // the same integrator at the same step giving the same bits under both
+  // models: the law that differs never acted on that run (a road car's
+  // tyres do not use the ground's friction), so the models are one there
+  if (same && tu.kind == ta.kind && std::abs(tu.level_dt.back() / ta.level_dt.back() - 1.0) < 1e-9 &&
+      d.value() == 0.0 && ru.final_velocity == ra.final_velocity)
+    m.gap = 0.0;
 }
 
 // The steps of the user's model's pilot with integrator k (the larger of
@@ -354,6 +497,20 @@ long long pilotSteps(const ModelPilot& m, IntegratorKind k) {
     if (t.kind != k || !t.usable) continue;
     long long n = 0;
     for (double h : t.level_dt) n += std::llround(t.segment / h);
+    most = std::max(most, n);
+  }
+  return most;
+}
+
+// The force evaluations of the most costly usable fixed-step trial (its
+// runs together); 0 when none ran (then nothing bounds the adaptive trial
+// but the work budget).
+double mostEvaluations(const ModelPilot& m) {
+  double most = 0.0;
+  for (const IntegratorTrial& t : m.trials) {
+    if (!t.usable || t.adaptive()) continue;
+    double n = 0.0;
+    for (double h : t.level_dt) n += t.segment / h * t.step_cost;
     most = std::max(most, n);
   }
   return most;
@@ -435,7 +592,8 @@ void pilotModel(const ModelOption& option, const ModelPilot& user, int u, double
   m.admitted = m.gap <= kModelShare * tolerance;
   if (m.admitted) {
     for (IntegratorKind k : o.integrators)
-      if (k != first) pilot(k);
+      if (k != first && (option.only.empty() || std::find(option.only.begin(), option.only.end(), k) != option.only.end()))
+        pilot(k);
     boundModelGap(user, other, duration, m);  // the most accurate run may be another's now
   }
   m.admitted = m.gap <= kModelShare * tolerance;
@@ -473,8 +631,9 @@ Pick pickCheapest(const std::vector<IntegratorTrial>& trials, double tolerance, 
   double best_cost = std::numeric_limits<double>::infinity(), closest_err = std::numeric_limits<double>::infinity();
   for (const IntegratorTrial& t : trials) {
     if (!t.usable) continue;
-    for (double h = t.dt0; h >= o.min_dt * (1 - 1e-9); h /= 2) {
-      const double err = t.error(h), cost = t.step_cost * t.work_per_evaluation / h;
+    const double finest_h = t.adaptive() ? std::cbrt(o.min_local_tolerance) : o.min_dt;
+    for (double h = t.dt0; h >= finest_h * (1 - 1e-9); h /= 2) {
+      const double err = t.error(h), cost = t.cost(h) * t.work_per_evaluation;
       if (err < closest_err) {
         closest_err = err;
         closest = {&t, h, false};
@@ -521,9 +680,12 @@ void describePick(const Pick& p, const scenario::Scenario& s, const std::vector<
   c.observed_order = t.order;
   c.growth = t.growth;
   c.predicted_error = t.error(p.dt);
-  for (int k = 0; k <= 6; ++k) c.refined_error.push_back(t.error(std::ldexp(p.dt, -k)));
-  c.predicted_cost = t.step_cost / p.dt;
-  c.predicted_work = t.step_cost * t.work_per_evaluation / p.dt;
+  // a refinement doubles the substeps of each step: the adaptive method's
+  // error follows its local tolerance, not its output step, so nothing is
+  // predicted of one there
+  for (int k = 0; k <= 6; ++k) c.refined_error.push_back(t.adaptive() ? c.predicted_error : t.error(std::ldexp(p.dt, -k)));
+  c.predicted_cost = t.cost(p.dt);
+  c.predicted_work = t.cost(p.dt) * t.work_per_evaluation;
   c.model = t.model;
   c.model_gap = t.model_gap;
   c.window_scale = windowScale(t, p.dt, s.duration);
@@ -533,8 +695,16 @@ void describePick(const Pick& p, const scenario::Scenario& s, const std::vector<
                std::to_string(nominalOrder(t.kind)) + "): nothing is credited below its finest pilot step " +
                fmt(t.level_dt.back()) + " s";
   c.contact_substeps = t.contact_substeps;
+  if (t.adaptive()) {  // the pseudo-step is a local tolerance; the step is the output step
+    c.local_tolerance = IntegratorTrial::localTolerance(p.dt);
+    c.dt = t.output_dt;
+    if (!t.clean_fit && p.dt <= t.level_dt.back() * (1 + 1e-9))
+      c.caveat = "its error law is not clean (observed order " + fmt(t.raw_order) +
+                 " in tau^(1/3), nominal 3): nothing is credited below its finest pilot tolerance " +
+                 fmt(IntegratorTrial::localTolerance(t.level_dt.back()));
+  }
   const scenario::Scenario& model = c.model > 0 ? options[static_cast<size_t>(c.model - 1)].scenario : s;
-  c.scenario = withSettings(model, c.integrator, c.dt, c.contact_substeps);
+  c.scenario = withSettings(model, c.integrator, c.dt, c.contact_substeps, c.local_tolerance);
 }
 
 }  // namespace
@@ -546,14 +716,18 @@ Choice chooseSettings(const scenario::Scenario& s, double tolerance, const Pilot
   const PilotPlan plan = planPilot(s, o);
   c.pilot_duration = plan.duration;
   ModelPilot user;
-  for (IntegratorKind k : o.integrators)
-    pilotIntegrator(s, k, tolerance, o, plan.duration, plan.short_segment, plan.whole, plan.top, user);
+  PilotOptions oc = o;  // the adaptive trial's bound, from the fixed-step trials piloted before it
+  for (IntegratorKind k : o.integrators) {
+    if (k == IntegratorKind::Adaptive && o.max_adaptive_evaluations <= 0.0) oc.max_adaptive_evaluations = 2.0 * mostEvaluations(user);
+    pilotIntegrator(s, k, tolerance, oc, plan.duration, plan.short_segment, plan.whole, plan.top, user);
+  }
   const double user_work = workPerEvaluation(s);
   for (IntegratorTrial& t : user.trials) t.work_per_evaluation = user_work;
   c.trials = user.trials;
-  const std::vector<ModelOption> options = o.other_models ? modelOptions(s) : std::vector<ModelOption>{};
+  const std::vector<ModelOption> options =
+      o.other_models ? modelOptions(s, o.regularized_friction) : std::vector<ModelOption>{};
   const int u = mostAccurate(user);
-  for (const ModelOption& option : options) pilotModel(option, user, u, tolerance, o, plan, s.duration, c);
+  for (const ModelOption& option : options) pilotModel(option, user, u, tolerance, oc, plan, s.duration, c);
   describePick(pickCheapest(c.trials, tolerance, o), s, options, c);
   c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
@@ -565,7 +739,8 @@ std::string Choice::line() const {
     const ModelTrial& m = models[static_cast<size_t>(model - 1)];
     out += "model " + m.name + " (" + m.what + "; " + m.verdict + ") with ";
   }
-  out += std::string(integratorName(integrator)) + " at dt " + fmt(dt) + " s" +
+  out += std::string(integratorName(integrator)) + (local_tolerance > 0.0 ? " (local tolerance " + fmt(local_tolerance) + ")" : "") +
+         " at dt " + fmt(dt) + " s" +
                     (contact_substeps > 1 ? ", contact in at least " + std::to_string(contact_substeps) + " substeps" : "") +
                     ": predicted error " +
                     fmt(predicted_error) + (model > 0 ? " incl. the model's " + fmt(model_gap) : std::string()) +
@@ -608,6 +783,17 @@ std::string Choice::report() const {
     else
       std::snprintf(buf, sizeof buf, "  %-20s refused\n", integratorName(t.kind));
     out += buf;
+    if (t.usable && t.adaptive()) {
+      std::snprintf(buf, sizeof buf, "    output step %.3g s (its own error %.2e); its steps are tau^(1/3) of local tolerances tau:",
+                    t.output_dt, t.tick_offset);
+      out += buf;
+      for (size_t k = 0; k < t.level_dt.size(); ++k) {
+        std::snprintf(buf, sizeof buf, "  %.3g (%.3g evaluations/s)", IntegratorTrial::localTolerance(t.level_dt[k]),
+                      k < t.level_cost.size() ? t.level_cost[k] : 0.0);
+        out += buf;
+      }
+      out += "\n";
+    }
     if (t.usable) {
       out += "    error at the pilot's steps (s: error)";
       for (size_t k = 0; k < t.level_dt.size(); ++k) {

@@ -42,8 +42,19 @@ struct PilotOptions {
   // also pilot the cheaper wheel and tyre models the core offers for the
   // scene's vehicles (model_options.hpp), each taken only where admitted
   bool other_models = true;
+  // among them the ground's friction made regularized (accuracy.regularized_friction)
+  bool regularized_friction = false;
   std::vector<IntegratorKind> integrators = {IntegratorKind::SemiImplicitEuler, IntegratorKind::VelocityVerlet,
-                                             IntegratorKind::Rk4};
+                                             IntegratorKind::Rk4, IntegratorKind::Adaptive};
+  // the adaptive integrator's local tolerances tried: from the user's
+  // tolerance down by 8 a level, no finer than this
+  double min_local_tolerance = 1e-10;
+  // and its pilot runs take at most this many force evaluations in all
+  // (0: no bound): chooseSettings sets twice what the most costly of the
+  // user's fixed-step trials took, so an alternative never costs the pilot
+  // more than the scene's own integrators do
+  double max_adaptive_evaluations = 0.0;
+  int max_output_halvings = 4;  // the adaptive output step: at most top / 2^this
 };
 
 // What the pilot learnt of one integrator on the scene.
@@ -91,9 +102,31 @@ struct IntegratorTrial {
   // work units (scenario/budget.hpp) of one force evaluation of its model:
   // evaluations of two models compare through it
   double work_per_evaluation = 1.0;
+  // The adaptive integrator (Bogacki-Shampine 3(2), error-controlled): its
+  // runs cover each output step output_dt in internal steps sized by a
+  // local tolerance tau, and its "steps" above (dt0, level_dt, error(h))
+  // are the pseudo-steps h = tau^(1/3): a tolerance 8 times finer is h / 2,
+  // and an error proportional to tau is the order 3 of its law in h. Its
+  // cost is measured per level (level_cost, force evaluations per
+  // simulated s), below the pilot's finest level growing as 1 / h (a third
+  // order method's steps as tau^(-1/3)). 0 / empty for a fixed step.
+  double output_dt = 0.0;
+  std::vector<double> level_cost;
+  // What the output step itself costs the adaptive runs, whatever their
+  // tolerance: a road car's controls and powertrain, and the drive and
+  // brake torques, are updated once per output step, not per internal step.
+  // Measured first order: twice the difference of two accurate runs at the
+  // pilot's top output step and half of it, scaled to output_dt (which is
+  // halved from the top until this is within a fourth of the tolerance);
+  // part of every error it predicts.
+  double tick_offset = 0.0;
+  bool adaptive() const { return output_dt > 0.0; }
+  static double localTolerance(double h) { return h * h * h; }
   // predicted over the whole duration: measured at the pilot's steps, the
   // fitted law below them, infinite above dt0; plus model_gap
   double error(double h) const;
+  // force evaluations per simulated s at (pseudo-)step h
+  double cost(double h) const;
 };
 
 // A cheaper model the pilot considered (model_options.hpp) and what it
@@ -120,6 +153,7 @@ inline constexpr double kModelShare = 1.0 / 3.0;
 struct Choice {
   IntegratorKind integrator{};
   double dt = 0.0;
+  double local_tolerance = 0.0;   // the adaptive integrator's (physics.tolerance); 0: a fixed step
   int order = 1;                  // the chosen integrator's nominal order (for the live estimate)
   int contact_substeps = 1;       // collisions.min_substeps of the choice
   double observed_order = 1.0;

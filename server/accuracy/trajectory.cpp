@@ -12,7 +12,8 @@
 
 namespace groundsim::accuracy {
 
-scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps) {
+scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps,
+                                double local_tolerance) {
   scenario::Scenario c = s;
   c.options.integrator = kind;
   c.options.dt = dt;
@@ -21,6 +22,10 @@ scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind
   physics["integrator"] = integratorName(kind);
   physics["dt"] = dt;
   physics["substeps"] = 1;
+  if (local_tolerance > 0.0) {
+    c.options.tolerance = local_tolerance;
+    physics["tolerance"] = local_tolerance;
+  }
   c.options.collision.min_substeps = contact_substeps;
   if (contact_substeps > 1) c.document["collisions"]["min_substeps"] = contact_substeps;
   else if (c.document.contains("collisions") && c.document["collisions"].is_object())

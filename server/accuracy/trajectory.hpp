@@ -38,8 +38,10 @@ struct Trajectory {
 
 // A copy of s stepped with integrator `kind` at dt (one substep), contact
 // with at least contact_substeps (collisions.min_substeps), its document
-// saying so.
-scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps = 1);
+// saying so; `local_tolerance` > 0: the adaptive integrator's
+// (physics.tolerance), its internal steps covering each dt.
+scenario::Scenario withSettings(const scenario::Scenario& s, IntegratorKind kind, double dt, int contact_substeps = 1,
+                                double local_tolerance = 0.0);
 
 // Runs s (its scene built here; ScenarioError when it cannot be) for
 // `duration` simulated seconds with the scene's scripted controls. With

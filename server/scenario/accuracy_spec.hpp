@@ -15,6 +15,11 @@ struct AccuracySpec {
   // (capped by the scenario's duration); 0, the default: the whole scene
   // (server/accuracy/pilot.hpp)
   double pilot_duration = 0.0;
+  // also pilot RK4 and the adaptive integrator on the ground's friction
+  // made regularized, where it is stick-slip or sign (a model the pilot
+  // admits only within a third of the tolerance; off by default: it
+  // doubles the pilot of a stick-slip scene)
+  bool regularized_friction = false;
   // the live estimate (a shadow stepped at half the step over sampled
   // windows) while the run goes
   bool live_estimate = true;

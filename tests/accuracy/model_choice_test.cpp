@@ -25,7 +25,11 @@ scenario::Scenario restingRims() {
 
 TEST(ModelChoice, OffersTheCircleForRimsAndTheOtherTyreForARoadCar) {
   const std::vector<ModelOption> rims = modelOptions(restingRims());
-  ASSERT_EQ(rims.size(), 1u);
+  ASSERT_EQ(rims.size(), 2u);  // the circle, and the regularized ground friction (its stick-slip's alternative)
+  EXPECT_EQ(rims[1].name, "regularized friction");
+  EXPECT_EQ(rims[1].scenario.options.contact.friction_model, FrictionModel::Regularized);
+  EXPECT_EQ(scenario::parseScenario(rims[1].scenario.document).options.contact.friction_model,
+            FrictionModel::Regularized);
   EXPECT_EQ(rims[0].scenario.vehicles[0].params.wheel_contact, WheelContact::Circle);
   EXPECT_EQ(rims[0].scenario.vehicles[0].params.coupling, WheelCoupling::Bearing);
   // the document says what runs: parsed again, it is the circle car
@@ -35,16 +39,21 @@ TEST(ModelChoice, OffersTheCircleForRimsAndTheOtherTyreForARoadCar) {
 
   const scenario::Scenario sedan = test::config("sedan.json", {"duration=1"});
   const std::vector<ModelOption> tyres = modelOptions(sedan);
-  ASSERT_EQ(tyres.size(), 1u);
+  ASSERT_EQ(tyres.size(), 2u);
   for (int a = 0; a < 2; ++a)
     EXPECT_NE(tyres[0].scenario.vehicles[0].road.tyre[static_cast<size_t>(a)].slip_model,
               sedan.vehicles[0].road.tyre[static_cast<size_t>(a)].slip_model);
   const scenario::Scenario tyres_again = scenario::parseScenario(tyres[0].scenario.document);
   EXPECT_EQ(tyres_again.vehicles[0].road.tyre[0].slip_model, tyres[0].scenario.vehicles[0].road.tyre[0].slip_model);
 
-  // a car already on circles has no cheaper wheel
-  EXPECT_TRUE(modelOptions(test::config("plain.json", {"vehicle.wheel_model=\"circle\"",
-                                                       "vehicle.coupling=\"bearing\""})).empty());
+  // a car already on circles has no cheaper wheel, and a scene already
+  // regularized no other friction
+  const std::vector<ModelOption> circles =
+      modelOptions(test::config("plain.json", {"vehicle.wheel_model=\"circle\"", "vehicle.coupling=\"bearing\""}));
+  ASSERT_EQ(circles.size(), 1u);
+  EXPECT_EQ(circles[0].name, "regularized friction");
+  EXPECT_TRUE(modelOptions(test::config("plain.json", {"vehicle.wheel_model=\"circle\"", "vehicle.coupling=\"bearing\"",
+                                                       "contact.friction_model=\"regularized\""})).empty());
 }
 
 // At 10% the circle's ~1% is within the model's share (a third): the
@@ -57,7 +66,8 @@ TEST(ModelChoice, TakesTheCircleOnlyWhereItsDifferenceFitsTheTolerance) {
   const Choice loose = chooseSettings(s, 0.1);
   SCOPED_TRACE(loose.report());
   std::printf("10%%: %s\n%s", loose.line().c_str(), loose.report().c_str());
-  ASSERT_EQ(loose.models.size(), 1u);
+  ASSERT_EQ(loose.models.size(), 1u);  // (the regularized friction only when asked for)
+  EXPECT_EQ(loose.models[0].name, "circle wheels");
   EXPECT_TRUE(loose.models[0].admitted) << loose.models[0].verdict;
   ASSERT_EQ(loose.model, 1) << loose.line();
   EXPECT_EQ(loose.scenario.vehicles[0].params.wheel_contact, WheelContact::Circle);
