@@ -11,6 +11,7 @@
 #include "bridge/state_json.hpp"
 #include "lcm/latency_trace.hpp"
 #include "protocol/assets_client.hpp"
+#include "protocol/names.hpp"
 #include "scenario/scenario.hpp"
 
 namespace groundsim::web {
@@ -26,14 +27,10 @@ namespace {
 
 std::shared_ptr<const std::string> shared(std::string s) { return std::make_shared<const std::string>(std::move(s)); }
 
-const char* modeName(int m) {
-  return m == 1 ? "realtime" : m == 2 ? "fast" : m == 3 ? "lockstep" : "unknown";
-}
-
+// a browser's mode by its name (protocol/names.hpp); real time when it names none
 std::int8_t modeValue(const std::string& m) {
-  return m == "fast" ? groundsim::request_t::MODE_FAST
-         : m == "lockstep" ? groundsim::request_t::MODE_LOCKSTEP
-                           : groundsim::request_t::MODE_REALTIME;
+  const int v = net::modeFromName(m);
+  return static_cast<std::int8_t>(v != 0 ? v : groundsim::request_t::MODE_REALTIME);
 }
 
 }  // namespace
@@ -867,7 +864,7 @@ void Hub::publishLobbyNow() {
       json j = entry(si.session_id);
       j["id"] = si.session_id;
       j["name"] = si.name;
-      j["mode"] = modeName(si.mode);
+      j["mode"] = net::modeName(si.mode);
       j["status"] = si.status;
       j["reason"] = si.status_reason;
       j["t"] = si.utime * 1e-6;
