@@ -27,16 +27,18 @@ const char* kSprint = R"({"name": "sprint", "duration": 20, "output_rate": 50, "
            "grid": [{"position": [0, 0], "heading_deg": 0}]}})";
 
 struct RaceRig {
-  RaceRig() {
-    const scenario::Scenario sc = scenario::parseScenario(std::string(kSprint));
+  // a session of `doc` (the sprint by default) stepped by hand
+  explicit RaceRig(const std::string& doc = kSprint, std::vector<std::string> names = {"sedan"},
+                   Mode mode = Mode::Fast, const std::string& id = "0000RACE") {
+    const scenario::Scenario sc = scenario::parseScenario(doc);
     scenario::Scene scene = scenario::buildScene(sc);
     SessionSetup setup;
-    setup.id = "0000RACE";
+    setup.id = id;
     setup.token = "t";
-    setup.scenario_json = kSprint;
-    setup.vehicle_names = {"sedan"};
+    setup.scenario_json = doc;
+    setup.vehicle_names = std::move(names);
     setup.duration = 20;
-    setup.mode = Mode::Fast;
+    setup.mode = mode;
     setup.publish_rate = 50;
     setup.control_tables = scene.control_tables;
     session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
@@ -55,6 +57,15 @@ struct RaceRig {
   RecordingOutput out;
   std::shared_ptr<Session> session;
 };
+
+// A respawn of vehicle v: OP_RESET with steps = -1 - v.
+Request respawnRequest(int v, std::int64_t id) {
+  Request r;
+  r.op = Op::Reset;
+  r.steps = -1 - v;
+  r.request_id = id;
+  return r;
+}
 
 // when the published states put the car's centre across x (interpolated)
 double crossing(const std::vector<Frame>& frames, double x) {
@@ -173,11 +184,7 @@ TEST(RaceSession, ASecondRespawnAtTheSameGateIsPutClearOfTheFirst) {
   for (const Event& e : out.events) finished += e.reason.find("\"type\":\"finish\"") != std::string::npos;
   ASSERT_EQ(finished, 2);
   for (int v : {0, 1}) {
-    Request r;
-    r.op = Op::Reset;
-    r.steps = -1 - v;
-    r.request_id = 10 + v;
-    s->post(r);
+    s->post(respawnRequest(v, 10 + v));
     clock.advance(0.5);
     s->run(clock.now());
   }
@@ -230,11 +237,7 @@ TEST(RaceSession, ARespawnedCarPassesThroughForItsProtection) {
   for (const Hit& h : out.frames.back().hits) hits += h.a >= 0;
   EXPECT_LT(stopped, 46.0);  // held by the wall
   EXPECT_GT(hits, 0);
-  Request r;
-  r.op = Op::Reset;
-  r.steps = -1;
-  r.request_id = 2;
-  s->post(r);
+  s->post(respawnRequest(0, 2));
   s->post(stepRequest(700, 3));  // 2.8 s of the 3 s protection
   s->run(clock.now());
   const Frame f = out.frames.back();  // a copy: more frames follow
@@ -273,11 +276,7 @@ TEST(RaceSession, ASessionWithoutARaceRefusesRespawn) {
   setup.vehicle_names = {"sedan"};
   setup.mode = Mode::Fast;
   auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
-  Request r;
-  r.op = Op::Reset;
-  r.steps = -1;
-  r.request_id = 3;
-  s->post(r);
+  s->post(respawnRequest(0, 3));
   s->run(clock.now());
   bool refused = false;
   for (const Reply& rep : out.replies) refused = refused || (rep.request_id == 3 && !rep.ok);
@@ -524,27 +523,14 @@ TEST(RaceSession, AProtectionLastsUntilTheCarIsClearOfTheOthers) {
              "grid": [{"position": [0, 0]}, {"position": [PARKED, 0]}]}})";
   std::string text(doc);  // the parked car 6 m past where a respawns (2 m past gate 1): clear of it, not of where a is 3 s later
   text.replace(text.find("PARKED"), 6, "38");
-  const scenario::Scenario sc = scenario::parseScenario(text);
-  scenario::Scene scene = scenario::buildScene(sc);
-  ServiceConfig cfg;
-  ManualClock clock;
-  RecordingOutput out;
-  SessionSetup setup;
-  setup.id = "0000PARK";
-  setup.token = "t";
-  setup.scenario_json = text;
-  setup.vehicle_names = {"a", "parked"};
-  setup.mode = Mode::Lockstep;
-  setup.control_tables = scene.control_tables;
-  auto s = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg, out, clock.now(), clock);
+  RaceRig rig(text, {"a", "parked"}, Mode::Lockstep, "0000PARK");
+  Session* s = rig.session.get();
+  RecordingOutput& out = rig.out;
+  ManualClock& clock = rig.clock;
   s->post(stepRequest(2000, 1));  // 8 s: past gate 1, into the parked car
   s->run(clock.now());
   ASSERT_EQ(raceEvents(out, "gate", 0).size(), 1u) << "car a did not pass gate 1";
-  Request r;
-  r.op = Op::Reset;
-  r.steps = -1;
-  r.request_id = 2;
-  s->post(r);
+  s->post(respawnRequest(0, 2));
   s->run(clock.now());
   const auto respawn = raceEvents(out, "respawn", 0);
   ASSERT_EQ(respawn.size(), 1u);
