@@ -1,3 +1,6 @@
+// McapReader: opening a file (header, footer, summary), its attachments and
+// metadata, verify(). The scan of a file without a usable summary is in
+// mcap_scan.cpp, chunks and readMessages() in mcap_chunks.cpp.
 #include "recording/mcap_reader.hpp"
 
 #include <fcntl.h>
@@ -12,40 +15,17 @@
 #include <stdexcept>
 
 #include "recording/crc32.hpp"
+#include "recording/mcap_reader_detail.hpp"
 
 namespace groundsim::recording {
 
 using namespace mcap;
+using mcap_detail::hex;
+using mcap_detail::num;
+using mcap_detail::opName;
+using mcap_detail::withPath;
 
-// A chunk as the summary's ChunkIndex or the scan describes it; in a
-// scanned file also a Message record outside chunks (other writers).
-struct McapReader::ChunkRef {
-  std::uint64_t offset = 0, length = 0;  // the whole record
-  std::uint64_t start = 0, end = 0;      // message log times it claims
-  std::string compression;
-  std::uint64_t compressed_size = 0, uncompressed_size = 0;
-  std::map<std::uint16_t, std::uint64_t> index_offsets;  // channel -> MessageIndex record
-  // index_offsets names every channel of the chunk: channel filters may skip
-  // it, counts may come from it. False for a chunk without message indexes
-  // and for the last chunk of a scan (the end may have cut its indexes).
-  bool indexed = false;
-  std::map<std::uint16_t, std::uint64_t> counts;  // from the scan's index headers
-  bool counts_known = false;
-  bool loose = false;  // a Message record outside chunks
-  std::uint16_t loose_channel = 0;
-};
-
-// One chunk being delivered by readMessages().
-struct McapReader::Loaded {
-  std::string raw;                          // the record as read from the file
-  std::unique_ptr<char[]> decompressed;     // zstd output, when compressed
-  std::string_view records;                 // the uncompressed records field
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> entries;  // (log_time, offset), sorted
-  std::size_t next = 0;
-  std::uint64_t order = 0;                  // the chunk's file offset: ties in log time
-};
-
-namespace {
+namespace mcap_detail {
 
 const char* opName(std::uint8_t op) {
   switch (static_cast<Op>(op)) {
@@ -68,45 +48,17 @@ const char* opName(std::uint8_t op) {
   return op >= 0x80 ? "private" : "unknown";
 }
 
-std::string hex(std::uint64_t v, int digits = 2) {
+std::string hex(std::uint64_t v, int digits) {
   char b[24];
   std::snprintf(b, sizeof b, "0x%0*llx", digits, static_cast<unsigned long long>(v));
   return b;
 }
 
-std::string num(std::uint64_t v) { return std::to_string(v); }
+}  // namespace mcap_detail
+
+namespace {
 
 ZSTD_DCtx* dctx(void* p) { return static_cast<ZSTD_DCtx*>(p); }
-
-// What the zstd frames in [p, p + n) say they decompress to, read from their
-// headers (ZSTD_findDecompressedSize is not in zstd's stable API):
-// ZSTD_CONTENTSIZE_ERROR when they are not frames, ..._UNKNOWN when a frame
-// does not say.
-unsigned long long zstdContentSize(const char* p, std::size_t n) {
-  unsigned long long total = 0;
-  while (n > 0) {
-    const unsigned long long frame = ZSTD_getFrameContentSize(p, n);
-    if (frame == ZSTD_CONTENTSIZE_ERROR) return ZSTD_CONTENTSIZE_ERROR;
-    const std::size_t length = ZSTD_findFrameCompressedSize(p, n);
-    if (ZSTD_isError(length) || length == 0 || length > n) return ZSTD_CONTENTSIZE_ERROR;
-    if (frame == ZSTD_CONTENTSIZE_UNKNOWN) return ZSTD_CONTENTSIZE_UNKNOWN;
-    if (frame > ~0ull - total) return ZSTD_CONTENTSIZE_ERROR;
-    total += frame;
-    p += length;
-    n -= length;
-  }
-  return total;
-}
-
-// Runs f, giving format errors (mcap::Cursor's) the file's path.
-template <class F>
-auto withPath(const std::string& path, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const FormatError& e) {
-    throw std::runtime_error("McapReader: " + path + ": " + e.what());
-  }
-}
 
 }  // namespace
 
@@ -335,376 +287,6 @@ void McapReader::parseSummary(const std::string& s, std::uint64_t base) {
     }
     pos += kRecordPrefix + static_cast<std::size_t>(len);
   }
-}
-
-void McapReader::scan(std::uint64_t end) {
-  std::uint64_t pos = data_start_;
-  std::size_t pending = SIZE_MAX;  // the last chunk, while its MessageIndex records follow
-  std::string stop;
-  std::size_t loose = 0;
-  while (pos < end) {
-    if (end - pos < kRecordPrefix) {
-      stop = num(end - pos) + " bytes of a cut record ignored (offset " + num(pos) + ")";
-      break;
-    }
-    const std::string p = readAt(pos, kRecordPrefix, "record");
-    const auto op = static_cast<std::uint8_t>(p[0]);
-    const std::uint64_t len = loadU64(p.data() + 1);
-    if (op == 0) {  // not a record: e.g. the zeros a crash can leave in a file's last blocks
-      stop = num(end - pos) + " bytes from offset " + num(pos) + " ignored (opcode 0 is not a record)";
-      break;
-    }
-    if (len > end - pos - kRecordPrefix) {
-      stop = num(end - pos) + " bytes of a cut record ignored (" + opName(op) + " at offset " + num(pos) +
-             ", claims " + num(len) + " bytes)";
-      break;
-    }
-    const std::uint64_t body = pos + kRecordPrefix;
-    if (pending != SIZE_MAX && op != static_cast<std::uint8_t>(Op::MessageIndex)) {
-      // a record after the chunk's indexes: they are all there
-      ChunkRef& r = refs_[pending];
-      r.indexed = r.counts_known = !r.index_offsets.empty();
-      pending = SIZE_MAX;
-    }
-    bool data_end = false;
-    switch (static_cast<Op>(op)) {
-      case Op::Schema:
-      case Op::Channel: {
-        const std::string b = readAt(body, len, opName(op));
-        Cursor c(b, opName(op), pos);
-        op == static_cast<std::uint8_t>(Op::Schema) ? addSchema(c) : addChannel(c);
-        break;
-      }
-      case Op::Chunk: {
-        // start, end, uncompressed_size, crc, compression length: 32 bytes
-        if (len < 32 + 8) Cursor(std::string_view(), "Chunk", pos).fail("too short (" + num(len) + " bytes)");
-        const std::string h = readAt(body, 32, "Chunk");
-        const std::uint32_t clen = loadU32(h.data() + 28);
-        if (clen > len - 40) Cursor(std::string_view(), "Chunk", pos).fail("compression string runs past the record");
-        const std::string comp = readAt(body + 32, clen + 8, "Chunk");
-        const std::uint64_t records = loadU64(comp.data() + clen);
-        if (records != len - 40 - clen)
-          Cursor(std::string_view(), "Chunk", pos)
-              .fail("records field of " + num(records) + " bytes does not fill the record");
-        ChunkRef r;
-        r.offset = pos;
-        r.length = kRecordPrefix + len;
-        r.start = loadU64(h.data());
-        r.end = loadU64(h.data() + 8);
-        r.uncompressed_size = loadU64(h.data() + 16);
-        r.compression = comp.substr(0, clen);
-        r.compressed_size = records;
-        refs_.push_back(std::move(r));
-        pending = refs_.size() - 1;
-        break;
-      }
-      case Op::MessageIndex: {
-        if (pending == SIZE_MAX) break;  // not after a chunk: nothing to index
-        if (len < 6) Cursor(std::string_view(), "MessageIndex", pos).fail("too short");
-        const std::string h = readAt(body, 6, "MessageIndex");
-        const std::uint32_t bytes = loadU32(h.data() + 2);
-        if (bytes > len - 6 || bytes % 16 != 0)
-          Cursor(std::string_view(), "MessageIndex", pos).fail("entries of " + num(bytes) + " bytes do not fit");
-        ChunkRef& r = refs_[pending];
-        r.index_offsets[loadU16(h.data())] = pos;
-        r.counts[loadU16(h.data())] += bytes / 16;
-        break;
-      }
-      case Op::Message: {
-        if (len < kMessageFixed) Cursor(std::string_view(), "Message", pos).fail("too short");
-        const std::string h = readAt(body, kMessageFixed, "Message");
-        ChunkRef r;
-        r.offset = pos;
-        r.length = kRecordPrefix + len;
-        r.start = r.end = loadU64(h.data() + 6);
-        r.loose = true;
-        r.loose_channel = loadU16(h.data());
-        refs_.push_back(std::move(r));
-        ++loose;
-        break;
-      }
-      case Op::Attachment: {
-        AttachmentIndex a;
-        a.offset = pos;
-        a.length = kRecordPrefix + len;
-        attachment_refs_.push_back(std::move(a));
-        break;
-      }
-      case Op::Metadata: {
-        MetadataIndex m;
-        m.offset = pos;
-        m.length = kRecordPrefix + len;
-        metadata_refs_.push_back(std::move(m));
-        break;
-      }
-      case Op::DataEnd:
-        data_end_offset_ = pos;
-        data_end = true;
-        break;
-      default: break;  // records of later versions, private records: skipped
-    }
-    pos = body + len;
-    if (data_end) {
-      stop = "the data section is whole (DataEnd at offset " + num(data_end_offset_) + "), the summary is not";
-      break;
-    }
-  }
-  // pending: nothing followed the last chunk's indexes, so the end may have
-  // cut some; it is read as unindexed (decompressed to filter and count)
-
-  std::size_t whole = 0;
-  std::uint64_t last = 0;
-  for (const auto& r : refs_) {
-    if (r.loose) continue;
-    ++whole;
-    last = std::max(last, r.end);
-  }
-  char t[64];
-  std::snprintf(t, sizeof t, "%.2f", static_cast<double>(last) * 1e-9);
-  end_note_ = num(whole) + (whole == 1 ? " whole chunk" : " whole chunks");
-  if (whole > 0) end_note_ += std::string(" up to log time ") + t + " s";
-  if (loose > 0) end_note_ += ", " + num(loose) + " messages outside chunks";
-  if (!stop.empty()) end_note_ += ", " + stop;
-}
-
-std::string_view McapReader::loadChunk(const ChunkRef& r, Loaded& out) const {
-  out.raw = readAt(r.offset, r.length, "Chunk");
-  const std::string& raw = out.raw;
-  if (raw.size() < kRecordPrefix || static_cast<std::uint8_t>(raw[0]) != static_cast<std::uint8_t>(Op::Chunk))
-    fail("no Chunk record at offset " + num(r.offset) + " (opcode " +
-         hex(raw.empty() ? 0 : static_cast<unsigned char>(raw[0])) + ")");
-  if (loadU64(raw.data() + 1) != r.length - kRecordPrefix)
-    fail("Chunk record at offset " + num(r.offset) + ": its length does not match its index");
-  Cursor c(std::string_view(raw).substr(kRecordPrefix), "Chunk", r.offset);
-  c.u64();  // message_start_time
-  c.u64();  // message_end_time
-  const std::uint64_t usize = c.u64();
-  const std::uint32_t crc = c.u32();
-  const std::string_view compression = c.str();
-  const std::string_view records = c.bytes(c.u64(), "records");
-  if (usize > kMaxLoadBytes)
-    fail("chunk at offset " + num(r.offset) + ": uncompressed_size " + num(usize) +
-         " is over the reader's 1 GiB limit");
-  if (compression.empty()) {
-    if (records.size() != usize)
-      fail("chunk at offset " + num(r.offset) + ": uncompressed, but " + num(records.size()) +
-           " bytes of records against an uncompressed_size of " + num(usize));
-    out.records = records;
-  } else if (compression == "zstd") {
-    const unsigned long long stated = zstdContentSize(records.data(), records.size());
-    if (stated == ZSTD_CONTENTSIZE_ERROR)
-      fail("chunk at offset " + num(r.offset) + ": its records are not zstd frames");
-    if (stated != ZSTD_CONTENTSIZE_UNKNOWN && stated != usize)
-      fail("chunk at offset " + num(r.offset) + ": the zstd frames hold " + num(stated) +
-           " bytes, uncompressed_size says " + num(usize));
-    if (!zstd_) {
-      zstd_ = ZSTD_createDCtx();
-      if (!zstd_) fail("ZSTD_createDCtx failed");
-    }
-    // not zero-filled: the pages are touched only as zstd writes them, so a
-    // lying uncompressed_size costs address space, not memory
-    out.decompressed.reset(new char[usize > 0 ? usize : 1]);
-    const std::size_t n =
-        ZSTD_decompressDCtx(dctx(zstd_), out.decompressed.get(), usize, records.data(), records.size());
-    if (ZSTD_isError(n))
-      fail("chunk at offset " + num(r.offset) + ": zstd: " + ZSTD_getErrorName(n) + " (corrupt chunk)");
-    if (n != usize)
-      fail("chunk at offset " + num(r.offset) + ": decompressed to " + num(n) + " bytes, uncompressed_size says " +
-           num(usize));
-    out.records = std::string_view(out.decompressed.get(), usize);
-  } else {
-    fail("chunk at offset " + num(r.offset) + ": compression '" + std::string(compression) +
-         "' is not supported (zstd or none)");
-  }
-  if (crc != 0) {
-    const std::uint32_t got = crc32(out.records);
-    if (got != crc)
-      fail("chunk at offset " + num(r.offset) + ": CRC mismatch (stored " + hex(crc, 8) + ", computed " +
-           hex(got, 8) + "): the chunk is corrupt");
-  }
-  return out.records;
-}
-
-std::vector<std::pair<std::uint64_t, std::uint64_t>> McapReader::readMessageIndex(std::uint64_t offset,
-                                                                                  std::uint16_t channel) const {
-  const std::string p = readAt(offset, kRecordPrefix, "MessageIndex");
-  if (static_cast<std::uint8_t>(p[0]) != static_cast<std::uint8_t>(Op::MessageIndex))
-    fail("the index of channel " + num(channel) + " points at offset " + num(offset) +
-         ", which holds no MessageIndex record");
-  const std::string b = readAt(offset + kRecordPrefix, loadU64(p.data() + 1), "MessageIndex");
-  Cursor c(b, "MessageIndex", offset);
-  if (c.u16() != channel) c.fail("it is not channel " + num(channel) + "'s, as the chunk index says");
-  const std::uint32_t bytes = c.u32();
-  if (bytes % 16 != 0) c.fail("entries of " + num(bytes) + " bytes, not a multiple of 16");
-  const std::string_view e = c.bytes(bytes, "entries");
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> out(bytes / 16);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = {loadU64(e.data() + 16 * i), loadU64(e.data() + 16 * i + 8)};
-  return out;
-}
-
-std::map<std::uint16_t, std::uint64_t> McapReader::countChunk(const ChunkRef& r) const {
-  if (r.loose) return {{r.loose_channel, 1}};
-  if (r.counts_known) return r.counts;
-  std::map<std::uint16_t, std::uint64_t> out;
-  if (r.indexed) {  // the index headers say it: 15 bytes a channel
-    for (const auto& [ch, off] : r.index_offsets) {
-      const std::string h = readAt(off, kRecordPrefix + 6, "MessageIndex");
-      if (static_cast<std::uint8_t>(h[0]) != static_cast<std::uint8_t>(Op::MessageIndex) ||
-          loadU16(h.data() + 9) != ch)
-        fail("the index of channel " + num(ch) + " points at offset " + num(off) +
-             ", which holds no MessageIndex record of that channel");
-      out[ch] += loadU32(h.data() + 11) / 16;
-    }
-    return out;
-  }
-  Loaded l;
-  const std::string_view recs = loadChunk(r, l);
-  for (std::size_t pos = 0; pos < recs.size();) {
-    if (recs.size() - pos < kRecordPrefix) fail("chunk at offset " + num(r.offset) + ": a cut record inside it");
-    const std::uint64_t len = loadU64(recs.data() + pos + 1);
-    if (len > recs.size() - pos - kRecordPrefix)
-      fail("chunk at offset " + num(r.offset) + ": a record inside it runs past its records");
-    if (static_cast<std::uint8_t>(recs[pos]) == static_cast<std::uint8_t>(Op::Message)) {
-      if (len < kMessageFixed) fail("chunk at offset " + num(r.offset) + ": a Message record too short");
-      ++out[loadU16(recs.data() + pos + kRecordPrefix)];
-    }
-    pos += kRecordPrefix + static_cast<std::size_t>(len);
-  }
-  return out;
-}
-
-std::map<std::uint16_t, std::uint64_t> McapReader::messageCounts() const {
-  if (complete_ && have_statistics_ && !statistics_.channel_message_counts.empty())
-    return statistics_.channel_message_counts;
-  if (!counted_) {
-    withPath(path_, [&] {
-      std::map<std::uint16_t, std::uint64_t> counts;
-      for (const auto& r : refs_)
-        for (const auto& [ch, n] : countChunk(r)) counts[ch] += n;
-      counts_ = std::move(counts);
-    });
-    counted_ = true;
-  }
-  return counts_;
-}
-
-void McapReader::readMessages(const std::function<void(const McapMessage&)>& f,
-                              const std::set<std::uint16_t>& channels, std::uint64_t t0, std::uint64_t t1) {
-  withPath(path_, [&] {
-    if (t0 > t1) return;
-    auto wanted = [&](std::uint16_t ch) { return channels.empty() || channels.count(ch) > 0; };
-    std::vector<const ChunkRef*> sel;
-    for (const auto& r : refs_) {
-      if (r.end < t0 || r.start > t1) continue;
-      if (r.loose && !wanted(r.loose_channel)) continue;
-      if (!r.loose && !channels.empty() && r.indexed &&
-          std::none_of(r.index_offsets.begin(), r.index_offsets.end(),
-                       [&](const auto& kv) { return channels.count(kv.first) > 0; }))
-        continue;
-      sel.push_back(&r);
-    }
-    std::stable_sort(sel.begin(), sel.end(), [](const ChunkRef* a, const ChunkRef* b) {
-      return a->start != b->start ? a->start < b->start : a->offset < b->offset;
-    });
-
-    // The entries of one chunk to deliver, or nullptr: nothing in it.
-    auto load = [&](const ChunkRef& r) -> std::unique_ptr<Loaded> {
-      auto l = std::make_unique<Loaded>();
-      l->order = r.offset;
-      auto keep = [&](std::uint16_t ch, std::uint64_t t) { return wanted(ch) && t >= t0 && t <= t1; };
-      if (r.loose) {
-        l->raw = readAt(r.offset, r.length, "Message");
-        l->records = l->raw;
-        if (keep(r.loose_channel, r.start)) l->entries.emplace_back(r.start, 0);
-      } else if (!channels.empty() && r.indexed) {
-        // the wanted channels' message indexes first: a chunk may be skipped
-        // without decompressing it
-        for (const auto& [ch, off] : r.index_offsets) {
-          if (!channels.count(ch)) continue;
-          for (const auto& e : readMessageIndex(off, ch))
-            if (e.first >= t0 && e.first <= t1) l->entries.push_back(e);
-        }
-        if (l->entries.empty()) return nullptr;
-        loadChunk(r, *l);
-      } else {
-        const std::string_view recs = loadChunk(r, *l);
-        for (std::size_t pos = 0; pos < recs.size();) {
-          if (recs.size() - pos < kRecordPrefix)
-            fail("chunk at offset " + num(r.offset) + ": a cut record at offset " + num(pos) + " inside it");
-          const auto op = static_cast<std::uint8_t>(recs[pos]);
-          const std::uint64_t len = loadU64(recs.data() + pos + 1);
-          if (len > recs.size() - pos - kRecordPrefix)
-            fail("chunk at offset " + num(r.offset) + ": the record at offset " + num(pos) +
-                 " inside it runs past its records");
-          const std::string_view body = recs.substr(pos + kRecordPrefix, static_cast<std::size_t>(len));
-          if (op == static_cast<std::uint8_t>(Op::Message)) {
-            if (len < kMessageFixed)
-              fail("chunk at offset " + num(r.offset) + ": a Message record too short at offset " + num(pos));
-            const std::uint64_t t = loadU64(body.data() + 6);
-            if (keep(loadU16(body.data()), t)) l->entries.emplace_back(t, pos);
-          } else if (op == static_cast<std::uint8_t>(Op::Schema) || op == static_cast<std::uint8_t>(Op::Channel)) {
-            Cursor c(body, opName(op), r.offset);  // other writers put them in chunks
-            op == static_cast<std::uint8_t>(Op::Schema) ? addSchema(c) : addChannel(c);
-          }
-          pos += kRecordPrefix + static_cast<std::size_t>(len);
-        }
-        if (l->entries.empty()) return nullptr;
-      }
-      std::sort(l->entries.begin(), l->entries.end());
-      return l;
-    };
-
-    // a min-heap of the loaded chunks by their next message
-    auto later = [](const std::unique_ptr<Loaded>& a, const std::unique_ptr<Loaded>& b) {
-      const auto& ea = a->entries[a->next];
-      const auto& eb = b->entries[b->next];
-      if (ea.first != eb.first) return ea.first > eb.first;
-      if (a->order != b->order) return a->order > b->order;
-      return ea.second > eb.second;
-    };
-    std::vector<std::unique_ptr<Loaded>> heap;
-    McapMessage m;
-    std::size_t next = 0;
-    while (next < sel.size() || !heap.empty()) {
-      // a chunk that may hold the next message in time is loaded first
-      if (next < sel.size() &&
-          (heap.empty() || sel[next]->start <= heap.front()->entries[heap.front()->next].first)) {
-        if (auto l = load(*sel[next])) {
-          heap.push_back(std::move(l));
-          std::push_heap(heap.begin(), heap.end(), later);
-        }
-        ++next;
-        continue;
-      }
-      std::pop_heap(heap.begin(), heap.end(), later);
-      Loaded& l = *heap.back();
-      const auto [t, off] = l.entries[l.next];
-      const std::string_view recs = l.records;
-      if (off > recs.size() || recs.size() - off < kRecordPrefix + kMessageFixed ||
-          static_cast<std::uint8_t>(recs[off]) != static_cast<std::uint8_t>(Op::Message))
-        fail("chunk at offset " + num(l.order) + ": no Message record at offset " + num(off) +
-             " inside it, where its message index points");
-      const std::uint64_t len = loadU64(recs.data() + off + 1);
-      if (len < kMessageFixed || len > recs.size() - off - kRecordPrefix)
-        fail("chunk at offset " + num(l.order) + ": the Message record at offset " + num(off) +
-             " inside it runs past its records");
-      const char* b = recs.data() + off + kRecordPrefix;
-      m.channel = loadU16(b);
-      m.sequence = loadU32(b + 2);
-      m.log_time = loadU64(b + 6);
-      m.publish_time = loadU64(b + 14);
-      if (m.log_time != t || !wanted(m.channel))
-        fail("chunk at offset " + num(l.order) + ": the message at offset " + num(off) +
-             " inside it does not match its message index entry");
-      m.data.assign(b + kMessageFixed, static_cast<std::size_t>(len - kMessageFixed));
-      if (++l.next < l.entries.size())
-        std::push_heap(heap.begin(), heap.end(), later);
-      else
-        heap.pop_back();  // frees the chunk
-      f(m);
-    }
-  });
 }
 
 std::vector<std::pair<std::string, std::string>> McapReader::attachments() {

@@ -120,8 +120,10 @@ class McapReader {
   std::uint64_t bytesRead() const { return bytes_read_; }
 
  private:
-  struct ChunkRef;
+  struct ChunkRef;  // these four: mcap_reader_detail.hpp, mcap_scan.cpp, mcap_chunks.cpp
   struct Loaded;
+  class Scanner;     // scan()'s steps
+  class Delivery;    // readMessages()'s steps
 
   std::string readAt(std::uint64_t offset, std::uint64_t n, const char* what) const;
   void readInto(char* dst, std::uint64_t offset, std::uint64_t n) const;
