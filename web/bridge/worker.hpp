@@ -15,13 +15,16 @@ namespace groundsim::web {
 class Worker {
  public:
   Worker() : thread_([this] { run(); }) {}
-  ~Worker() {
+  ~Worker() { stop(); }
+  // Ends the thread after the job under way (jobs not begun are dropped).
+  // Its owner calls it before what the jobs refer to goes.
+  void stop() {
     {
       std::lock_guard<std::mutex> lk(mu_);
       stop_ = true;
     }
     cv_.notify_one();
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
   }
   void post(std::function<void()> job) {
     {
