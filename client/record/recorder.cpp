@@ -151,111 +151,122 @@ void Recorder::companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, c
 }
 
 bool Recorder::handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
-  if (startsWith(channel, net::kStatePrefix)) {
-    groundsim::state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.state_t").ok() || !usableSeq(m.seq)) return false;
-    auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end()) return true;
-    Stream& s = it->second;
-    if (fencedOff(s, m.epoch)) return true;
-    if (!s.ledger.arrive(m.seq, repaired)) {
-      if (m.seq <= s.moved_at) ++s.resimulated;
-      return true;
-    }
-    s.top = std::max(s.top, m.seq);
-    // the frame's other messages follow the state: owed up to the one before
-    if (s.car.started()) s.car.reach(m.seq - 1);
-    if (s.contact.started()) s.contact.reach(m.seq - 1);
-    if (m.status >= groundsim::state_t::STATUS_FINISHED) {
-      s.ended = true;
-      if (!s.end_frames.count(m.seq)) s.end_owed.try_emplace(m.seq, Gap{});
-    }
-    appliedOwed(s);
-    if (!repaired && m.seq > s.live_seq) {
-      s.live_seq = m.seq;
-      s.live_utime = m.utime;
-    }
-    write(s, s.state_ch, m.seq, m.utime, toJson(m), channel, data, size);
+  if (startsWith(channel, net::kStatePrefix)) return handleState(channel, data, size, repaired);
+  if (startsWith(channel, net::kCarStatePrefix))
+    return handleCompanion<groundsim::car_state_t>("groundsim.car_state_t", &Stream::car, &Stream::car_ch, channel,
+                                                   data, size, repaired);
+  if (startsWith(channel, net::kContactPrefix))
+    return handleCompanion<groundsim::contact_state_t>("groundsim.contact_state_t", &Stream::contact,
+                                                       &Stream::contact_ch, channel, data, size, repaired);
+  if (startsWith(channel, net::kAppliedPrefix)) return handleApplied(channel, data, size, repaired);
+  if (channel == net::kEventChannel) return handleEvent(channel, data, size, repaired);
+  if (channel == net::kDriveChannel || channel == net::kControlsChannel) return handleCommand(channel, data, size);
+  if (channel == net::kScenarioChannel) return handleScenario(data, size);
+  return true;
+}
+
+bool Recorder::handleState(const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
+  groundsim::state_t m;
+  if (!net::decodeMessage(data, size, m, "groundsim.state_t").ok() || !usableSeq(m.seq)) return false;
+  auto it = sessions_.find(m.session_id);
+  if (it == sessions_.end()) return true;
+  Stream& s = it->second;
+  if (fencedOff(s, m.epoch)) return true;
+  if (!s.ledger.arrive(m.seq, repaired)) {
+    if (m.seq <= s.moved_at) ++s.resimulated;
     return true;
   }
-  if (startsWith(channel, net::kCarStatePrefix)) {
-    groundsim::car_state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.car_state_t").ok() || !usableSeq(m.seq)) return false;
-    auto it = sessions_.find(m.session_id);
-    if (it != sessions_.end()) companion(it->second, it->second.car, it->second.car_ch, m, channel, data, size, repaired);
-    return true;
+  s.top = std::max(s.top, m.seq);
+  // the frame's other messages follow the state: owed up to the one before
+  if (s.car.started()) s.car.reach(m.seq - 1);
+  if (s.contact.started()) s.contact.reach(m.seq - 1);
+  if (m.status >= groundsim::state_t::STATUS_FINISHED) {
+    s.ended = true;
+    if (!s.end_frames.count(m.seq)) s.end_owed.try_emplace(m.seq, Gap{});
   }
-  if (startsWith(channel, net::kContactPrefix)) {
-    groundsim::contact_state_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.contact_state_t").ok() || !usableSeq(m.seq)) return false;
-    auto it = sessions_.find(m.session_id);
-    if (it != sessions_.end())
-      companion(it->second, it->second.contact, it->second.contact_ch, m, channel, data, size, repaired);
-    return true;
+  appliedOwed(s);
+  if (!repaired && m.seq > s.live_seq) {
+    s.live_seq = m.seq;
+    s.live_utime = m.utime;
   }
-  if (startsWith(channel, net::kAppliedPrefix)) {
-    groundsim::applied_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.applied_t").ok() || !usableSeq(m.seq) || !usableSeq(m.frame_seq))
-      return false;
-    auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end()) return true;
-    Stream& s = it->second;
-    if (fencedOff(s, m.epoch)) return true;
-    if (!s.applied.started()) s.applied.owe(s.ledger.started() && s.ledger.first() == 0 ? 0 : m.seq);
-    if (m.kind == groundsim::applied_t::KIND_END) {
-      s.end_frames.insert(m.frame_seq);
-      s.end_owed.erase(m.frame_seq);
-      s.end_missing.erase(m.frame_seq);
-    }
-    if (m.seq < s.applied.first()) return true;  // before the recording
-    if (!s.applied.arrive(m.seq, repaired)) return true;
-    s.applied_frame[m.seq] = m.frame_seq;
-    write(s, s.applied_ch, m.seq, m.utime, toJson(m), channel, data, size);
-    return true;
+  write(s, s.state_ch, m.seq, m.utime, toJson(m), channel, data, size);
+  return true;
+}
+
+template <class Msg>
+bool Recorder::handleCompanion(const char* type, Ledger Stream::*ledger, std::uint16_t Stream::*ch,
+                               const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
+  Msg m;
+  if (!net::decodeMessage(data, size, m, type).ok() || !usableSeq(m.seq)) return false;
+  auto it = sessions_.find(m.session_id);
+  if (it != sessions_.end()) companion(it->second, it->second.*ledger, it->second.*ch, m, channel, data, size, repaired);
+  return true;
+}
+
+bool Recorder::handleApplied(const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
+  groundsim::applied_t m;
+  if (!net::decodeMessage(data, size, m, "groundsim.applied_t").ok() || !usableSeq(m.seq) || !usableSeq(m.frame_seq))
+    return false;
+  auto it = sessions_.find(m.session_id);
+  if (it == sessions_.end()) return true;
+  Stream& s = it->second;
+  if (fencedOff(s, m.epoch)) return true;
+  if (!s.applied.started()) s.applied.owe(s.ledger.started() && s.ledger.first() == 0 ? 0 : m.seq);
+  if (m.kind == groundsim::applied_t::KIND_END) {
+    s.end_frames.insert(m.frame_seq);
+    s.end_owed.erase(m.frame_seq);
+    s.end_missing.erase(m.frame_seq);
   }
-  if (channel == net::kEventChannel) {
-    groundsim::event_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok() || !usableSeq(m.seq)) return false;
-    if (!events_.ledger.arrive(m.seq, repaired)) return true;
-    // a session's events go with it; the others (no session, or one not
-    // recorded, e.g. a create refused, or an event heard before the
-    // session's first state) into /events, so the stream is whole
-    auto it = sessions_.find(m.session_id);
-    if (it != sessions_.end()) write(it->second, it->second.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
-    else write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
-    return true;
-  }
-  // players' commands: written as heard, at the session's newest state
-  // time, never with their token (and never as raw bytes, which hold it)
-  if (channel == net::kDriveChannel || channel == net::kControlsChannel) {
-    std::string session, json;
-    std::int64_t seq = 0;
-    const bool drive = channel == net::kDriveChannel;
-    groundsim::drive_t d;
-    groundsim::controls_t c;
-    if (drive ? !net::decodeMessage(data, size, d, "groundsim.drive_t").ok()
-              : !net::decodeMessage(data, size, c, "groundsim.controls_t").ok())
-      return false;
-    session = drive ? d.session_id : c.session_id;
-    auto it = sessions_.find(session);
-    if (it == sessions_.end()) return true;
-    Stream& s = it->second;
-    json = drive ? toJson(d, s.live_seq) : toJson(c, s.live_seq);
-    seq = drive ? d.seq : c.seq;
-    out_->write(drive ? s.drive_ch : s.controls_ch, static_cast<std::uint32_t>(seq), ns(s.live_utime),
-                ns(s.live_utime), json, s.group);
-    return true;
-  }
-  if (channel == net::kScenarioChannel) {
-    groundsim::scenario_t m;
-    if (!net::decodeMessage(data, size, m, "groundsim.scenario_t").ok()) return false;
-    auto it = sessions_.find(m.session_id);
-    if (it == sessions_.end() || !it->second.scenario.empty()) return true;
-    // kept (a few kB) so that every part of a rotated recording holds it
-    it->second.scenario = m.scenario_json;
-    out_->attach("scenario/" + m.session_id + ".json", "application/json", ns(m.utime), m.scenario_json);
-    return true;
-  }
+  if (m.seq < s.applied.first()) return true;  // before the recording
+  if (!s.applied.arrive(m.seq, repaired)) return true;
+  s.applied_frame[m.seq] = m.frame_seq;
+  write(s, s.applied_ch, m.seq, m.utime, toJson(m), channel, data, size);
+  return true;
+}
+
+bool Recorder::handleEvent(const std::string& channel, const std::uint8_t* data, int size, bool repaired) {
+  groundsim::event_t m;
+  if (!net::decodeMessage(data, size, m, "groundsim.event_t").ok() || !usableSeq(m.seq)) return false;
+  if (!events_.ledger.arrive(m.seq, repaired)) return true;
+  // a session's events go with it; the others (no session, or one not
+  // recorded, e.g. a create refused, or an event heard before the
+  // session's first state) into /events, so the stream is whole
+  auto it = sessions_.find(m.session_id);
+  if (it != sessions_.end()) write(it->second, it->second.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+  else write(events_, events_.events_ch, m.seq, m.utime, toJson(m), channel, data, size);
+  return true;
+}
+
+// players' commands: written as heard, at the session's newest state
+// time, never with their token (and never as raw bytes, which hold it)
+bool Recorder::handleCommand(const std::string& channel, const std::uint8_t* data, int size) {
+  std::string session, json;
+  std::int64_t seq = 0;
+  const bool drive = channel == net::kDriveChannel;
+  groundsim::drive_t d;
+  groundsim::controls_t c;
+  if (drive ? !net::decodeMessage(data, size, d, "groundsim.drive_t").ok()
+            : !net::decodeMessage(data, size, c, "groundsim.controls_t").ok())
+    return false;
+  session = drive ? d.session_id : c.session_id;
+  auto it = sessions_.find(session);
+  if (it == sessions_.end()) return true;
+  Stream& s = it->second;
+  json = drive ? toJson(d, s.live_seq) : toJson(c, s.live_seq);
+  seq = drive ? d.seq : c.seq;
+  out_->write(drive ? s.drive_ch : s.controls_ch, static_cast<std::uint32_t>(seq), ns(s.live_utime),
+              ns(s.live_utime), json, s.group);
+  return true;
+}
+
+bool Recorder::handleScenario(const std::uint8_t* data, int size) {
+  groundsim::scenario_t m;
+  if (!net::decodeMessage(data, size, m, "groundsim.scenario_t").ok()) return false;
+  auto it = sessions_.find(m.session_id);
+  if (it == sessions_.end() || !it->second.scenario.empty()) return true;
+  // kept (a few kB) so that every part of a rotated recording holds it
+  it->second.scenario = m.scenario_json;
+  out_->attach("scenario/" + m.session_id + ".json", "application/json", ns(m.utime), m.scenario_json);
   return true;
 }
 

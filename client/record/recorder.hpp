@@ -122,7 +122,17 @@ class Recorder {
   Stream& stream(const std::string& session);
   void write(Stream& s, std::uint16_t channel, std::int64_t seq, std::int64_t utime, const std::string& json,
              const std::string& lcm_channel, const std::uint8_t* data, int size);
+  // a datagram heard (repaired: resent); false when it does not decode.
+  // Its steps, one a kind of channel:
   bool handle(const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  bool handleState(const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  template <class Msg>  // car state, contact state
+  bool handleCompanion(const char* type, Ledger Stream::*ledger, std::uint16_t Stream::*ch,
+                       const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  bool handleApplied(const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  bool handleEvent(const std::string& channel, const std::uint8_t* data, int size, bool repaired);
+  bool handleCommand(const std::string& channel, const std::uint8_t* data, int size);  // drive, controls
+  bool handleScenario(const std::uint8_t* data, int size);
   // a frame's car state or contact state, with its own ledger
   template <class Msg>
   void companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, const std::string& channel,
