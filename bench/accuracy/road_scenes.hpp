@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cell.hpp"
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim::accuracy {
 

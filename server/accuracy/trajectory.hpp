@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "physics/core/model.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"

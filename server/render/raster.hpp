@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim::render {
 

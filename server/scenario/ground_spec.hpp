@@ -12,7 +12,7 @@
 
 #include "physics/ground/ground.hpp"
 #include "physics/ground/heightfield.hpp"
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "physics/ground/surface_friction.hpp"
 
 namespace groundsim::scenario {

@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "scenario/scenario_error.hpp"
 
 namespace groundsim::scenario {

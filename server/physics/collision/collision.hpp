@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "physics/collision/shape.hpp"
 
 namespace groundsim {

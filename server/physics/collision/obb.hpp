@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim {
 

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim {
 

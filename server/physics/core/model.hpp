@@ -9,7 +9,7 @@
 
 #include "physics/collision/collision.hpp"
 #include "physics/ground/ground.hpp"
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "physics/road_car/road_car.hpp"
 
 namespace groundsim {

@@ -15,7 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 #include "physics/road_car/road_car.hpp"
 
 namespace groundsim {

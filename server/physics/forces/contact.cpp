@@ -4,7 +4,7 @@
 // continuous wheel touches at the deepest point of its circle.
 #include <cmath>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 #include "physics/forces/forces.hpp"
 
 namespace groundsim {

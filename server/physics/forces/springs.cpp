@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 #include "physics/forces/forces.hpp"
 #include "physics/simd/simd_path.hpp"
 

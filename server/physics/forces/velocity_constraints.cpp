@@ -12,7 +12,7 @@
 // are smooth too (applyRegularizedBrakes) and nothing here runs.
 #include <cmath>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 #include "physics/forces/forces.hpp"
 
 namespace groundsim {

@@ -14,7 +14,7 @@
 #include <memory>
 #include <string>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim {
 

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 #include "physics/kernels/fast_car.hpp"
 #include "physics/simd/simd_path.hpp"
 

@@ -6,7 +6,7 @@
 #include <span>
 #include <stdexcept>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 #include "physics/kernels/fast_car_kernel.hpp"  // the rigid-body helpers shared with the circle-wheel car
 #include "physics/forces/forces.hpp"
 

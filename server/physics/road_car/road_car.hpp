@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/core/math.hpp"
+#include "physics/base/math.hpp"
 
 namespace groundsim {
 

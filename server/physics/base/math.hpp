@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
-#include "physics/core/pointwise.hpp"
+#include "physics/base/pointwise.hpp"
 
 namespace groundsim {
 
