@@ -272,13 +272,12 @@ int faceProbes(const Model& m, const CollisionGroup& g, const Eigen::VectorXd& y
   return most;
 }
 
-}  // namespace
-
-void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
+// Colliders and probes sorted by group (stable: each group's in the order
+// added), and each group's ranges in them.
+void sortByGroup(Model& m) {
   std::stable_sort(m.colliders.begin(), m.colliders.end(),
                    [](const Collider& a, const Collider& b) { return a.group < b.group; });
   std::stable_sort(m.probes.begin(), m.probes.end(), [](const Probe& a, const Probe& b) { return a.group < b.group; });
-  const int ng = static_cast<int>(m.groups.size());
   for (CollisionGroup& g : m.groups) {
     g.probe_begin = g.probe_end = g.collider_begin = g.collider_end = 0;
     g.mass = 0.0;
@@ -293,106 +292,134 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     g.probe_begin = i;
     if (g.probe_end == 0) g.probe_end = i + 1;
   }
-  int movable = 0, fixed = 0;
-  for (int gi = 0; gi < ng; ++gi) {
-    CollisionGroup& g = m.groups[gi];
-    std::set<int> bodies, particles;
-    for (int i = g.collider_begin; i < g.collider_end; ++i)
-      if (m.colliders[i].body >= 0) bodies.insert(m.colliders[i].body);
-    for (int i = g.probe_begin; i < g.probe_end; ++i) {
-      const Probe& p = m.probes[i];
-      if (p.body >= 0) bodies.insert(p.body);
-      if (p.particle >= 0) particles.insert(p.particle);
-    }
-    for (int i : bodies) g.mass += m.bodies[i].mass;
-    for (int j : particles) g.mass += m.particles[j].mass;
-    if (bodies.empty()) g.ref_body = -1;
-    else if (g.ref_body < 0 || !bodies.count(g.ref_body)) g.ref_body = *bodies.begin();
-    if (g.collider_begin == g.collider_end && g.probe_begin == g.probe_end) continue;
-    if (g.ref_body < 0) {
-      ++fixed;
-      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-      for (int i = g.collider_begin; i < g.collider_end; ++i) {
-        const Collider& c = m.colliders[i];
-        const Vec3 e = c.rot.cwiseAbs() * c.shape.extents();  // world box of the rotated box
-        lo = lo.cwiseMin(c.pos - e);
-        hi = hi.cwiseMax(c.pos + e);
-      }
-      for (int i = g.probe_begin; i < g.probe_end; ++i) {
-        lo = lo.cwiseMin(m.probes[i].local);
-        hi = hi.cwiseMax(m.probes[i].local);
-      }
-      g.lo = lo;
-      g.hi = hi;
-      continue;
-    }
-    ++movable;
-    const Vec3 ref = bodyPos(y, g.ref_body);
-    const Mat3 Rt = Quat(bodyRot(y, g.ref_body)).normalized().toRotationMatrix().transpose();
-    double r = 0.0;
-    // the box in the reference body's frame
-    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-    const auto hold = [&](const Vec3& centre, const Vec3& half) {
-      lo = lo.cwiseMin(centre - half);
-      hi = hi.cwiseMax(centre + half);
-    };
-    // Parts that turn relative to the reference body (wheels spin and
-    // steer, steered axle points, tyre particles) are held as the sphere
-    // they sweep about their centre of turning, so the box holds them in
-    // any pose; parts fixed to it as they are.
-    // whether every part is fixed to the reference body (a road car, an
-    // object with mass): then the box below is exact in any pose
-    bool rigid = true;
-    for (int i = g.collider_begin; i < g.collider_end; ++i) {
-      const Collider& c = m.colliders[i];
-      rigid = rigid && c.body == g.ref_body;
-      const Mat3 Rb = Quat(bodyRot(y, c.body)).normalized().toRotationMatrix();
-      const Vec3 centre = Vec3(bodyPos(y, c.body)) + Rb * c.pos;
-      r = std::max(r, (centre - ref).norm() + c.shape.bound());
-      if (c.body == g.ref_body) hold(Rt * (centre - ref), (Rt * Rb * c.rot).cwiseAbs() * c.shape.extents());
-      else hold(Rt * (centre - ref), Vec3::Constant(c.shape.bound()));
-    }
-    for (int i = g.probe_begin; i < g.probe_end; ++i) {
-      const Probe& p = m.probes[i];
-      rigid = rigid && p.wheel < 0 && p.particle < 0 &&
+}
+
+// The group's mass (its bodies' and particles') and reference body (the
+// one it had, if still among its bodies, else the first; -1: none, fixed).
+void setMassAndReference(const Model& m, CollisionGroup& g) {
+  std::set<int> bodies, particles;
+  for (int i = g.collider_begin; i < g.collider_end; ++i)
+    if (m.colliders[i].body >= 0) bodies.insert(m.colliders[i].body);
+  for (int i = g.probe_begin; i < g.probe_end; ++i) {
+    const Probe& p = m.probes[i];
+    if (p.body >= 0) bodies.insert(p.body);
+    if (p.particle >= 0) particles.insert(p.particle);
+  }
+  for (int i : bodies) g.mass += m.bodies[i].mass;
+  for (int j : particles) g.mass += m.particles[j].mass;
+  if (bodies.empty()) g.ref_body = -1;
+  else if (g.ref_body < 0 || !bodies.count(g.ref_body)) g.ref_body = *bodies.begin();
+}
+
+// A fixed group's world box: its colliders' boxes and its probes.
+void boundFixedGroup(const Model& m, CollisionGroup& g) {
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (int i = g.collider_begin; i < g.collider_end; ++i) {
+    const Collider& c = m.colliders[i];
+    const Vec3 e = c.rot.cwiseAbs() * c.shape.extents();  // world box of the rotated box
+    lo = lo.cwiseMin(c.pos - e);
+    hi = hi.cwiseMax(c.pos + e);
+  }
+  for (int i = g.probe_begin; i < g.probe_end; ++i) {
+    lo = lo.cwiseMin(m.probes[i].local);
+    hi = hi.cwiseMax(m.probes[i].local);
+  }
+  g.lo = lo;
+  g.hi = hi;
+}
+
+// A moving group's bounds as they are gathered: the sphere about the
+// reference body (radius r) and the box in its frame. Parts that turn
+// relative to the reference body (wheels spin and steer, steered axle
+// points, tyre particles) are held as the sphere they sweep about their
+// centre of turning, so the box holds them in any pose; parts fixed to it
+// as they are.
+struct MovingBounds {
+  Vec3 ref;  // the reference body's position
+  Mat3 Rt;   // world to its frame
+  double r = 0.0;
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  // whether every part is fixed to the reference body (a road car, an
+  // object with mass): then the box is exact in any pose
+  bool rigid = true;
+
+  void hold(const Vec3& centre, const Vec3& half) {
+    lo = lo.cwiseMin(centre - half);
+    hi = hi.cwiseMax(centre + half);
+  }
+};
+
+void holdColliders(const Model& m, const CollisionGroup& g, const Eigen::VectorXd& y, MovingBounds& k) {
+  for (int i = g.collider_begin; i < g.collider_end; ++i) {
+    const Collider& c = m.colliders[i];
+    k.rigid = k.rigid && c.body == g.ref_body;
+    const Mat3 Rb = Quat(bodyRot(y, c.body)).normalized().toRotationMatrix();
+    const Vec3 centre = Vec3(bodyPos(y, c.body)) + Rb * c.pos;
+    k.r = std::max(k.r, (centre - k.ref).norm() + c.shape.bound());
+    if (c.body == g.ref_body) k.hold(k.Rt * (centre - k.ref), (k.Rt * Rb * c.rot).cwiseAbs() * c.shape.extents());
+    else k.hold(k.Rt * (centre - k.ref), Vec3::Constant(c.shape.bound()));
+  }
+}
+
+// Where probe p (at w) turns about relative to the group's reference body:
+// itself when it does not.
+Vec3 probePivot(const Model& m, const CollisionGroup& g, const Probe& p, const Eigen::VectorXd& y, const Vec3& w) {
+  const Point* pt = p.point >= 0 ? &m.points[p.point] : nullptr;
+  Vec3 pivot = w;
+  if (pt && pt->steer_wheel >= 0 && pt->body >= 0)
+    pivot = Vec3(bodyPos(y, pt->body)) + Quat(bodyRot(y, pt->body)).normalized() * pt->steer_pivot;
+  else if (pt && pt->body < 0 && pt->wheel >= 0)
+    pivot = bodyPos(y, m.wheels[pt->wheel].body);
+  else if (pt && pt->body >= 0 && pt->body != g.ref_body)
+    pivot = bodyPos(y, pt->body);
+  else if (!pt && p.body >= 0 && p.body != g.ref_body)
+    pivot = bodyPos(y, p.body);
+  return pivot;
+}
+
+void holdProbes(const Model& m, const CollisionGroup& g, const Eigen::VectorXd& y, MovingBounds& k) {
+  for (int i = g.probe_begin; i < g.probe_end; ++i) {
+    const Probe& p = m.probes[i];
+    k.rigid = k.rigid && p.wheel < 0 && p.particle < 0 &&
               (p.point >= 0 ? m.points[p.point].body == g.ref_body && m.points[p.point].steer_wheel < 0
                             : p.body == g.ref_body);
-      if (p.wheel >= 0) {
-        const double rw = m.wheels[p.wheel].radius;
-        r = std::max(r, (Vec3(bodyPos(y, p.body)) - ref).norm() + rw);
-        hold(Rt * (Vec3(bodyPos(y, p.body)) - ref), Vec3::Constant(rw));
-        continue;
-      }
-      const Vec3 w = probeWorld(m, p, y);
-      r = std::max(r, (w - ref).norm());
-      const Point* pt = p.point >= 0 ? &m.points[p.point] : nullptr;
-      Vec3 pivot = w;  // where the probe turns about (itself: it does not)
-      if (pt && pt->steer_wheel >= 0 && pt->body >= 0)
-        pivot = Vec3(bodyPos(y, pt->body)) + Quat(bodyRot(y, pt->body)).normalized() * pt->steer_pivot;
-      else if (pt && pt->body < 0 && pt->wheel >= 0)
-        pivot = bodyPos(y, m.wheels[pt->wheel].body);
-      else if (pt && pt->body >= 0 && pt->body != g.ref_body)
-        pivot = bodyPos(y, pt->body);
-      else if (!pt && p.body >= 0 && p.body != g.ref_body)
-        pivot = bodyPos(y, p.body);
-      hold(Rt * (pivot - ref), Vec3::Constant((w - pivot).norm()));
+    if (p.wheel >= 0) {
+      const double rw = m.wheels[p.wheel].radius;
+      k.r = std::max(k.r, (Vec3(bodyPos(y, p.body)) - k.ref).norm() + rw);
+      k.hold(k.Rt * (Vec3(bodyPos(y, p.body)) - k.ref), Vec3::Constant(rw));
+      continue;
     }
-    // suspension travel, tyre and spring deflection move parts relative
-    // to the reference body: a margin keeps them inside the bound, and the
-    // box gets the same margin on every side. A rigid group's parts never
-    // move against its reference body, so its box holds them as they are
-    // (the broad phase still pads it by the step's motion): two sedans
-    // 0.4 m apart are no pair (issue 33). Its sphere keeps the margin.
-    g.bound = 1.1 * r + 0.05;
-    g.box_c = 0.5 * (lo + hi);
-    g.box_h = 0.5 * (hi - lo) + Vec3::Constant(rigid ? 0.0 : 0.1 * r + 0.05);
-    g.rigid = rigid;
+    const Vec3 w = probeWorld(m, p, y);
+    k.r = std::max(k.r, (w - k.ref).norm());
+    const Vec3 pivot = probePivot(m, g, p, y, w);
+    k.hold(k.Rt * (pivot - k.ref), Vec3::Constant((w - pivot).norm()));
   }
-  for (CollisionGroup& g : m.groups) g.face_probes = faceProbes(m, g, y);
-  m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));
-  // a light object on many ground contact points rings faster than the
-  // step resolves (a 0.5 kg cone on 20 points of a 2000 N/m ground: 280
-  // rad/s); such scenes take integrator substeps that keep omega h <= 0.5
+}
+
+// A moving group's bound sphere about its reference body and box in its
+// frame, from the initial state y.
+void boundMovingGroup(const Model& m, CollisionGroup& g, const Eigen::VectorXd& y) {
+  MovingBounds k;
+  k.ref = bodyPos(y, g.ref_body);
+  k.Rt = Quat(bodyRot(y, g.ref_body)).normalized().toRotationMatrix().transpose();
+  holdColliders(m, g, y, k);
+  holdProbes(m, g, y, k);
+  // suspension travel, tyre and spring deflection move parts relative
+  // to the reference body: a margin keeps them inside the bound, and the
+  // box gets the same margin on every side. A rigid group's parts never
+  // move against its reference body, so its box holds them as they are
+  // (the broad phase still pads it by the step's motion): two sedans
+  // 0.4 m apart are no pair (issue 33). Its sphere keeps the margin.
+  g.bound = 1.1 * k.r + 0.05;
+  g.box_c = 0.5 * (k.lo + k.hi);
+  g.box_h = 0.5 * (k.hi - k.lo) + Vec3::Constant(k.rigid ? 0.0 : 0.1 * k.r + 0.05);
+  g.rigid = k.rigid;
+}
+
+// A light object on many ground contact points rings faster than the step
+// resolves (a 0.5 kg cone on 20 points of a 2000 N/m ground: 280 rad/s);
+// such scenes take integrator substeps that keep omega h <= 0.5.
+void setObjectGroundContact(Model& m) {
   m.object_substeps = 1;
   const CollisionParams& cp = m.opt.collision;
   for (const SceneObject& o : m.objects) {
@@ -408,6 +435,27 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     m.object_substeps = std::max({m.object_substeps, substepsFor(w, cp.damping_ratio, m.opt.dt), cp.min_substeps});
   }
   m.object_substeps = std::min(m.object_substeps, kMaxContactSubsteps);
+}
+
+}  // namespace
+
+void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
+  sortByGroup(m);
+  int movable = 0, fixed = 0;
+  for (CollisionGroup& g : m.groups) {
+    setMassAndReference(m, g);
+    if (g.collider_begin == g.collider_end && g.probe_begin == g.probe_end) continue;
+    if (g.ref_body < 0) {
+      ++fixed;
+      boundFixedGroup(m, g);
+    } else {
+      ++movable;
+      boundMovingGroup(m, g, y);
+    }
+  }
+  for (CollisionGroup& g : m.groups) g.face_probes = faceProbes(m, g, y);
+  m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));
+  setObjectGroundContact(m);
 }
 
 }  // namespace groundsim
