@@ -379,13 +379,12 @@ GROUNDSIM_INLINE_BODY void rimContacts(const Model& m, const Plan& P, const Rim&
   }
 }
 
-// computeForces for this model (forces.cpp), ending with the friction and
-// brake impulses turned into forces in the bodies' F and T.
-GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double* Y,
-                                    const std::vector<WheelControl>& ctl, double h, Scratch& S) {
-  const size_t nb = P.rigid.bodies.size();
+// evaluate's phases, in its order.
+
+// Each body's rotation, world inertia inverse, angular velocity, gravity.
+GROUNDSIM_INLINE_BODY void bodyFrames(const Plan& P, const double* Y, Scratch& S) {
   std::vector<BodyL<double>>& bodies = S.rigid.bodies;
-  for (size_t i = 0; i < nb; ++i) {
+  for (size_t i = 0; i < P.rigid.bodies.size(); ++i) {
     BodyL<double>& B = bodies[i];
     const double* y = Y + 13 * i;
     const double inq = 1.0 / std::sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]);
@@ -397,13 +396,19 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       B.T[d] = 0.0;
     }
   }
+}
+
+// The plain (non-rim) points' arms, positions and velocities; a steered
+// point turns about its body's vertical.
+GROUNDSIM_INLINE_BODY void plainPoints(const Plan& P, const double* Y, const std::vector<WheelControl>& ctl,
+                                       Scratch& S) {
   for (size_t k = 0; k < P.plain.size(); ++k) {
     const PlainPoint& pc = P.plain[k];
     PlainL& pt = S.plain[k];
-    const BodyL<double>& B = bodies[pc.body];
+    const BodyL<double>& B = S.rigid.bodies[pc.body];
     const double* y = Y + 13 * pc.body;
     double l[3] = {pc.lx, pc.ly, pc.lz};
-    if (pc.steer_wheel >= 0) {  // steering turns the point about its body's vertical
+    if (pc.steer_wheel >= 0) {
       const double a = ctl[pc.steer_wheel].steer;
       const double c = a == 0.0 ? 1.0 : std::cos(a), s = a == 0.0 ? 0.0 : std::sin(a);
       l[0] = pc.pivx + c * pc.dx - s * pc.dy;
@@ -418,14 +423,17 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       pt.f[d] = 0.0;
     }
   }
-  // rims and contacts body by body: the general path's contact order
+}
+
+// Rims and contacts body by body: the general path's contact order.
+GROUNDSIM_INLINE_BODY void rimsAndContacts(const Model& m, const Plan& P, const double* Y, Scratch& S) {
   S.ncon = 0;
-  for (size_t i = 0; i < nb; ++i) {
+  for (size_t i = 0; i < P.rigid.bodies.size(); ++i) {
     const double* y = Y + 13 * i;
     for (int r = P.rim_begin[i]; r < P.rim_end[i]; ++r) {
       const Rim& rim = P.rims[r];
-      rimPass(P, rim, y, bodies[i], S);
-      rimContacts(m, P, rim, y, bodies[i], S);
+      rimPass(P, rim, y, S.rigid.bodies[i], S);
+      rimContacts(m, P, rim, y, S.rigid.bodies[i], S);
     }
     for (int k = P.plain_begin[i]; k < P.plain_end[i]; ++k) {
       if (!P.plain[k].contact) continue;
@@ -434,7 +442,11 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       if (H < 0.0) addContact(m, P, S, static_cast<int>(i), P.plain[k].model_point, P.plain[k].wheel, H, pt.p, pt.r, pt.u);
     }
   }
-  for (const LooseSpring& sp : P.loose) {  // springs.cpp's applyOne
+}
+
+// The springs between plain points (springs.cpp's applyOne).
+GROUNDSIM_INLINE_BODY void looseSprings(const Plan& P, Scratch& S) {
+  for (const LooseSpring& sp : P.loose) {
     PlainL& A = S.plain[sp.a];
     PlainL& Bp = S.plain[sp.b];
     double d[3], e[3], g[3];
@@ -455,8 +467,12 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       Bp.f[k] -= g[k];
     }
   }
-  for (size_t i = 0; i < nb; ++i) {  // the other bodies' point sums
-    BodyL<double>& B = bodies[i];
+}
+
+// The plain points' forces summed on their bodies.
+GROUNDSIM_INLINE_BODY void pointSums(const Plan& P, Scratch& S) {
+  for (size_t i = 0; i < P.rigid.bodies.size(); ++i) {
+    BodyL<double>& B = S.rigid.bodies[i];
     for (int k = P.plain_begin[i]; k < P.plain_end[i]; ++k) {
       const PlainL& pt = S.plain[k];
       double rf[3];
@@ -467,13 +483,16 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       }
     }
   }
-  // normal forces (report eq. 10 with damping)
+}
+
+// Normal forces (report eq. 10 with damping).
+GROUNDSIM_INLINE_BODY void normalForces(const Plan& P, Scratch& S) {
   S.max_depth = 0.0;
   for (ContactR& c : S.contacts()) {
     const double rate = -(c.u[0] * P.cn[0] + c.u[1] * P.cn[1] + c.u[2] * P.cn[2]);
     c.N = pointwise::penaltyNormal(P.stiffness, c.depth, P.damping, rate, P.hunt_crossley);
     S.max_depth = std::max(S.max_depth, c.depth);
-    BodyL<double>& B = bodies[c.body];
+    BodyL<double>& B = S.rigid.bodies[c.body];
     const double f[3] = {c.N * P.cn[0], c.N * P.cn[1], c.N * P.cn[2]};
     double rf[3];
     cross3(c.r, f, rf);
@@ -482,11 +501,15 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       B.T[d] += rf[d];
     }
   }
-  // drive torque about the axle, reaction on the carrier
-  const size_t nw = P.wheels.size();
+}
+
+// Drive torque about each axle, its reaction on the carrier; whether any
+// wheel brakes.
+GROUNDSIM_INLINE_BODY bool driveTorques(const Plan& P, const std::vector<WheelControl>& ctl, Scratch& S) {
+  std::vector<BodyL<double>>& bodies = S.rigid.bodies;
   S.drive_power = 0.0;
   bool braking = false;
-  for (size_t w = 0; w < nw; ++w) {
+  for (size_t w = 0; w < P.wheels.size(); ++w) {
     const WheelC& wc = P.wheels[w];
     BodyL<double>& B = bodies[wc.body];
     const double ax[3] = {wc.ax, wc.ay, wc.az};
@@ -505,12 +528,13 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     const double rel[3] = {B.w[0] - C.w[0], B.w[1] - C.w[1], B.w[2] - C.w[2]};
     S.drive_power += Tq * dot3(a, rel);
   }
-  // stick-slip friction and brakes: velocity_constraints.cpp
-  S.sweeps = 0;
-  for (size_t w = 0; w < nw; ++w) S.brake_impulse[w] = 0.0;
-  if (S.ncon == 0 && !braking) return;
-  for (size_t i = 0; i < nb; ++i) {
-    BodyL<double>& B = bodies[i];
+  return braking;
+}
+
+// The bodies' velocities after h under the forces so far (friction's start).
+GROUNDSIM_INLINE_BODY void predictVelocities(const Plan& P, const double* Y, double h, Scratch& S) {
+  for (size_t i = 0; i < P.rigid.bodies.size(); ++i) {
+    BodyL<double>& B = S.rigid.bodies[i];
     const double* y = Y + 13 * i;
     double Lh[3];
     for (int d = 0; d < 3; ++d) {
@@ -519,9 +543,15 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     }
     mat3vec(B.Iw, Lh, B.wp);
   }
+}
+
+// Each contact's 2x2 tangential effective mass and its inverse; returns
+// the impulses' scale for the convergence test.
+GROUNDSIM_INLINE_BODY double contactMasses(const Plan& P, const std::vector<WheelControl>& ctl, double h,
+                                           Scratch& S) {
   double scale = 0.0;
   for (ContactR& c : S.contacts()) {
-    const BodyL<double>& B = bodies[c.body];
+    const BodyL<double>& B = S.rigid.bodies[c.body];
     const double inv_m = P.rigid.bodies[c.body].inv_mass;
     cross3(c.r, P.t1, c.a1);
     cross3(c.r, P.t2, c.a2);
@@ -536,67 +566,80 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
     c.i11 = c.k00 * invdet;
     scale += c.mu * c.N * h;
   }
-  for (size_t w = 0; w < nw; ++w) scale += std::max(ctl[w].brake_torque, 0.0) * h;
-  for (int iter = 0; iter < P.friction_iterations; ++iter) {
-    double change = 0.0, total = 0.0;
-    for (size_t w = 0; braking && w < nw; ++w) {
-      const WheelC& wc = P.wheels[w];
-      const double Bt = ctl[w].brake_torque;
-      if (!(Bt > 0.0) || wc.carrier < 0) continue;
-      BodyL<double>& B = bodies[wc.body];
-      BodyL<double>& C = bodies[wc.carrier];
-      const double* a = S.axis[w];
-      double ia[3], ic[3];
-      mat3vec(B.Iw, a, ia);
-      mat3vec(C.Iw, a, ic);
-      const double rel[3] = {B.wp[0] - C.wp[0], B.wp[1] - C.wp[1], B.wp[2] - C.wp[2]};
-      const double acc = std::clamp(S.brake_impulse[w] - dot3(a, rel) / (dot3(a, ia) + dot3(a, ic)), -Bt * h, Bt * h);
-      const double d = acc - S.brake_impulse[w];
-      S.brake_impulse[w] = acc;
-      change += std::abs(d);
-      total += std::abs(acc);
-      for (int k = 0; k < 3; ++k) {
-        B.wp[k] += d * ia[k];
-        C.wp[k] -= d * ic[k];
-      }
+  for (size_t w = 0; w < P.wheels.size(); ++w) scale += std::max(ctl[w].brake_torque, 0.0) * h;
+  return scale;
+}
+
+// One sweep's brakes: each braked wheel's impulse about its axle, clamped
+// to its torque times h, against its carrier. Adds to change and total.
+GROUNDSIM_INLINE_BODY void brakeSweep(const Plan& P, const std::vector<WheelControl>& ctl, double h, Scratch& S,
+                                      double& change, double& total) {
+  std::vector<BodyL<double>>& bodies = S.rigid.bodies;
+  for (size_t w = 0; w < P.wheels.size(); ++w) {
+    const WheelC& wc = P.wheels[w];
+    const double Bt = ctl[w].brake_torque;
+    if (!(Bt > 0.0) || wc.carrier < 0) continue;
+    BodyL<double>& B = bodies[wc.body];
+    BodyL<double>& C = bodies[wc.carrier];
+    const double* a = S.axis[w];
+    double ia[3], ic[3];
+    mat3vec(B.Iw, a, ia);
+    mat3vec(C.Iw, a, ic);
+    const double rel[3] = {B.wp[0] - C.wp[0], B.wp[1] - C.wp[1], B.wp[2] - C.wp[2]};
+    const double acc = std::clamp(S.brake_impulse[w] - dot3(a, rel) / (dot3(a, ia) + dot3(a, ic)), -Bt * h, Bt * h);
+    const double d = acc - S.brake_impulse[w];
+    S.brake_impulse[w] = acc;
+    change += std::abs(d);
+    total += std::abs(acc);
+    for (int k = 0; k < 3; ++k) {
+      B.wp[k] += d * ia[k];
+      C.wp[k] -= d * ic[k];
     }
-    for (ContactR& c : S.contacts()) {
-      BodyL<double>& B = bodies[c.body];
-      const double ut0 = dot3(P.t1, B.vp) + dot3(B.wp, c.a1);
-      const double ut1 = dot3(P.t2, B.vp) + dot3(B.wp, c.a2);
-      double acc0 = c.j0 - (c.i00 * ut0 + c.i01 * ut1);
-      double acc1 = c.j1 - (c.i10 * ut0 + c.i11 * ut1);
-      const double limit = c.mu * c.N * h;
-      const double an = std::sqrt(acc0 * acc0 + acc1 * acc1);
-      if (an > limit) {
-        // sliding: mu N opposite the slip this contact would have without
-        // its own friction (velocity_constraints.cpp says why)
-        const double free0 = ut0 - (c.k00 * c.j0 + c.k01 * c.j1);
-        const double free1 = ut1 - (c.k01 * c.j0 + c.k11 * c.j1);
-        const double fn = std::sqrt(free0 * free0 + free1 * free1);
-        if (fn > 1e-12) {
-          acc0 = -limit / fn * free0;
-          acc1 = -limit / fn * free1;
-        } else {
-          acc0 *= limit / an;
-          acc1 *= limit / an;
-        }
-      }
-      const double d0 = acc0 - c.j0, d1 = acc1 - c.j1;
-      c.j0 = acc0;
-      c.j1 = acc1;
-      change += std::abs(d0) + std::abs(d1);
-      total += std::abs(acc0) + std::abs(acc1);
-      const double inv_m = P.rigid.bodies[c.body].inv_mass;
-      for (int q = 0; q < 3; ++q) {
-        B.vp[q] += (d0 * P.t1[q] + d1 * P.t2[q]) * inv_m;
-        B.wp[q] += d0 * c.b1[q] + d1 * c.b2[q];
-      }
-    }
-    S.sweeps = iter + 1;
-    if (pointwise::converged(change, total, scale)) break;
   }
-  for (size_t w = 0; braking && w < nw; ++w) {
+}
+
+// One sweep's contacts: each contact's tangential impulse, inside its
+// friction disc. Adds to change and total.
+GROUNDSIM_INLINE_BODY void contactSweep(const Plan& P, double h, Scratch& S, double& change, double& total) {
+  for (ContactR& c : S.contacts()) {
+    BodyL<double>& B = S.rigid.bodies[c.body];
+    const double ut0 = dot3(P.t1, B.vp) + dot3(B.wp, c.a1);
+    const double ut1 = dot3(P.t2, B.vp) + dot3(B.wp, c.a2);
+    double acc0 = c.j0 - (c.i00 * ut0 + c.i01 * ut1);
+    double acc1 = c.j1 - (c.i10 * ut0 + c.i11 * ut1);
+    const double limit = c.mu * c.N * h;
+    const double an = std::sqrt(acc0 * acc0 + acc1 * acc1);
+    if (an > limit) {
+      // sliding: mu N opposite the slip this contact would have without
+      // its own friction (velocity_constraints.cpp says why)
+      const double free0 = ut0 - (c.k00 * c.j0 + c.k01 * c.j1);
+      const double free1 = ut1 - (c.k01 * c.j0 + c.k11 * c.j1);
+      const double fn = std::sqrt(free0 * free0 + free1 * free1);
+      if (fn > 1e-12) {
+        acc0 = -limit / fn * free0;
+        acc1 = -limit / fn * free1;
+      } else {
+        acc0 *= limit / an;
+        acc1 *= limit / an;
+      }
+    }
+    const double d0 = acc0 - c.j0, d1 = acc1 - c.j1;
+    c.j0 = acc0;
+    c.j1 = acc1;
+    change += std::abs(d0) + std::abs(d1);
+    total += std::abs(acc0) + std::abs(acc1);
+    const double inv_m = P.rigid.bodies[c.body].inv_mass;
+    for (int q = 0; q < 3; ++q) {
+      B.vp[q] += (d0 * P.t1[q] + d1 * P.t2[q]) * inv_m;
+      B.wp[q] += d0 * c.b1[q] + d1 * c.b2[q];
+    }
+  }
+}
+
+// The brake and friction impulses as forces and torques over h.
+GROUNDSIM_INLINE_BODY void impulsesAsForces(const Plan& P, double h, bool braking, Scratch& S) {
+  std::vector<BodyL<double>>& bodies = S.rigid.bodies;
+  for (size_t w = 0; braking && w < P.wheels.size(); ++w) {
     const WheelC& wc = P.wheels[w];
     if (S.brake_impulse[w] == 0.0 || wc.carrier < 0) continue;
     for (int k = 0; k < 3; ++k) {
@@ -615,6 +658,40 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
       B.T[q] += rf[q];
     }
   }
+}
+
+// Stick-slip friction and brakes (velocity_constraints.cpp): impulses that
+// bring the contacts' slip and the braked wheels' spin to rest within h,
+// bounded by mu N h and the brake torque times h, in sweeps until they settle.
+GROUNDSIM_INLINE_BODY void frictionAndBrakes(const Plan& P, const double* Y, const std::vector<WheelControl>& ctl,
+                                             double h, bool braking, Scratch& S) {
+  S.sweeps = 0;
+  for (size_t w = 0; w < P.wheels.size(); ++w) S.brake_impulse[w] = 0.0;
+  if (S.ncon == 0 && !braking) return;
+  predictVelocities(P, Y, h, S);
+  const double scale = contactMasses(P, ctl, h, S);
+  for (int iter = 0; iter < P.friction_iterations; ++iter) {
+    double change = 0.0, total = 0.0;
+    if (braking) brakeSweep(P, ctl, h, S, change, total);
+    contactSweep(P, h, S, change, total);
+    S.sweeps = iter + 1;
+    if (pointwise::converged(change, total, scale)) break;
+  }
+  impulsesAsForces(P, h, braking, S);
+}
+
+// computeForces for this model (forces.cpp), ending with the friction and
+// brake impulses turned into forces in the bodies' F and T.
+GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double* Y,
+                                    const std::vector<WheelControl>& ctl, double h, Scratch& S) {
+  bodyFrames(P, Y, S);
+  plainPoints(P, Y, ctl, S);
+  rimsAndContacts(m, P, Y, S);
+  looseSprings(P, S);
+  pointSums(P, S);
+  normalForces(P, S);
+  const bool braking = driveTorques(P, ctl, S);
+  frictionAndBrakes(P, Y, ctl, h, braking, S);
 }
 
 // q (x y z w) turned by the rotation vector omega h (math.hpp's
