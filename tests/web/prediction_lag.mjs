@@ -56,12 +56,10 @@ async function instrument(page) {
     const g = window.groundsim;
     const rec = window.__rec = { frames: [], presses: [], states: [], errors: [], cars: [] };
     // every road car message: the server's applied throttle at its t
-    let car = g.car;
-    Object.defineProperty(g, 'car', { configurable: true, get: () => car, set: (m) => {
-      car = m;
+    g.carListeners.push((m) => {
       if (m && m.cars && m.cars[0]) rec.cars.push({ t: m.t, throttle: m.cars[0].throttle });
       if (rec.cars.length > 3000) rec.cars.shift();
-    } });
+    });
     const fwd = (v) => {
       const [w, x, y, z] = v.q;
       const fx = 1 - 2 * (y * y + z * z), fy = 2 * (x * y + w * z), n = Math.hypot(fx, fy) || 1;

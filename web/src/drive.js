@@ -4,7 +4,7 @@
 // command timeout never fires; also while the tab's animation frames are
 // throttled (hidden or headless), and a key press goes out at once, not at
 // the next frame (latency).
-import { app } from './app.js';
+import { session } from './session.js';
 
 const SEND_PERIOD_MS = 50;
 
@@ -26,8 +26,10 @@ export class Driver {
     this.onAction = onAction;
     this.lastSend = 0;
     this.lastInput = performance.now();
-    const own = () => app.lastState && app.lastState.vehicles[app.vehicle];
-    setInterval(() => { if (app.role === 'drive' && performance.now() - this.lastSend > SEND_PERIOD_MS) this.drive(own()); }, SEND_PERIOD_MS);
+    this.controlsSent = 0;     // controls messages sent (their seq)
+    this.lastControls = null;  // the last controls sent, as JSON
+    const own = () => session.lastState && session.lastState.vehicles[session.vehicle];
+    setInterval(() => { if (session.role === 'drive' && performance.now() - this.lastSend > SEND_PERIOD_MS) this.drive(own()); }, SEND_PERIOD_MS);
     input.onChange = () => this.drive(own());
   }
   drive(v) {
@@ -35,13 +37,13 @@ export class Driver {
     const dt = Math.min(0.1, (t - this.lastInput) / 1000);
     this.lastInput = t;
     for (const a of this.input.takeActions()) this.onAction(a);
-    if (app.role !== 'drive' || app.replay) return;
+    if (!session.driving) return;
     const c = this.input.update(dt, v ? forwardSpeed(v) : 0);
     this.onControls(c);
     const key = JSON.stringify(c), now = performance.now();
-    if (key !== app.lastControls || now - this.lastSend > SEND_PERIOD_MS) {
-      this.net.send({ op: 'controls', ...c, seq: app.controlsSent++ });
-      app.lastControls = key;
+    if (key !== this.lastControls || now - this.lastSend > SEND_PERIOD_MS) {
+      this.net.send({ op: 'controls', ...c, seq: this.controlsSent++ });
+      this.lastControls = key;
       this.lastSend = now;
     }
   }

@@ -7,7 +7,7 @@
 //    a bot's, with its driver's name (kept for the session).
 // A ghost passes through everything: it is drawn, never simulated.
 import * as THREE from 'three';
-import { app } from './app.js';
+import { session } from './session.js';
 import { Vehicle } from './vehicle.js';
 
 const MAX_SAMPLES = 60 * 60 * 10;  // 10 min at 60 Hz: a longer lap keeps no ghost
@@ -108,7 +108,7 @@ export class Ghost {
 
   // every state received (raw, not interpolated)
   onState(m) {
-    const v = m.vehicles[app.followed];
+    const v = m.vehicles[session.followed];
     if (!v) return;
     tapePush(this.rec, m.t, v);
     if (!this.cut) return;
@@ -169,12 +169,12 @@ export class RivalGhost {
   ownLapStarted(t) { this.playStart = t; }
   // car's lap started at t (its start, or the lap after the one it completed)
   lapStarted(car, t) {
-    if (car === app.followed) return;
+    if (car === session.followed) return;
     if (this.tapes.has(car) || this.tapes.size < MAX_RIVALS) this.tapes.set(car, tapeStart(t));
   }
   // another car completed a lap: kept when it is the session's fastest by another car
   lapDone(e) {
-    if (e.car === app.followed) return;
+    if (e.car === session.followed) return;
     const tape = this.tapes.get(e.car);
     const bar = Math.min(this.best ? this.best.lap_time : Infinity, this.cut ? this.cut.lap_time : Infinity);
     if (tape && e.lap_time > 0 && e.lap_time < bar)
@@ -183,7 +183,7 @@ export class RivalGhost {
 
   // every state received (raw, not interpolated)
   onState(m) {
-    for (const [car, tape] of this.tapes) if (car !== app.followed) tapePush(tape, m.t, m.vehicles[car], 1 / RIVAL_RATE);
+    for (const [car, tape] of this.tapes) if (car !== session.followed) tapePush(tape, m.t, m.vehicles[car], 1 / RIVAL_RATE);
     const c = this.cut;
     if (!c) return;
     if (this.tapes.get(c.car) !== c.tape) tapePush(c.tape, m.t, m.vehicles[c.car], 1 / RIVAL_RATE);

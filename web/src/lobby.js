@@ -6,8 +6,21 @@
 // scenarios as a table with the create row, and the recordings the bridge
 // serves (replay). Rows and cards are updated in place: one rebuilt every
 // heartbeat would eat clicks.
-import { app, $, STATUS } from './app.js';
+import { $, STATUS } from './app.js';
 import { drawPreview } from './preview.js';
+
+// what the bridge told of itself: its scenario files (`configs`) and
+// scenarios (welcome), the newest lobby message, the cards' preview
+// messages by scenario id, the recordings it serves
+let configs = [], scenarios = [], last = null, recordings = undefined;
+const previews = {};
+export const lobby = {
+  get configs() { return configs; },
+  get scenarios() { return scenarios; },
+  get last() { return last; },
+  get previews() { return previews; },
+  get recordings() { return recordings; },
+};
 
 const NAME_KEY = 'groundsim.player';
 // the player's name as others see it ('' : none given)
@@ -32,7 +45,7 @@ export async function copyText(text, field) {
 }
 
 const carsText = (s) => (s.max_cars > s.min_cars ? `${s.min_cars}-${s.max_cars} cars` : `${s.min_cars} car${s.min_cars === 1 ? '' : 's'}`);
-const scenarioById = (id) => app.scenarios.find((s) => s.id === id);
+const scenarioById = (id) => scenarios.find((s) => s.id === id);
 
 export function showLobby(show) {
   $('lobby').classList.toggle('hidden', !show);
@@ -40,17 +53,36 @@ export function showLobby(show) {
   if (show) refreshRecordings();
 }
 
+// {"op":"welcome"}: the scenarios the bridge offers
+export function onWelcome(m) {
+  configs = m.configs;
+  // a bridge before the scenario list sent file names only
+  scenarios = m.scenarios || m.configs.map((id) => ({ id, name: '', description: '', vehicles: 1, min_cars: 1, max_cars: 1 }));
+  renderScenarios();
+}
+
+// {"op":"lobby"}: the sessions on the bus
+export function onLobby(m) {
+  last = m;
+  renderLobby();
+}
+// the players by car of session id, as the newest lobby message has them ([] when unknown)
+export function playersOf(id) {
+  const x = id && last ? last.sessions.find((e) => e.id === id) : null;
+  return (x && x.players) || [];
+}
+
 // The shipped scenarios: a row each (id, cars it hosts, description) and
 // the same in the drop-down; a click on a row picks it.
-export function renderScenarios() {
+function renderScenarios() {
   const sel = $('create-config'), body = $('lobby-scenarios'), keep = sel.value;
-  sel.replaceChildren(...app.scenarios.map((s) => {
+  sel.replaceChildren(...scenarios.map((s) => {
     const o = document.createElement('option');
     o.value = s.id;
     o.textContent = `${s.id} (${carsText(s)})`;
     return o;
   }));
-  body.replaceChildren(...app.scenarios.map((s) => {
+  body.replaceChildren(...scenarios.map((s) => {
     const tr = document.createElement('tr');
     tr.dataset.config = s.id;
     for (const text of [s.id, carsText(s), s.description]) tr.appendChild(document.createElement('td')).textContent = text;
@@ -73,7 +105,7 @@ const esc = (t) => String(t).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&l
 
 function renderCards() {
   const box = $('cards');
-  box.replaceChildren(...app.scenarios.map((s) => {
+  box.replaceChildren(...scenarios.map((s) => {
     const card = document.createElement('div');
     card.className = 'card';
     card.dataset.config = s.id;
@@ -104,7 +136,7 @@ function renderCards() {
       const sel = card.querySelector('.nbots');
       for (let k = 0; k <= most; k += 1) sel.add(new Option(String(k), String(k), false, k === (s.bots || 0)));
     }
-    if (app.previews && app.previews[s.id]) drawPreview(card.querySelector('canvas'), app.previews[s.id]);
+    if (previews[s.id]) drawPreview(card.querySelector('canvas'), previews[s.id]);
     return card;
   }));
   // pictures as the cards come into view (the bridge samples each scenario's ground once)
@@ -122,8 +154,7 @@ function renderCards() {
 
 // {"op":"preview"}: the card's picture
 export function onPreview(m) {
-  app.previews = app.previews || {};
-  app.previews[m.config] = m;
+  previews[m.config] = m;
   const card = $('cards').querySelector(`.card[data-config="${CSS.escape(m.config)}"]`);
   if (card && !m.error) card.dataset.drawn = String(drawPreview(card.querySelector('canvas'), m));
 }
@@ -139,7 +170,7 @@ function liveLine(x) {
 }
 
 function renderLive() {
-  const sessions = (app.lobby && app.lobby.sessions) || [];
+  const sessions = (last && last.sessions) || [];
   for (const card of $('cards').children) {
     const s = scenarioById(card.dataset.config);
     const mine = s ? sessions.filter((x) => x.source === 'server' && x.name && x.name === s.name && !(x.num_envs > 0)) : [];
@@ -182,8 +213,8 @@ function pickScenario(id) {
   $('create-about').textContent = `${carsText(s)}: ${s.description || '(no description)'}`;
 }
 
-export function renderLobby() {
-  const m = app.lobby;
+function renderLobby() {
+  const m = last;
   renderLive();
   $('lobby-server').textContent = m.server
     ? `server ${m.server.id}: ${m.server.sessions} sessions, ${m.server.workers} workers, load ${(100 * m.server.load).toFixed(0)} %`
@@ -223,7 +254,7 @@ export async function refreshRecordings() {
     const r = await fetch('/recordings');
     if (r.ok) list = (await r.json()).recordings || [];
   } catch { /* no recordings served */ }
-  app.recordings = list;
+  recordings = list;
   $('replays').classList.toggle('hidden', list.length === 0);
   const rows = [];
   for (const f of list)

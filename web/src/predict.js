@@ -14,8 +14,6 @@
 // in the present is not shown at once: the difference becomes an offset of
 // the drawn car that decays with SMOOTH_S, unless it is larger than
 // BeamMP's teleport threshold (1 m + 0.5 m per m/s), where it is snapped.
-import { app } from './app.js';
-
 const SMOOTH_S = 0.1;      // time constant of a correction's fade on screen
 const MAX_LEAD_S = 0.5;    // never predict further ahead of the newest state
 const MAX_STEP_S = 0.5;    // sim time one frame may step (a stalled tab catches up over frames)
@@ -58,8 +56,8 @@ export class Prediction {
     this.enabled = new URLSearchParams(location.search).get('predict') !== '0';
     this.m = null;
     this.clear();
-    // what tests and the HUD read: app.prediction
-    app.prediction = this.info = { active: false, reason: '', lead: 0, error: 0, replayed: 0, corrections: 0, snaps: 0, drawn: null, t: 0 };
+    // what tests read: window.groundsim.prediction
+    this.info = { active: false, reason: '', lead: 0, error: 0, replayed: 0, corrections: 0, snaps: 0, drawn: null, t: 0 };
   }
   clear() {
     this.active = false;

@@ -7,7 +7,7 @@
 // time is its lap event's; the running clock is the drawn state's t minus
 // the lap's start as the server measured it.
 import * as THREE from 'three';
-import { app } from './app.js';
+import { session, addStateListener } from './session.js';
 import { addEvent } from './hud.js';
 import { Ghost, RivalGhost } from './ghost.js';
 
@@ -26,14 +26,16 @@ function el(tag, css, parent) {
 }
 
 export class RaceView {
-  constructor(scene) {
+  // terrain: the ground drawn (the posts stand on it)
+  constructor(scene, terrain) {
     this.scene = scene;
+    this.terrain = terrain;
     this.group = new THREE.Group();
     scene.add(this.group);
     this.ghost = new Ghost(scene);       // the own best lap
     this.rival = new RivalGhost(scene);  // the session's fastest lap by another car
-    app.stateListeners.push((m) => {
-      if (!this.layout || m.session !== app.session) return;
+    addStateListener((m) => {
+      if (!this.layout || m.session !== session.id) return;
       this.ghost.onState(m);
       this.rival.onState(m);
     });
@@ -90,10 +92,10 @@ export class RaceView {
     if (typeof m.reason !== 'string' || !m.reason.startsWith('race: ')) return false;
     let e;
     try { e = JSON.parse(m.reason.slice(6)); } catch { return true; }
-    if (m.session !== app.session) return true;
+    if (m.session !== session.id) return true;
     this.events.push(e);
     if (this.events.length > 2000) this.events.shift();
-    const own = e.car === app.followed;
+    const own = e.car === session.followed;
     const me = this.mine;
     if (!own) this.otherCar(e);
     switch (e.type) {
@@ -170,10 +172,11 @@ export class RaceView {
     this.build();
     this.show(true);
     // ghosts are kept per scenario: its name in the joined layout
-    const name = app.layout && app.layout.name ? app.layout.name : `session ${app.session}`;
-    const car = app.layout && app.layout.vehicles ? app.layout.vehicles[app.followed] : null;
+    const { layout } = session;
+    const name = layout && layout.name ? layout.name : `session ${session.id}`;
+    const car = layout && layout.vehicles ? layout.vehicles[session.followed] : null;
     this.ghost.use(name, car);
-    this.rival.use(app.session, app.layout && app.layout.vehicles);
+    this.rival.use(session.id, layout && layout.vehicles);
   }
 
   // the gates as posts (one instanced mesh per colour: 2 draw calls for
@@ -213,7 +216,7 @@ export class RaceView {
     if (!this.layout || !s) return;
     this.ghost.frame(s);
     this.rival.frame(s);
-    const v = s.vehicles[app.followed];
+    const v = s.vehicles[session.followed];
     const me = this.mine;
     const gates = this.layout.gates || [];
     const next = me.finished ? -1 : me.nextGate % Math.max(1, gates.length);
@@ -224,7 +227,7 @@ export class RaceView {
     for (let k = 0; k < Math.min(2, flat.length); ++k) {
       this.rr = ((this.rr || 0) + 1) % flat.length;
       const m = flat[this.rr];
-      if (app.terrain) m.userData.ground = app.terrain.heightAt(m.position.x, m.position.y);
+      if (this.terrain) m.userData.ground = this.terrain.heightAt(m.position.x, m.position.y);
     }
     this.posts.forEach((pair, i) => pair.forEach((m) => {
       const h = m.userData.ground;
@@ -267,9 +270,9 @@ export class RaceView {
     const st = this.standings;
     if (!st) return;
     const rows = st.cars.map((c) => {
-      const you = c.car === app.followed ? ' style="color:#ffd166"' : '';
+      const you = c.car === session.followed ? ' style="color:#ffd166"' : '';
       const what = c.finished ? fmt(c.race_time) : c.started ? `lap ${Math.min(c.laps_done + 1, st.laps)}` : 'grid';
-      const player = app.playerNames && app.playerNames[c.car];
+      const player = session.players && session.players[c.car];
       const name = String(player ? `${player}` : c.name).replace(/[&<>]/g, (x) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;' })[x]);
       return `<tr${you} data-car="${c.car}"><td>P${c.position}</td><td>${name}</td><td>${what}</td><td>${fmt(c.best_lap)}</td></tr>`;
     }).join('');

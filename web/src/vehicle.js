@@ -5,8 +5,8 @@
 // with its name above it; wheels that turn (spin integrated from the state's
 // wheel_spin), steer and ride on their suspension. The report's figure 1
 // (every mass point and spring of the model, from the layout the bridge
-// built through the scenario layer) is drawn over it on request (app.figure,
-// key F). Suspension: each wheel is drawn raised by its deflection N / k (k:
+// built through the scenario layer) is drawn over it on request (stage.js's
+// figure, key F). Suspension: each wheel is drawn raised by its deflection N / k (k:
 // the radial stiffness of its coupling to the body), to scale; a road car's
 // wheels ("strut" in the layout) by the suspension travel its car state
 // reports.
