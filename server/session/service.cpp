@@ -11,11 +11,15 @@
 #include "accuracy/live_estimate.hpp"
 #include "accuracy/pilot.hpp"
 #include "answers.hpp"
-#include "experiments/vec_env.hpp"
 #include "scenario/scenario.hpp"
+#include "service_detail.hpp"
 #include "token.hpp"
 
 namespace groundsim::session {
+using service_detail::claimId;
+using service_detail::joinIssues;
+using service_detail::MissingAssetsError;
+
 namespace {
 
 int workerCount(int requested) {
@@ -23,18 +27,6 @@ int workerCount(int requested) {
   const unsigned hw = std::thread::hardware_concurrency();
   return hw > 0 ? static_cast<int>(hw) : 2;
 }
-
-// The scenario layer caps the list (the first 20, then "and N more") and
-// quotes user strings.
-std::string joinIssues(const scenario::ScenarioError& e) {
-  const std::string out = e.lines("; ");
-  return out.empty() ? std::string(e.what()) : out;
-}
-
-// A create whose assets are not all here yet (the wants are published).
-struct MissingAssetsError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 std::string sizeText(std::uint64_t n) {
   char buf[32];
@@ -50,8 +42,84 @@ std::string outside(const char* field, double x, double lo, double hi, const cha
   return std::string(field) + ": " + scenario::formatNumber(x) + " is outside [" + scenario::formatNumber(lo) + ", " + scenario::formatNumber(hi) + "]" + unit;
 }
 
-// A fresh id and this server's claim on it: the registry's id, claimed in
-// the fleet when there is one (another server may hold it: draw again).
+// What a create runs: its scenario document, and with a tolerance the live
+// estimate and refinement policy of the settings the pilot chose.
+struct Chosen {
+  std::string scenario_json;
+  std::shared_ptr<accuracy::LiveEstimate> live;
+  accuracy::RefinementPolicy refinement;
+};
+
+// A tolerance: the pilot chooses the settings here, on the worker (it runs
+// the scene a few times: seconds for a large one), and sc becomes the
+// chosen scenario; the session keeps the chosen document without its
+// `accuracy`, so a re-simulation runs the same settings without a pilot
+// whose timing may choose others. Without one: the request's document.
+Chosen applyTolerance(scenario::Scenario& sc, const Request& r, const scenario::FileAccess& files,
+                      const scenario::Budget& budget) {
+  Chosen out;
+  out.scenario_json = r.scenario_json;
+  if (!sc.accuracy) return out;
+  const scenario::AccuracySpec spec = *sc.accuracy;
+  const accuracy::Choice choice =
+      accuracy::ChoiceCache::shared().choose(sc, spec.tolerance, accuracy::pilotOptions(spec, budget));
+  std::fprintf(stderr, "groundsim-server: %s: %s%s\n", sc.name.c_str(), choice.line().c_str(),
+               choice.from_cache ? " (chosen before for the same content: no pilot)" : "");
+  nlohmann::json chosen = choice.scenario.document;
+  chosen.erase("accuracy");
+  out.scenario_json = chosen.dump();
+  sc = scenario::parseScenario(std::move(chosen), budget, files);
+  if (spec.live_estimate) {
+    accuracy::LiveEstimateOptions lo;
+    const double run = r.duration == 0 ? sc.duration : r.duration;
+    lo.duration = run > 0 ? run : 0.0;  // a session without end: windows of 0.25 s
+    out.live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
+    out.live->expect(choice.prediction(), sc.duration);
+    out.refinement = accuracy::refinementPolicy(spec);
+  }
+  return out;
+}
+
+void checkVehicleCount(const scenario::Scene& scene, int max_vehicles) {
+  const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
+  if (nveh < 1 || nveh > max_vehicles)
+    throw scenario::ScenarioError({{"/vehicles", "a session needs 1 to " + std::to_string(max_vehicles) +
+                                                     " vehicles, got " + std::to_string(nveh)}});
+}
+
+// The new session's setup from the request and its built scene (a fresh
+// token; the id is claimed after).
+SessionSetup setupFor(const Request& r, const scenario::Scenario& sc, const scenario::Scene& scene, Chosen& chosen,
+                      std::shared_ptr<const scenario::AssetBytes> assets) {
+  const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
+  SessionSetup setup;
+  setup.token = newToken();
+  setup.name = sc.name;
+  setup.scenario_json = chosen.scenario_json;
+  if (sc.race) setup.bot_policy = sc.race->bot_policy_text;
+  setup.live_estimate = std::move(chosen.live);
+  setup.refinement = chosen.refinement;
+  setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
+                            ? scene.vehicle_names
+                            : scene.built.model->vehicle_names;
+  setup.duration = r.duration == 0 ? scene.duration : r.duration;
+  setup.mode = r.mode == 0 ? Mode::Realtime : *modeFromInt(r.mode);
+  setup.rate = r.rate > 0 ? r.rate : 1.0;
+  setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
+  setup.control_tables = scene.control_tables;
+  setup.assets = std::move(assets);
+  return setup;
+}
+
+}  // namespace
+
+namespace service_detail {
+
+std::string joinIssues(const scenario::ScenarioError& e) {
+  const std::string out = e.lines("; ");
+  return out.empty() ? std::string(e.what()) : out;
+}
+
 std::int64_t claimId(Registry& registry, Ownership* ownership, const std::string& placement, std::string& id) {
   for (int attempt = 0;; ++attempt) {
     id = registry.newId();
@@ -62,7 +130,7 @@ std::int64_t claimId(Registry& registry, Ownership* ownership, const std::string
   }
 }
 
-}  // namespace
+}  // namespace service_detail
 
 SessionService::SessionService(ServiceConfig cfg, Output& out, const SessionClock& clock)
     : cfg_(cfg), out_(out), clock_(clock), create_rate_(cfg.client_creates_per_minute), assets_(cfg.assets), pool_(workerCount(cfg.workers), cfg.max_build_jobs) {
@@ -274,54 +342,11 @@ void SessionService::build(const Request& r) {
     std::shared_ptr<const scenario::AssetBytes> assets;
     const scenario::FileAccess files = filesFor(doc, r.request_id, r.client_id, &assets);
     scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
-    // a tolerance: the pilot chooses the settings here, on the worker (it
-    // runs the scene a few times: seconds for a large one); the session
-    // keeps the chosen document without its `accuracy`, so a re-simulation
-    // runs the same settings without a pilot whose timing may choose others
-    std::string scenario_json = r.scenario_json;
-    std::shared_ptr<accuracy::LiveEstimate> live;
-    accuracy::RefinementPolicy refinement;
-    if (sc.accuracy) {
-      const scenario::AccuracySpec spec = *sc.accuracy;
-      const accuracy::Choice choice =
-          accuracy::ChoiceCache::shared().choose(sc, spec.tolerance, accuracy::pilotOptions(spec, cfg_.budget));
-      std::fprintf(stderr, "groundsim-server: %s: %s%s\n", sc.name.c_str(), choice.line().c_str(),
-                   choice.from_cache ? " (chosen before for the same content: no pilot)" : "");
-      nlohmann::json chosen = choice.scenario.document;
-      chosen.erase("accuracy");
-      scenario_json = chosen.dump();
-      sc = scenario::parseScenario(std::move(chosen), cfg_.budget, files);
-      if (spec.live_estimate) {
-        accuracy::LiveEstimateOptions lo;
-        const double run = r.duration == 0 ? sc.duration : r.duration;
-        lo.duration = run > 0 ? run : 0.0;  // a session without end: windows of 0.25 s
-        live = std::make_shared<accuracy::LiveEstimate>(sc, choice.order, lo);
-        live->expect(choice.prediction(), sc.duration);
-        refinement = accuracy::refinementPolicy(spec);
-      }
-    }
+    Chosen chosen = applyTolerance(sc, r, files, cfg_.budget);
     if (r.duration > 0) scenario::checkRunLength(sc, r.duration, cfg_.budget);  // the request's own duration
     scenario::Scene scene = scenario::buildScene(sc);
-    const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
-    if (nveh < 1 || nveh > cfg_.max_vehicles)
-      throw scenario::ScenarioError({{"/vehicles", "a session needs 1 to " + std::to_string(cfg_.max_vehicles) +
-                                                       " vehicles, got " + std::to_string(nveh)}});
-    SessionSetup setup;
-    setup.token = newToken();
-    setup.name = sc.name;
-    setup.scenario_json = scenario_json;
-    if (sc.race) setup.bot_policy = sc.race->bot_policy_text;
-    setup.live_estimate = std::move(live);
-    setup.refinement = refinement;
-    setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh)
-                              ? scene.vehicle_names
-                              : scene.built.model->vehicle_names;
-    setup.duration = r.duration == 0 ? scene.duration : r.duration;
-    setup.mode = r.mode == 0 ? Mode::Realtime : *modeFromInt(r.mode);
-    setup.rate = r.rate > 0 ? r.rate : 1.0;
-    setup.publish_rate = r.publish_rate > 0 ? r.publish_rate : scene.output_rate;
-    setup.control_tables = scene.control_tables;
-    setup.assets = std::move(assets);
+    checkVehicleCount(scene, cfg_.max_vehicles);
+    SessionSetup setup = setupFor(r, sc, scene, chosen, std::move(assets));
     const std::int64_t epoch = claimId(registry_, ownership_, r.client_id + "/" + std::to_string(r.request_id), id);
     claimed = epoch > 0;
     setup.id = id;
@@ -334,7 +359,7 @@ void SessionService::build(const Request& r) {
     Reply reply;
     reply.session_id = setup.id;
     reply.token = setup.token;
-    reply.scenario_json = scenario_json;  // published for viewers and loggers (scenario_t): what runs
+    reply.scenario_json = chosen.scenario_json;  // published for viewers and loggers (scenario_t): what runs
     reply.scenario_name = sc.name;
     reply.sessions.push_back(session->info(clock_.now()));
     replyOk(r, std::move(reply));
@@ -500,202 +525,6 @@ void SessionService::shutdown(const std::string& reason) {
       }
     else
       s->run(clock_.now());
-  }
-}
-
-// ---- vectorised sessions ----------------------------------------------------
-
-void SessionService::failVec(const VecRequest& r, ErrorCode code, const std::string& field,
-                             const std::string& error) noexcept {
-  try {
-    VecReply reply;
-    reply.op = r.op;
-    reply.request_id = r.request_id;
-    reply.client_id = r.client_id;
-    reply.session_id = r.session_id;
-    reply.ok = false;
-    reply.code = code;
-    reply.field = field;
-    reply.error = field.empty() ? error : field + ": " + error;
-    out_.publishEvent(refusalEvent(ReplyTo{Op::List, r.request_id, r.client_id}, r.session_id, code, reply.error));
-    out_.publishVecReply(reply);
-  } catch (...) {
-  }
-}
-
-void SessionService::handleVecRequest(VecRequest r) {
-  try {
-    if (r.op == VecOp::Create) return createVec(r);
-    if (r.op < VecOp::Create || r.op > VecOp::Drawn)
-      return failVec(r, ErrorCode::BadRequest, "op", "unknown op " + std::to_string(static_cast<int>(r.op)));
-    auto found = registry_.find(r.session_id);
-    if (!found) return failVec(r, ErrorCode::UnknownSession, "session_id", "unknown session '" + r.session_id + "'");
-    auto v = std::dynamic_pointer_cast<VecSession>(found);
-    if (!v)
-      return failVec(r, ErrorCode::WrongMode, "session_id",
-                     "session " + r.session_id + " is not vectorised (use request_t on GROUNDSIM_REQUEST)");
-    if (const OwnerCheck c = checkOwner(v.get(), r.session_id, r.token); !c) return failVec(r, c.code, "token", c.why);
-    if (r.snapshot.size() > cfg_.max_snapshot_bytes)
-      return failVec(r, ErrorCode::BadRequest, "snapshot",
-                     std::to_string(r.snapshot.size()) + " bytes, at most " + std::to_string(cfg_.max_snapshot_bytes));
-    // counts, finite actions, env and seed ranges: checked here so that a
-    // bad request is refused at once, without waiting behind queued steps
-    std::string field;
-    const std::string why = checkVecRequest(r, v->layout(), field);
-    if (!why.empty())
-      return failVec(r, field.rfind("actions", 0) == 0 ? ErrorCode::BadControl : ErrorCode::BadRequest, field, why);
-    v->touch(r.received == TimePoint{} ? clock_.now() : r.received);
-    v->post(std::move(r));
-    pool_.wake(v);
-  } catch (const std::exception& e) {
-    failVec(r, ErrorCode::Internal, "", std::string("internal error: ") + e.what());
-  } catch (...) {
-    failVec(r, ErrorCode::Internal, "", "internal error: unknown exception");
-  }
-}
-
-void SessionService::createVec(const VecRequest& r) {
-  if (r.scenario_json.size() > cfg_.max_scenario_bytes)
-    return failVec(r, ErrorCode::BadScenario, "scenario_json",
-                   std::to_string(r.scenario_json.size()) + " bytes, at most " +
-                       std::to_string(cfg_.max_scenario_bytes) + " (server --max-scenario-bytes)");
-  // before anything is built: the server's bound on the batch
-  if (r.num_envs < 1 || r.num_envs > cfg_.max_envs)
-    return failVec(r, ErrorCode::BadRequest, "num_envs",
-                   std::to_string(r.num_envs) + " is outside [1, " + std::to_string(cfg_.max_envs) +
-                       "] (groundsim-server --max-envs)");
-  if (const OwnerCheck a = admitCreate(r.client_id); !a) return failVec(r, a.code, "", a.why);
-  pool_.post([this, r] { buildVec(r); });
-}
-
-void SessionService::buildVec(const VecRequest& r) {
-  std::shared_ptr<VecSession> session;
-  std::string id;        // given by the registry, until the session takes it
-  bool claimed = false;  // in the fleet: released again if the session is not built
-  try {
-    experiments::VecEnvOptions opt;
-    opt.num_threads = 1;  // on this worker only: the pool shares the cores among sessions
-    opt.budget = cfg_.budget;
-    std::shared_ptr<const scenario::AssetBytes> assets;
-    opt.files = filesFor(scenario::parseScenarioDocument(r.scenario_json, cfg_.budget), r.request_id, r.client_id,
-                         &assets);
-    opt.max_envs = cfg_.max_envs;
-    std::unique_ptr<experiments::BatchEnv> env = experiments::makeVecEnv(r.scenario_json, r.num_envs, opt);
-    // the name and vehicle names for listings (the scenario was just validated by makeVecEnv)
-    const scenario::Scenario sc = scenario::parseScenario(r.scenario_json, cfg_.budget, opt.files);
-    VecSetup setup;
-    setup.token = newToken();
-    setup.name = sc.name;
-    setup.scenario_json = r.scenario_json;
-    for (const auto& v : sc.vehicles) setup.vehicle_names.push_back(v.name);
-    setup.assets = std::move(assets);
-    const std::int64_t epoch = claimId(registry_, ownership_, r.client_id + "/" + std::to_string(r.request_id), id);
-    claimed = epoch > 0;
-    setup.id = id;
-    session = std::make_shared<VecSession>(setup, std::move(env), out_, clock_.now(), clock_);
-    session->setEpoch(epoch);
-    session->setCreator(clientKey(r.client_id));
-    registry_.insert(session);
-    VecReply reply;
-    reply.op = VecOp::Create;
-    reply.request_id = r.request_id;
-    reply.client_id = r.client_id;
-    reply.session_id = setup.id;
-    reply.token = setup.token;
-    reply.num_envs = session->layout().num_envs;
-    reply.obs_size = session->layout().obsSize();
-    reply.sessions.push_back(session->info(clock_.now()));
-    out_.publishVecReply(reply);
-    return;
-  } catch (const scenario::ScenarioError& e) {
-    failVec(r, ErrorCode::BadScenario, "scenario_json", "invalid scenario: " + joinIssues(e));
-  } catch (const MissingAssetsError& e) {
-    failVec(r, ErrorCode::MissingAssets, "assets", e.what());
-  } catch (const experiments::ExperimentError& e) {
-    failVec(r, ErrorCode::BadRequest, e.field(), reasonOf(e));
-  } catch (const std::bad_alloc&) {
-    failVec(r, ErrorCode::BadScenario, "num_envs", "building the environments needs more memory than the server has");
-  } catch (const std::exception& e) {
-    failVec(r, session ? ErrorCode::Internal : ErrorCode::BadScenario, session ? "" : "scenario_json",
-            std::string(session ? "internal error: " : "invalid scenario: ") + e.what());
-  } catch (...) {
-    failVec(r, ErrorCode::Internal, "", "internal error: unknown exception while building the environments");
-  }
-  if (session) return;
-  const std::string client = clientKey(r.client_id);
-  registry_.cancel(id, &client);
-  if (claimed) ownership_->release(id);
-}
-
-// ---- a fleet ----------------------------------------------------------------
-
-std::vector<std::string> SessionService::hostedIds() const { return registry_.ids(); }
-
-void SessionService::disown(const std::string& id) {
-  if (auto s = registry_.retire(id, clock_.now())) {
-    s->stop(std::nullopt, "taken over by another server");
-    pool_.wake(s);
-  }
-}
-
-void SessionService::replicateAgain() {
-  for (const std::string& id : registry_.ids())
-    if (auto s = registry_.find<Session>(id)) {
-      s->replicateAgain();
-      pool_.wake(s);
-    }
-}
-
-std::string SessionService::adopt(const Replica& scenario, const Replica& snapshot, const std::vector<Applied>& log,
-                                  std::int64_t heard_tick,
-                                  std::int64_t epoch) {
-  const std::string& id = scenario.session_id;
-  try {
-    if (registry_.find(id)) return "session " + id + " is hosted here already";
-    if (const OwnerCheck a = registry_.admit(cfg_.max_sessions); !a) return a.why;
-    std::shared_ptr<Session> session;
-    try {
-      const nlohmann::json meta = nlohmann::json::parse(scenario.meta);
-      nlohmann::json doc = scenario::parseScenarioDocument(scenario.data, cfg_.budget);
-      std::shared_ptr<const scenario::AssetBytes> assets;
-      const scenario::FileAccess files = filesFor(doc, 0, "", &assets);
-      const scenario::Scenario sc = scenario::parseScenario(std::move(doc), cfg_.budget, files);
-      scenario::Scene scene = scenario::buildScene(sc);
-      const int nveh = static_cast<int>(scene.built.model->vehicle_names.size());
-      SessionSetup setup;
-      setup.id = id;
-      setup.token = meta.at("token").get<std::string>();
-      setup.name = sc.name;
-      setup.scenario_json = scenario.data;
-      if (sc.race) setup.bot_policy = sc.race->bot_policy_text;
-      setup.vehicle_names = scene.vehicle_names.size() == static_cast<size_t>(nveh) ? scene.vehicle_names
-                                                                                   : scene.built.model->vehicle_names;
-      setup.duration = meta.value("duration", scene.duration);
-      setup.mode = modeFromInt(meta.value("mode", 1)).value_or(Mode::Realtime);
-      setup.rate = meta.value("rate", 1.0);
-      setup.publish_rate = meta.value("publish_rate", scene.output_rate);
-      setup.control_tables = scene.control_tables;
-      setup.assets = std::move(assets);
-      session = std::make_shared<Session>(setup, scene.built.model, scene.built.initial, cfg_, out_, clock_.now(),
-                                          clock_);
-      session->setEpoch(epoch);
-      if (std::string why = session->resume(snapshot, log, heard_tick); !why.empty()) {
-        registry_.cancel();
-        return "cannot resume session " + id + ": " + why;
-      }
-    } catch (const scenario::ScenarioError& e) {
-      registry_.cancel();
-      return "cannot rebuild session " + id + ": " + joinIssues(e);
-    } catch (const std::exception& e) {
-      registry_.cancel();
-      return "cannot rebuild session " + id + ": " + e.what();
-    }
-    registry_.insert(session);
-    out_.publishReplica(session->scenarioReplica());  // the standbys learn the new owner and epoch
-    pool_.wake(session);
-    return "";
-  } catch (const std::exception& e) {
-    return std::string("internal error: ") + e.what();
   }
 }
 
