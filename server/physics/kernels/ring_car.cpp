@@ -8,224 +8,27 @@
 
 #include "physics/base/pointwise.hpp"
 #include "physics/kernels/fast_car_kernel.hpp"  // the rigid-body helpers shared with the circle-wheel car
+#include "physics/kernels/ring_car_detail.hpp"
+#include "physics/kernels/ring_car_friction.hpp"
 #include "physics/forces/forces.hpp"
 
 namespace groundsim {
 
 namespace {
 
-using fastcar::BodyL;
-
-constexpr int kMaxWheels = 16;
-
-// A point not on a rim (an axle point, a chassis contact point): its world
-// position, velocity and spring force are kept for the step.
-struct PlainPoint {
-  int body, model_point, wheel;
-  double lx, ly, lz;
-  int steer_wheel;  // -1: fixed
-  double pivx, pivy, dx, dy;
-  bool contact;
-};
-// Points [a0, a0 + n) of one body (a wheel's rim), each joined by one spring
-// of every fan to the fan's far point (an axle point, plain).
-// Its arrays are padded to a multiple of four with points at the wheel's
-// centre on springs of zero stiffness and damping that touch nothing: they
-// add exactly zero, and the 4-wide loops need no remainder.
-struct Rim {
-  int body = -1, a0 = 0, n = 0, nf = 0, wheel = -1;
-  int padded = 0;
-  int b[2] = {-1, -1};  // plain index of each fan's far point
-  std::vector<double> lx, ly, lz;
-  std::vector<unsigned char> contact;
-  std::vector<double> k[2], c[2], rest[2];
-};
-struct LooseSpring {
-  int a, b;  // plain indices
-  double k, c, rest;
-  bool isotropic;
-};
-struct WheelC {
-  int body, carrier;
-  double ax, ay, az;
-};
-
-struct Plan {
-  FastCarPlan rigid;  // bodies only (mass, inverse inertia)
-  std::vector<PlainPoint> plain;
-  std::vector<int> plain_begin, plain_end;  // (nbody) a body's plain points
-  std::vector<int> rim_begin, rim_end;      // (nbody) a body's rims, by a0
-  std::vector<Rim> rims;
-  std::vector<LooseSpring> loose;
-  std::vector<WheelC> wheels;
-  double n[3], offset, gn;  // plane H = n . p - offset, gn = |n| as the general path computes it
-  double cn[3], t1[3], t2[3];  // unit normal, its tangent basis (Eigen's unitOrthogonal)
-  double gravity[3];
-  double stiffness, damping, scene_mu;
-  bool hunt_crossley;
-  int friction_iterations;
-  int max_rim = 0;
-};
-
-// Builds the plan, or says why the model does not fit.
-const char* buildPlan(const Model& m, Plan* P) {
-  Vec3 n;
-  double offset = 0.0;
-  if (m.opt.deterministic) return "physics.deterministic keeps the general loop's bits";
-  if (m.opt.integrator != IntegratorKind::SemiImplicitEuler) return "integrator is not semi_implicit_euler";
-  if (m.opt.contact.friction_model != FrictionModel::StickSlip) return "friction is not stick_slip";
-  if (!m.particles.empty()) return "the model has particles";
-  for (const SceneObject& o : m.objects)
-    if (o.body >= 0) return "the scene has objects with mass";
-  if (!m.road_cars.empty() || m.aux_states != 0) return "the model has road cars";
-  if (m.spring_fans.empty()) return "the model has no spring fans (rims)";
-  if (m.wheels.empty() || m.wheels.size() > static_cast<size_t>(kMaxWheels)) return "no wheels or too many";
-  for (const Wheel& w : m.wheels)
-    if (w.contact != WheelContact::RimPoints) return "a wheel is not a rim of points";
-  if (!m.ground || !m.ground->asPlane(&n, &offset)) return "the ground is not a plane";
-  for (const Spring& s : m.springs)
-    if (m.points[s.a].body < 0 || m.points[s.b].body < 0) return "a spring is not between body points";
-  const size_t np = m.points.size(), nb = m.bodies.size();
-  // rims: fans sharing their first point and count
-  std::vector<int> rim_of(np, -1);
-  for (const Model::SpringFan& f : m.spring_fans) {
-    Rim* rim = nullptr;
-    for (Rim& r : P->rims)
-      if (r.a0 == f.a0 && r.n == f.count) rim = &r;
-    if (rim == nullptr) {
-      for (int k = f.a0; k < f.a0 + f.count; ++k)
-        if (rim_of[k] >= 0) return "two rims overlap";
-      P->rims.emplace_back();
-      rim = &P->rims.back();
-      rim->a0 = f.a0;
-      rim->n = f.count;
-      rim->body = m.points[f.a0].body;
-      rim->wheel = m.points[f.a0].wheel;
-      for (int k = f.a0; k < f.a0 + f.count; ++k) {
-        const Point& pt = m.points[k];
-        if (pt.body != rim->body || pt.wheel != rim->wheel || pt.steer_wheel >= 0)
-          return "a rim's points are not of one unsteered wheel body";
-        rim_of[k] = static_cast<int>(P->rims.size()) - 1;
-        rim->lx.push_back(pt.local.x());
-        rim->ly.push_back(pt.local.y());
-        rim->lz.push_back(pt.local.z());
-        rim->contact.push_back(pt.contact ? 1 : 0);
-      }
-    }
-    if (rim->nf == 2) return "a rim has more than two fans";
-    const int fi = rim->nf++;
-    rim->b[fi] = f.b;  // model point for now
-    for (int s = f.first; s < f.first + f.count; ++s) {
-      rim->k[fi].push_back(m.spring_k[s]);
-      rim->c[fi].push_back(m.spring_c[s]);
-      rim->rest[fi].push_back(m.spring_rest[s]);
-    }
-  }
-  std::vector<unsigned char> rim_body(nb, 0);
-  for (const Rim& r : P->rims) rim_body[r.body] = 1;
-  for (size_t i = 0; i < nb; ++i)
-    for (int k = m.body_point_begin[i]; k < m.body_point_end[i]; ++k)
-      if (rim_body[i] && rim_of[k] < 0) return "a wheel body has points off its rims";
-  for (int s : m.loose_springs)
-    if (rim_of[m.springs[s].a] >= 0 || rim_of[m.springs[s].b] >= 0) return "a rim point has a spring off its fans";
-  for (const Rim& r : P->rims)
-    for (int f = 0; f < r.nf; ++f)
-      if (rim_of[r.b[f]] >= 0) return "a fan ends on a rim point";
-  // plain points: every point of the other bodies, in body order
-  std::vector<int> plain_of(np, -1);
-  P->plain_begin.assign(nb, 0);
-  P->plain_end.assign(nb, 0);
-  for (size_t i = 0; i < nb; ++i) {
-    P->plain_begin[i] = static_cast<int>(P->plain.size());
-    if (!rim_body[i])
-      for (int k = m.body_point_begin[i]; k < m.body_point_end[i]; ++k) {
-        const Point& pt = m.points[k];
-        plain_of[k] = static_cast<int>(P->plain.size());
-        P->plain.push_back({static_cast<int>(i), k, pt.wheel, pt.local.x(), pt.local.y(), pt.local.z(),
-                            pt.steer_wheel, pt.steer_pivot.x(), pt.steer_pivot.y(),
-                            (pt.local - pt.steer_pivot).x(), (pt.local - pt.steer_pivot).y(), pt.contact});
-      }
-    P->plain_end[i] = static_cast<int>(P->plain.size());
-  }
-  for (Rim& r : P->rims)
-    for (int f = 0; f < r.nf; ++f) r.b[f] = plain_of[r.b[f]];
-  // rims by body, then first point: the general path's contact order
-  std::stable_sort(P->rims.begin(), P->rims.end(),
-                   [](const Rim& a, const Rim& b) { return a.body != b.body ? a.body < b.body : a.a0 < b.a0; });
-  P->rim_begin.assign(nb, 0);
-  P->rim_end.assign(nb, 0);
-  for (size_t i = 0, r = 0; i < nb; ++i) {
-    P->rim_begin[i] = static_cast<int>(r);
-    while (r < P->rims.size() && P->rims[r].body == static_cast<int>(i)) ++r;
-    P->rim_end[i] = static_cast<int>(r);
-  }
-  for (Rim& r : P->rims) {
-    if (r.nf == 1) {  // one fan: the second is the first with no force (zero stiffness and damping)
-      r.b[1] = r.b[0];
-      r.k[1].assign(r.n, 0.0);
-      r.c[1].assign(r.n, 0.0);
-      r.rest[1].assign(r.n, 0.0);
-    }
-    r.padded = (r.n + 3) / 4 * 4;
-    for (auto* v : {&r.lx, &r.ly, &r.lz, &r.k[0], &r.c[0], &r.rest[0], &r.k[1], &r.c[1], &r.rest[1]})
-      v->resize(static_cast<size_t>(r.padded), 0.0);
-    r.contact.resize(static_cast<size_t>(r.padded), 0);
-    P->max_rim = std::max(P->max_rim, r.padded);
-  }
-  for (int s : m.loose_springs) {
-    const Spring& sp = m.springs[s];
-    P->loose.push_back({plain_of[sp.a], plain_of[sp.b], sp.stiffness, sp.damping, sp.rest_length, sp.isotropic});
-  }
-  for (const Wheel& w : m.wheels) P->wheels.push_back({w.body, w.carrier, w.axis.x(), w.axis.y(), w.axis.z()});
-  for (size_t i = 0; i < nb; ++i) P->rigid.bodies.push_back(bodyConstants(m.bodies[i]));
-  P->gn = n.norm();
-  const Vec3 cn = n / P->gn, t1 = cn.unitOrthogonal(), t2 = cn.cross(t1);
-  for (int k = 0; k < 3; ++k) {
-    P->n[k] = n[k];
-    P->cn[k] = cn[k];
-    P->t1[k] = t1[k];
-    P->t2[k] = t2[k];
-    P->gravity[k] = m.opt.gravity[k];
-  }
-  P->offset = offset;
-  P->stiffness = m.opt.contact.stiffness;
-  P->damping = m.opt.contact.damping;
-  P->hunt_crossley = m.opt.contact.damping_model == NormalDamping::HuntCrossley;
-  P->scene_mu = m.opt.contact.friction;
-  P->friction_iterations = m.opt.contact.friction_iterations;
-  return nullptr;
-}
-
-struct PlainL {
-  double r[3], p[3], u[3], f[3];
-};
-// A point below the plane, as velocity_constraints.cpp's Contact.
-struct ContactR {
-  int body, point, wheel;
-  double p[3], r[3], u[3], depth, N, mu;
-  double a1[3], a2[3], b1[3], b2[3], k00, k01, k11, i00, i01, i10, i11, j0, j1;
-};
-
-struct Scratch {
-  explicit Scratch(const Plan& P, const Model& m)
-      : rigid(P.rigid), plain(P.plain.size()) {
-    for (auto* v : {&H, &fx, &fy, &fz, &gx, &gy, &gz}) v->assign(static_cast<size_t>(P.max_rim), 0.0);
-    con.resize(m.contact_points.size());
-  }
-  fastcar::Scratch<double> rigid;  // bodies: R, Iw, w, F, T, vp, wp
-  std::vector<PlainL> plain;
-  std::vector<double> H;           // one rim's H at each point
-  std::vector<double> fx, fy, fz;  // its spring force on each point (wheel frame)
-  std::vector<double> gx, gy, gz;  // of which the first fan's
-  std::vector<ContactR> con;  // every contact point once at most; [0, ncon) this evaluation's
-  size_t ncon = 0;
-  std::span<ContactR> contacts() { return {con.data(), ncon}; }
-  double axis[kMaxWheels][3];  // wheel axes, world
-  double brake_impulse[kMaxWheels];
-  double drive_power = 0.0, max_depth = 0.0;
-  int sweeps = 0;
-};
-
+// The plan and scratch (ring_car_detail.hpp) are built in ring_car_plan.cpp;
+// the evaluation (friction and brakes in ring_car_friction.hpp), the
+// integration and the wide and generic wrappers that inline them are here.
+using ringcar::BodyL;
+using ringcar::ContactR;
+using ringcar::LooseSpring;
+using ringcar::Plan;
+using ringcar::PlainL;
+using ringcar::PlainPoint;
+using ringcar::Rim;
+using ringcar::Scratch;
+using ringcar::WheelC;
+using ringcar::frictionAndBrakes;
 using fastcar::cross3;
 using fastcar::dot3;
 using fastcar::mat3vec;
@@ -531,155 +334,6 @@ GROUNDSIM_INLINE_BODY bool driveTorques(const Plan& P, const std::vector<WheelCo
   return braking;
 }
 
-// The bodies' velocities after h under the forces so far (friction's start).
-GROUNDSIM_INLINE_BODY void predictVelocities(const Plan& P, const double* Y, double h, Scratch& S) {
-  for (size_t i = 0; i < P.rigid.bodies.size(); ++i) {
-    BodyL<double>& B = S.rigid.bodies[i];
-    const double* y = Y + 13 * i;
-    double Lh[3];
-    for (int d = 0; d < 3; ++d) {
-      B.vp[d] = y[7 + d] + h * B.F[d] * P.rigid.bodies[i].inv_mass;
-      Lh[d] = y[10 + d] + h * B.T[d];
-    }
-    mat3vec(B.Iw, Lh, B.wp);
-  }
-}
-
-// Each contact's 2x2 tangential effective mass and its inverse; returns
-// the impulses' scale for the convergence test.
-GROUNDSIM_INLINE_BODY double contactMasses(const Plan& P, const std::vector<WheelControl>& ctl, double h,
-                                           Scratch& S) {
-  double scale = 0.0;
-  for (ContactR& c : S.contacts()) {
-    const BodyL<double>& B = S.rigid.bodies[c.body];
-    const double inv_m = P.rigid.bodies[c.body].inv_mass;
-    cross3(c.r, P.t1, c.a1);
-    cross3(c.r, P.t2, c.a2);
-    mat3vec(B.Iw, c.a1, c.b1);
-    mat3vec(B.Iw, c.a2, c.b2);
-    c.k01 = dot3(c.a1, c.b2);
-    c.k00 = inv_m + dot3(c.a1, c.b1);
-    c.k11 = inv_m + dot3(c.a2, c.b2);
-    const double invdet = 1.0 / (c.k00 * c.k11 - c.k01 * c.k01);
-    c.i00 = c.k11 * invdet;
-    c.i01 = c.i10 = -c.k01 * invdet;
-    c.i11 = c.k00 * invdet;
-    scale += c.mu * c.N * h;
-  }
-  for (size_t w = 0; w < P.wheels.size(); ++w) scale += std::max(ctl[w].brake_torque, 0.0) * h;
-  return scale;
-}
-
-// One sweep's brakes: each braked wheel's impulse about its axle, clamped
-// to its torque times h, against its carrier. Adds to change and total.
-GROUNDSIM_INLINE_BODY void brakeSweep(const Plan& P, const std::vector<WheelControl>& ctl, double h, Scratch& S,
-                                      double& change, double& total) {
-  std::vector<BodyL<double>>& bodies = S.rigid.bodies;
-  for (size_t w = 0; w < P.wheels.size(); ++w) {
-    const WheelC& wc = P.wheels[w];
-    const double Bt = ctl[w].brake_torque;
-    if (!(Bt > 0.0) || wc.carrier < 0) continue;
-    BodyL<double>& B = bodies[wc.body];
-    BodyL<double>& C = bodies[wc.carrier];
-    const double* a = S.axis[w];
-    double ia[3], ic[3];
-    mat3vec(B.Iw, a, ia);
-    mat3vec(C.Iw, a, ic);
-    const double rel[3] = {B.wp[0] - C.wp[0], B.wp[1] - C.wp[1], B.wp[2] - C.wp[2]};
-    const double acc = std::clamp(S.brake_impulse[w] - dot3(a, rel) / (dot3(a, ia) + dot3(a, ic)), -Bt * h, Bt * h);
-    const double d = acc - S.brake_impulse[w];
-    S.brake_impulse[w] = acc;
-    change += std::abs(d);
-    total += std::abs(acc);
-    for (int k = 0; k < 3; ++k) {
-      B.wp[k] += d * ia[k];
-      C.wp[k] -= d * ic[k];
-    }
-  }
-}
-
-// One sweep's contacts: each contact's tangential impulse, inside its
-// friction disc. Adds to change and total.
-GROUNDSIM_INLINE_BODY void contactSweep(const Plan& P, double h, Scratch& S, double& change, double& total) {
-  for (ContactR& c : S.contacts()) {
-    BodyL<double>& B = S.rigid.bodies[c.body];
-    const double ut0 = dot3(P.t1, B.vp) + dot3(B.wp, c.a1);
-    const double ut1 = dot3(P.t2, B.vp) + dot3(B.wp, c.a2);
-    double acc0 = c.j0 - (c.i00 * ut0 + c.i01 * ut1);
-    double acc1 = c.j1 - (c.i10 * ut0 + c.i11 * ut1);
-    const double limit = c.mu * c.N * h;
-    const double an = std::sqrt(acc0 * acc0 + acc1 * acc1);
-    if (an > limit) {
-      // sliding: mu N opposite the slip this contact would have without
-      // its own friction (velocity_constraints.cpp says why)
-      const double free0 = ut0 - (c.k00 * c.j0 + c.k01 * c.j1);
-      const double free1 = ut1 - (c.k01 * c.j0 + c.k11 * c.j1);
-      const double fn = std::sqrt(free0 * free0 + free1 * free1);
-      if (fn > 1e-12) {
-        acc0 = -limit / fn * free0;
-        acc1 = -limit / fn * free1;
-      } else {
-        acc0 *= limit / an;
-        acc1 *= limit / an;
-      }
-    }
-    const double d0 = acc0 - c.j0, d1 = acc1 - c.j1;
-    c.j0 = acc0;
-    c.j1 = acc1;
-    change += std::abs(d0) + std::abs(d1);
-    total += std::abs(acc0) + std::abs(acc1);
-    const double inv_m = P.rigid.bodies[c.body].inv_mass;
-    for (int q = 0; q < 3; ++q) {
-      B.vp[q] += (d0 * P.t1[q] + d1 * P.t2[q]) * inv_m;
-      B.wp[q] += d0 * c.b1[q] + d1 * c.b2[q];
-    }
-  }
-}
-
-// The brake and friction impulses as forces and torques over h.
-GROUNDSIM_INLINE_BODY void impulsesAsForces(const Plan& P, double h, bool braking, Scratch& S) {
-  std::vector<BodyL<double>>& bodies = S.rigid.bodies;
-  for (size_t w = 0; braking && w < P.wheels.size(); ++w) {
-    const WheelC& wc = P.wheels[w];
-    if (S.brake_impulse[w] == 0.0 || wc.carrier < 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      const double tq = S.brake_impulse[w] / h * S.axis[w][k];
-      bodies[wc.body].T[k] += tq;
-      bodies[wc.carrier].T[k] -= tq;
-    }
-  }
-  for (const ContactR& c : S.contacts()) {
-    BodyL<double>& B = bodies[c.body];
-    double f[3], rf[3];
-    for (int q = 0; q < 3; ++q) f[q] = (c.j0 * P.t1[q] + c.j1 * P.t2[q]) / h;
-    cross3(c.r, f, rf);
-    for (int q = 0; q < 3; ++q) {
-      B.F[q] += f[q];
-      B.T[q] += rf[q];
-    }
-  }
-}
-
-// Stick-slip friction and brakes (velocity_constraints.cpp): impulses that
-// bring the contacts' slip and the braked wheels' spin to rest within h,
-// bounded by mu N h and the brake torque times h, in sweeps until they settle.
-GROUNDSIM_INLINE_BODY void frictionAndBrakes(const Plan& P, const double* Y, const std::vector<WheelControl>& ctl,
-                                             double h, bool braking, Scratch& S) {
-  S.sweeps = 0;
-  for (size_t w = 0; w < P.wheels.size(); ++w) S.brake_impulse[w] = 0.0;
-  if (S.ncon == 0 && !braking) return;
-  predictVelocities(P, Y, h, S);
-  const double scale = contactMasses(P, ctl, h, S);
-  for (int iter = 0; iter < P.friction_iterations; ++iter) {
-    double change = 0.0, total = 0.0;
-    if (braking) brakeSweep(P, ctl, h, S, change, total);
-    contactSweep(P, h, S, change, total);
-    S.sweeps = iter + 1;
-    if (pointwise::converged(change, total, scale)) break;
-  }
-  impulsesAsForces(P, h, braking, S);
-}
-
 // computeForces for this model (forces.cpp), ending with the friction and
 // brake impulses turned into forces in the bodies' F and T.
 GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double* Y,
@@ -757,11 +411,6 @@ void advanceGeneric(const Model& m, const Plan& P, double* y, const std::vector<
 
 }  // namespace
 
-const char* ringCarUnsupported(const Model& m) {
-  Plan P;
-  return buildPlan(m, &P);
-}
-
 struct RingCar::Impl {
   Impl(const Model& m, Plan p) : plan(std::move(p)), scratch(plan, m), y_eval(m.stateSize()), applied(m.wheels.size()) {}
   Plan plan;
@@ -774,7 +423,7 @@ struct RingCar::Impl {
 
 RingCar::RingCar(const Model& m) {
   Plan P;
-  if (const char* why = buildPlan(m, &P)) throw std::invalid_argument(std::string("ring car: ") + why);
+  if (const char* why = ringcar::buildPlan(m, &P)) throw std::invalid_argument(std::string("ring car: ") + why);
   impl_ = std::make_unique<Impl>(m, std::move(P));
 }
 RingCar::~RingCar() = default;
