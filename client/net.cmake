@@ -23,7 +23,8 @@ target_sources(groundsim PRIVATE
 target_include_directories(groundsim PRIVATE ${CMAKE_CURRENT_LIST_DIR})
 target_link_libraries(groundsim PRIVATE groundsim_protocol groundsim_scenario groundsim_recording CLI11::CLI11 nlohmann_json::nlohmann_json)
 # `replay --resimulate` re-simulates a recording as the server ran it: the
-# session layer's Resimulator and the adapter's frame conversion
-# (server/lcm/convert.cpp), so that its states are the server's to the bit.
-# Only that command uses them.
-target_link_libraries(groundsim PRIVATE groundsim_lcm)
+# stepping layer's Resimulator (the code a session steps with, below the
+# session layer) and the adapter's frame conversion (server/lcm/convert.cpp),
+# so that its states are the server's to the bit. No hosting code is linked:
+# tests/layers checks that no groundsim::session symbol reaches the CLI.
+target_link_libraries(groundsim PRIVATE groundsim_stepping groundsim_lcm)

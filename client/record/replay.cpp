@@ -36,7 +36,7 @@
 #include "protocol/text.hpp"
 #include "protocol/message_json.hpp"
 #include "recording/mcap_reader.hpp"
-#include "session/resimulate.hpp"
+#include "stepping/resimulate.hpp"
 
 namespace groundsim::cli {
 namespace {
@@ -108,14 +108,14 @@ std::optional<std::string> firstDifference(const nlohmann::json& rec, const nloh
   return path;
 }
 
-session::Applied appliedFrom(const nlohmann::json& j) {
-  session::Applied a;
+stepping::Applied appliedFrom(const nlohmann::json& j) {
+  stepping::Applied a;
   a.session_id = j.value("session_id", "");
   a.seq = j.at("seq").get<std::int64_t>();
   a.frame_seq = j.at("frame_seq").get<std::int64_t>();
   a.tick = j.at("tick").get<std::int64_t>();
   a.t = j.at("t").get<double>();
-  a.kind = static_cast<session::AppliedKind>(j.at("kind").get<int>());
+  a.kind = static_cast<stepping::AppliedKind>(j.at("kind").get<int>());
   a.vehicle = j.at("vehicle").get<int>();
   const auto& dt = j.at("drive_torque");
   const auto& bt = j.at("brake_torque");
@@ -222,7 +222,7 @@ bool usePrecisionOf(const FileMetadata& meta) {
 // The session's messages, by seq.
 struct Recorded {
   std::map<std::int64_t, std::string> states, cars, contacts, raws;
-  std::map<std::int64_t, session::Applied> applied;
+  std::map<std::int64_t, stepping::Applied> applied;
 };
 
 Recorded readSession(recording::McapReader& r, const RecordedSession& rs) {
@@ -294,7 +294,7 @@ std::vector<std::string> gapsInTheLog(const Recorded& rec, const FileMetadata& m
 // state and contact state. The first difference ends the comparison.
 class Comparison {
  public:
-  Comparison(const std::string& id, const Recorded& rec, session::Resimulator& sim, bool bitwise, bool raw)
+  Comparison(const std::string& id, const Recorded& rec, stepping::Resimulator& sim, bool bitwise, bool raw)
       : id_(id), rec_(rec), sim_(sim), bitwise_(bitwise), raw_(raw), next_(rec.applied.begin()) {}
 
   // 0 when every state matched, else kExitDiffers (the difference printed)
@@ -313,14 +313,14 @@ class Comparison {
       if (std::string why = sim_.apply(next_->second); !why.empty())
         return differ("state", seq, rec,
                       "applied command " + std::to_string(next_->first) + " (" +
-                          session::appliedKindName(next_->second.kind) + " at tick " +
+                          stepping::appliedKindName(next_->second.kind) + " at tick " +
                           std::to_string(next_->second.tick) + ")",
                       "applied", "cannot be: " + why);
     }
     const std::int64_t tick = rec.value("tick", std::int64_t{-1});
     if (std::string why = sim_.stepTo(tick); !why.empty())
       return differ("state", seq, rec, "tick", std::to_string(tick), why);
-    session::Frame f = frameAsRecorded(seq, rec);
+    stepping::Frame f = frameAsRecorded(seq, rec);
     const groundsim::state_t m = net::toMessage(f);
     if (auto code = differsFrom("state", seq, record::toJson(m), text)) return code;
     ++states;
@@ -331,14 +331,14 @@ class Comparison {
     // Compared as the state's publisher's first; only a difference reads
     // the message's own epoch.
     if (auto it = rec_.cars.find(seq); it != rec_.cars.end()) {
-      if (auto code = sameAs("car state", seq, f, [](const session::Frame& g) { return net::toCarMessage(g); },
+      if (auto code = sameAs("car state", seq, f, [](const stepping::Frame& g) { return net::toCarMessage(g); },
                              it->second))
         return code;
       ++cars;
     }
     if (auto it = rec_.contacts.find(seq); it != rec_.contacts.end()) {
       if (auto code = sameAs("contact state", seq, f,
-                             [](const session::Frame& g) { return net::toContactMessage(g); }, it->second))
+                             [](const stepping::Frame& g) { return net::toContactMessage(g); }, it->second))
         return code;
       ++contacts;
     }
@@ -348,12 +348,12 @@ class Comparison {
   // the re-simulated frame with what is taken from the recording, not
   // re-simulated: mode, status, reason, who owned the session, and the live
   // estimate (stepped beside the session, not by it)
-  session::Frame frameAsRecorded(std::int64_t seq, const nlohmann::json& rec) const {
-    session::Frame f = sim_.frame();
+  stepping::Frame frameAsRecorded(std::int64_t seq, const nlohmann::json& rec) const {
+    stepping::Frame f = sim_.frame();
     f.session_id = rec.value("session_id", id_);
     f.seq = seq;
-    f.mode = static_cast<session::Mode>(rec.value("mode", 1));
-    f.status = static_cast<session::Status>(rec.value("status", 1));
+    f.mode = static_cast<stepping::Mode>(rec.value("mode", 1));
+    f.status = static_cast<stepping::Status>(rec.value("status", 1));
     f.reason = rec.value("status_reason", "");
     f.epoch = rec.value("epoch", std::int64_t{0});
     if (auto e = rec.find("error_estimate"); e != rec.end() && e->is_number()) f.error_estimate = e->get<double>();
@@ -372,7 +372,7 @@ class Comparison {
   }
 
   template <class Encode>
-  std::optional<int> sameAs(const char* what, std::int64_t seq, session::Frame& f, Encode encode,
+  std::optional<int> sameAs(const char* what, std::int64_t seq, stepping::Frame& f, Encode encode,
                             const std::string& recorded) {
     if (record::toJson(encode(f)) == recorded) return std::nullopt;
     const std::int64_t state_epoch = f.epoch;
@@ -407,9 +407,9 @@ class Comparison {
 
   const std::string& id_;
   const Recorded& rec_;
-  session::Resimulator& sim_;
+  stepping::Resimulator& sim_;
   const bool bitwise_, raw_;
-  std::map<std::int64_t, session::Applied>::const_iterator next_;
+  std::map<std::int64_t, stepping::Applied>::const_iterator next_;
 };
 
 int resimulate(const ReplayOptions& o) {
@@ -424,7 +424,7 @@ int resimulate(const ReplayOptions& o) {
   const Recorded recorded = readSession(r, rs);
   const std::vector<std::string> warnings = gapsInTheLog(recorded, meta, id);
 
-  std::optional<session::Resimulator> sim;
+  std::optional<stepping::Resimulator> sim;
   try {
     sim.emplace(scenario, scenario::FileAccess::fromAssets(assets, o.assets_dir));
   } catch (const std::exception& e) {

@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "session/applied.hpp"
+#include "stepping/applied.hpp"
 #include "session/types.hpp"
 
 namespace groundsim::net {

@@ -14,7 +14,7 @@ void StandbyLog::restart() {
   entries_.clear();
 }
 
-void StandbyLog::add(const session::Applied& a) {
+void StandbyLog::add(const stepping::Applied& a) {
   if (based_ && a.seq < base_) return;
   // bounded: one snapshot interval's worth is what a takeover replays; past
   // the bound the oldest go (the replay then ends at the gap they leave)
@@ -34,8 +34,8 @@ std::vector<StandbyLog::Gap> StandbyLog::gaps() const {
   return out;
 }
 
-std::vector<session::Applied> StandbyLog::replayable() const {
-  std::vector<session::Applied> out;
+std::vector<stepping::Applied> StandbyLog::replayable() const {
+  std::vector<stepping::Applied> out;
   if (!based_) return out;
   std::int64_t expect = base_;
   for (const auto& [seq, a] : entries_) {

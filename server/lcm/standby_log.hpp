@@ -13,7 +13,7 @@
 #include <map>
 #include <vector>
 
-#include "session/applied.hpp"
+#include "stepping/applied.hpp"
 
 namespace groundsim::net {
 
@@ -37,10 +37,10 @@ class StandbyLog {
   // which its first snapshot tells; what the old owner sent is dropped.
   void restart();
   // An entry heard (live or resent): kept unless the snapshot holds it.
-  void add(const session::Applied& a);
+  void add(const stepping::Applied& a);
   std::vector<Gap> gaps() const;
   // The entries a takeover replays: from the snapshot's on, up to the first gap.
-  std::vector<session::Applied> replayable() const;
+  std::vector<stepping::Applied> replayable() const;
   std::size_t size() const { return entries_.size(); }
   std::int64_t base() const { return base_; }
 
@@ -50,7 +50,7 @@ class StandbyLog {
   // owner's arrival nothing is known until its snapshot
   bool based_ = true;
   std::int64_t base_ = 0, base_frame_ = 0;
-  std::map<std::int64_t, session::Applied> entries_;
+  std::map<std::int64_t, stepping::Applied> entries_;
 };
 
 }  // namespace groundsim::net

@@ -5,7 +5,7 @@
 // within the step, in simulated time), counts laps and splits, says when a
 // car goes the wrong way or leaves the track, finishes cars and keeps the
 // leaderboard. It knows nothing of physics or sessions: the session glue
-// (server/session/race_glue.cpp) feeds it positions and publishes what it
+// (server/stepping/race_glue.cpp) feeds it positions and publishes what it
 // returns.
 #pragma once
 

@@ -10,7 +10,7 @@
 #include "physics/checks/telemetry.hpp"
 #include "answers.hpp"
 #include "race_bots.hpp"
-#include "race_glue.hpp"
+#include "stepping/race_glue.hpp"
 #include "token.hpp"
 
 namespace groundsim::session {

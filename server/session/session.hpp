@@ -12,9 +12,9 @@
 #include <variant>
 #include <vector>
 
-#include "applied.hpp"
+#include "stepping/applied.hpp"
 #include "clock.hpp"
-#include "frame_build.hpp"
+#include "stepping/frame_build.hpp"
 #include "hosted.hpp"
 #include "config.hpp"
 #include "pacing.hpp"
@@ -27,7 +27,7 @@
 
 namespace groundsim::session {
 
-struct RaceGlue;  // race_glue.hpp
+// RaceGlue: stepping/race_glue.hpp
 class RaceBots;  // race_bots.hpp
 
 struct SessionSetup {

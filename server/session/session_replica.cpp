@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "experiments/snapshot.hpp"
-#include "race_glue.hpp"
+#include "stepping/race_glue.hpp"
 #include "session.hpp"
 
 namespace groundsim::session {

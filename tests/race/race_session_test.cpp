@@ -11,7 +11,7 @@
 
 #include "session/fakes.hpp"
 #include "session/race_bots.hpp"
-#include "session/resimulate.hpp"
+#include "stepping/resimulate.hpp"
 #include "session/session.hpp"
 
 namespace groundsim::session::test {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "fakes.hpp"
-#include "session/applied.hpp"
+#include "stepping/applied.hpp"
 
 namespace groundsim::session::test {
 namespace {

@@ -15,7 +15,7 @@
 #include "scenario/scenario.hpp"
 #include "session/clock.hpp"
 #include "session/asset_store.hpp"
-#include "session/applied.hpp"
+#include "stepping/applied.hpp"
 #include "session/types.hpp"
 
 namespace groundsim::session::test {

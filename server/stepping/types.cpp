@@ -1,6 +1,6 @@
-#include "types.hpp"
+#include "stepping/types.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 const char* modeName(Mode m) {
   switch (m) {
@@ -44,4 +44,4 @@ std::optional<Mode> modeFromInt(int m) {
   return std::nullopt;
 }
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "applied.hpp"
-#include "frame_build.hpp"
-#include "race_glue.hpp"
+#include "stepping/applied.hpp"
+#include "stepping/frame_build.hpp"
+#include "stepping/race_glue.hpp"
 #include "scenario/file_access.hpp"
 #include "scenario/scenario.hpp"
-#include "types.hpp"
+#include "stepping/types.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 class Resimulator {
  public:
@@ -53,4 +53,4 @@ class Resimulator {
   bool diverged_ = false;
 };
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

@@ -1,10 +1,10 @@
-#include "applied.hpp"
+#include "stepping/applied.hpp"
 
 #include <algorithm>
 
-#include "race_glue.hpp"
+#include "stepping/race_glue.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 const char* appliedKindName(AppliedKind k) {
   switch (k) {
@@ -148,4 +148,4 @@ void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vect
   }
 }
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

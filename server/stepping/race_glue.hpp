@@ -13,7 +13,7 @@
 #include "physics/simulator.hpp"
 #include "race/race.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 struct RaceGlue {
   race::Race race;
@@ -67,4 +67,4 @@ void raceGhosts(RaceGlue& g, Simulator& sim);
 nlohmann::json raceProgress(const RaceGlue& g);
 std::string raceRestore(RaceGlue& g, Simulator& sim, const nlohmann::json& progress);
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

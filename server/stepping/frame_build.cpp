@@ -1,10 +1,10 @@
-#include "frame_build.hpp"
+#include "stepping/frame_build.hpp"
 
 #include <cmath>
 
 #include "physics/checks/telemetry.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 namespace {
 
 // A diverged simulator keeps its last finite state, but the workspace of the
@@ -85,4 +85,4 @@ void fillFrame(Frame& f, const Simulator& sim, const std::vector<VehicleWheels>&
   for (auto& v : f.vehicles) v.energy = f.energy;
 }
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

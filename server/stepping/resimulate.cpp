@@ -1,8 +1,8 @@
-#include "resimulate.hpp"
+#include "stepping/resimulate.hpp"
 
 #include "scenario/scenario.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 namespace {
 
 Simulator build(const std::string& json, const scenario::FileAccess& files, State* initial,
@@ -69,4 +69,4 @@ Frame Resimulator::frame() const {
   return f;
 }
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

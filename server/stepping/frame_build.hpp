@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "physics/simulator.hpp"
-#include "types.hpp"
+#include "stepping/types.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 // Per vehicle: its wheels' global indices (telemetry order) and steering limits.
 struct VehicleWheels {
@@ -24,4 +24,4 @@ std::vector<VehicleWheels> vehicleWheels(const Model& m);
 // workspace may hold NaN), cars, contacts, objects, hits, model and energy.
 void fillFrame(Frame& f, const Simulator& sim, const std::vector<VehicleWheels>& vehicles);
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping

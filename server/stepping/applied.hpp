@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "frame_build.hpp"
+#include "stepping/frame_build.hpp"
 #include "physics/simulator.hpp"
 #include "scenario/scenario.hpp"
 
-namespace groundsim::session {
+namespace groundsim::stepping {
 
 // Numbered as applied_t.KIND_*.
 enum class AppliedKind : int { Drive = 1, Controls = 2, DriveTimeout = 3, ControlsTimeout = 4, Reset = 5,
@@ -72,4 +72,4 @@ std::string applyEntry(Simulator& sim, DrivenCars& cars, const std::vector<Vehic
 // Before each step: the scenario's control-table rows due to cars no client drives.
 void followControlTables(Simulator& sim, const DrivenCars& cars, const std::vector<scenario::ControlTable>& tables);
 
-}  // namespace groundsim::session
+}  // namespace groundsim::stepping
