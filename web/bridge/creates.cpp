@@ -33,37 +33,34 @@ std::string carRange(const ShippedScenario& s) {
 
 }  // namespace
 
-Creates::Creates(asio::io_context& io, Worker& worker, const HubConfig& cfg, const Bus& bus, Browsers& browsers,
-                 SessionTable& sessions, Requests& requests, const std::map<std::string, ShippedScenario>& scenarios,
-                 Join join)
-    : io_(io), worker_(worker), cfg_(cfg), bus_(bus), browsers_(browsers), sessions_(sessions), requests_(requests),
-      scenarios_(scenarios), join_(std::move(join)) {}
+Creates::Creates(const HubContext& c, const std::map<std::string, ShippedScenario>& scenarios, Join join)
+    : c_(c), scenarios_(scenarios), join_(std::move(join)) {}
 
 void Creates::create(Peer* p, PeerState& ps, const CreateMsg& m) {
   if (!m.player.empty()) ps.player = m.player;
   auto sc = scenarios_.find(m.config);
   if (sc == scenarios_.end())
-    return browsers_.refuse(p, "create", "/config", "no shipped scenario named \"" + m.config + "\"");
+    return c_.browsers.refuse(p, "create", "/config", "no shipped scenario named \"" + m.config + "\"");
   if (!fits(p, m, sc->second) || !allowed(p, ps, m, sc->second)) return;
   std::optional<std::string> doc = document(p, m);
   if (!doc) return;
   // the files it names go with it, read next to it (docs/protocol.md, Assets)
-  const std::filesystem::path file = std::filesystem::path(cfg_.configs_dir) / m.config;
+  const std::filesystem::path file = std::filesystem::path(c_.cfg.configs_dir) / m.config;
   net::ScenarioWithAssets sent;
   try {
     sent = net::withAssets(*doc, file.parent_path().string());
   } catch (const scenario::ScenarioError& e) {
-    return browsers_.refuse(p, "create", "/config", m.config + ": " + e.lines("; "));
+    return c_.browsers.refuse(p, "create", "/config", m.config + ": " + e.lines("; "));
   }
   for (const scenario::Asset& a : sent.assets) asset_bytes_[a.ref.sha256] = a.bytes;
   groundsim::request_t r{};
   r.op = groundsim::request_t::OP_CREATE;
   r.scenario_json = std::move(sent.json);
   r.mode = modeValue(m.mode);
-  r.publish_rate = publishRateFor(cfg_.limits, m.publish_rate, sc->second.output_rate);
+  r.publish_rate = publishRateFor(c_.cfg.limits, m.publish_rate, sc->second.output_rate);
   r.duration = -1;  // a game runs until its players leave
   // the server counts each browser's sessions and creates on its own (--client-sessions, --client-creates)
-  r.client_id = requests_.browserClientId(ps.serial);  // a principal of its own (protocol/client_id.hpp)
+  r.client_id = c_.requests.browserClientId(ps.serial);  // a principal of its own (protocol/client_id.hpp)
   ++ps.creating;
   round(p, ps.serial, std::move(r), std::make_shared<const std::vector<scenario::Asset>>(std::move(sent.assets)),
         m.drive, 0);
@@ -71,17 +68,17 @@ void Creates::create(Peer* p, PeerState& ps, const CreateMsg& m) {
 
 bool Creates::fits(Peer* p, const CreateMsg& c, const ShippedScenario& s) {
   if (c.vehicles > 0 && (c.vehicles < s.min_cars || c.vehicles > s.max_cars)) {
-    browsers_.refuse(p, "create", "/vehicles",
+    c_.browsers.refuse(p, "create", "/vehicles",
                      c.config + " hosts " + carRange(s) + " cars (" + s.limit + "), got " + std::to_string(c.vehicles));
     return false;
   }
   if ((c.bots >= 0 || c.bot_skill > 0.0) && !s.race) {
-    browsers_.refuse(p, "create", "/bots", c.config + " is not a race: bots drive in races");
+    c_.browsers.refuse(p, "create", "/bots", c.config + " is not a race: bots drive in races");
     return false;
   }
   const int players = c.vehicles > 0 ? c.vehicles : s.vehicles - s.bots;
   if (c.bots > 0 && s.grid > 0 && players + c.bots > s.grid) {
-    browsers_.refuse(p, "create", "/bots",
+    c_.browsers.refuse(p, "create", "/bots",
                      c.config + "'s grid has " + std::to_string(s.grid) + " slots: " + std::to_string(players) +
                          " players leave room for " + std::to_string(std::max(0, s.grid - players)) +
                          " bots, got " + std::to_string(c.bots));
@@ -91,20 +88,20 @@ bool Creates::fits(Peer* p, const CreateMsg& c, const ShippedScenario& s) {
 }
 
 bool Creates::allowed(Peer* p, PeerState& ps, const CreateMsg& c, const ShippedScenario& s) {
-  if (cfg_.limits.sessions > 0 && sessions_.ownedBy(ps.serial) + ps.creating >= cfg_.limits.sessions) {
+  if (c_.cfg.limits.sessions > 0 && c_.sessions.ownedBy(ps.serial) + ps.creating >= c_.cfg.limits.sessions) {
     // what it left behind would end within --orphan-stop anyway
-    for (auto& [id, e] : sessions_)
+    for (auto& [id, e] : c_.sessions)
       if (e.creator == ps.serial && e.owned() && e.watchers.empty()) stop(id, e);
   }
   const int cars = c.vehicles > 0 ? c.vehicles : s.vehicles;
-  const std::optional<Refusal> no = ps.allowance->create(cfg_.limits, c.mode, cars, c.publish_rate,
-                                                         sessions_.ownedBy(ps.serial) + ps.creating, Clock::now());
-  if (no) browsers_.refuse(p, "create", no->field, no->reason);
+  const std::optional<Refusal> no = ps.allowance->create(c_.cfg.limits, c.mode, cars, c.publish_rate,
+                                                         c_.sessions.ownedBy(ps.serial) + ps.creating, Clock::now());
+  if (no) c_.browsers.refuse(p, "create", no->field, no->reason);
   return !no;
 }
 
 std::optional<std::string> Creates::document(Peer* p, const CreateMsg& m) {
-  std::ifstream f(std::filesystem::path(cfg_.configs_dir) / m.config);
+  std::ifstream f(std::filesystem::path(c_.cfg.configs_dir) / m.config);
   std::stringstream text;
   text << f.rdbuf();
   std::string doc = text.str();
@@ -112,15 +109,15 @@ std::optional<std::string> Creates::document(Peer* p, const CreateMsg& m) {
     try {
       doc = withBots(doc, m.bots, m.bot_skill);
     } catch (const scenario::ScenarioError& e) {
-      browsers_.refuse(p, "create", "/bots", e.lines("; "));
+      c_.browsers.refuse(p, "create", "/bots", e.lines("; "));
       return std::nullopt;
     }
   }
   if (m.vehicles > 0) {
     try {
-      doc = withVehicles(doc, m.vehicles, cfg_.vehicle_margin);
+      doc = withVehicles(doc, m.vehicles, c_.cfg.vehicle_margin);
     } catch (const std::exception& e) {
-      browsers_.refuse(p, "create", "/vehicles", std::string("cannot copy this scenario's vehicle: ") + e.what());
+      c_.browsers.refuse(p, "create", "/vehicles", std::string("cannot copy this scenario's vehicle: ") + e.what());
       return std::nullopt;
     }
   }
@@ -130,17 +127,17 @@ std::optional<std::string> Creates::document(Peer* p, const CreateMsg& m) {
 void Creates::round(Peer* p, std::uint64_t serial, groundsim::request_t r,
                     std::shared_ptr<const std::vector<scenario::Asset>> assets, bool drive, int round) {
   const std::string doc = r.scenario_json;
-  requests_.send(r, [this, p, serial, drive, doc, r, assets, round](const groundsim::reply_t* rep) {
+  c_.requests.send(r, [this, p, serial, drive, doc, r, assets, round](const groundsim::reply_t* rep) {
     // the browser may have gone (and another taken its address): known by its serial
-    PeerState* ps = browsers_.find(p, serial);
+    PeerState* ps = c_.browsers.find(p, serial);
     const bool again = rep && !rep->ok && rep->error_code == groundsim::asset_want_t::ERR_MISSING_ASSETS &&
                        !assets->empty() && round + 1 < net::kAssetRounds && ps;
     if (ps && !again) --ps->creating;
     if (rep && rep->ok) return created(ps ? p : nullptr, serial, *rep, doc, drive);
     if (!ps) return;
-    if (!rep) return browsers_.refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
+    if (!rep) return c_.browsers.refuse(p, "create", "", "no server answered (is groundsim-server running on this LCM URL?)");
     if (again) return sendAssetsAndRetry(p, serial, r, assets, drive, round, rep->request_id);
-    browsers_.refuse(p, "create", "", rep->error);
+    c_.browsers.refuse(p, "create", "", rep->error);
   });
 }
 
@@ -153,19 +150,19 @@ void Creates::sendAssetsAndRetry(Peer* p, std::uint64_t serial, groundsim::reque
     wants_.erase(w);
   }
   // a large file takes a while to send: not on the I/O thread
-  worker_.post([this, p, serial, r, assets, drive, round, wants] {
+  c_.worker.post([this, p, serial, r, assets, drive, round, wants] {
     std::string error;
     try {
-      if (bus_.assets) bus_.assets(*assets, wants);
+      if (c_.bus.assets) c_.bus.assets(*assets, wants);
     } catch (const std::exception& e) {
       error = std::string("sending the scenario's files: ") + e.what();
     }
-    asio::post(io_, [this, p, serial, r, assets, drive, round, error] {
-      PeerState* ps = browsers_.find(p, serial);
+    asio::post(c_.io, [this, p, serial, r, assets, drive, round, error] {
+      PeerState* ps = c_.browsers.find(p, serial);
       if (!ps) return;
       if (!error.empty()) {
         --ps->creating;
-        return browsers_.refuse(p, "create", "", error);
+        return c_.browsers.refuse(p, "create", "", error);
       }
       this->round(p, serial, r, assets, drive, round + 1);
     });
@@ -174,11 +171,11 @@ void Creates::sendAssetsAndRetry(Peer* p, std::uint64_t serial, groundsim::reque
 
 void Creates::created(Peer* p, std::uint64_t serial, const groundsim::reply_t& rep, const std::string& doc,
                       bool drive) {
-  SessionEntry& s = sessions_.open(rep.session_id);
+  SessionEntry& s = c_.sessions.open(rep.session_id);
   s.token = rep.token;  // kept here: never sent to a browser
   s.creator = serial;
   s.unwatched_since = Clock::now();  // until someone watches: a create nobody joins ends too
-  sessions_.setScenario(rep.session_id, doc);
+  c_.sessions.setScenario(rep.session_id, doc);
   if (!p) return;  // its browser left before the reply: ended by stopOrphans as nobody watches it
   Browsers::send(p, json{{"op", "created"}, {"session", rep.session_id}}.dump());
   JoinMsg j;
@@ -206,23 +203,23 @@ scenario::FileAccess Creates::knownAssets(const std::string& scenario_json) cons
 }
 
 void Creates::stop(const std::string& id, SessionEntry& s) {
-  requests_.send(Requests::stop(id, s.token), nullptr);
+  c_.requests.send(Requests::stop(id, s.token), nullptr);
   s.token.clear();
   s.unwatched_since = {};
 }
 
 void Creates::stopOrphans(Clock::time_point now) {
-  const auto after = std::chrono::milliseconds(static_cast<int>(cfg_.orphan_stop_s * 1000));
-  for (auto& [id, s] : sessions_) {
+  const auto after = std::chrono::milliseconds(static_cast<int>(c_.cfg.orphan_stop_s * 1000));
+  for (auto& [id, s] : c_.sessions) {
     if (!s.owned() || !s.watchers.empty() || s.unwatched_since == Clock::time_point{}) continue;
     if (now - s.unwatched_since >= after) stop(id, s);
   }
 }
 
 void Creates::stopAll() {
-  for (auto& [id, s] : sessions_) {
+  for (auto& [id, s] : c_.sessions) {
     if (!s.owned()) continue;
-    requests_.sendUnanswered(Requests::stop(id, s.token));
+    c_.requests.sendUnanswered(Requests::stop(id, s.token));
     s.token.clear();
   }
 }

@@ -21,27 +21,19 @@
 #include <groundsim/reply_t.hpp>
 #include <groundsim/request_t.hpp>
 
-#include "bridge/browsers.hpp"
-#include "bridge/requests.hpp"
-#include "bridge/session_table.hpp"
+#include "bridge/hub_context.hpp"
 #include "bridge/shipped_scenarios.hpp"
-#include "bridge/worker.hpp"
 #include "scenario/assets.hpp"
 #include "scenario/file_access.hpp"
 
 namespace groundsim::web {
-
-struct Bus;
-struct HubConfig;
 
 class Creates {
  public:
   // joins the creating browser to its new session
   using Join = std::function<void(Peer*, const JoinMsg&)>;
 
-  Creates(boost::asio::io_context& io, Worker& worker, const HubConfig& cfg, const Bus& bus, Browsers& browsers,
-          SessionTable& sessions, Requests& requests, const std::map<std::string, ShippedScenario>& scenarios,
-          Join join);
+  Creates(const HubContext& c, const std::map<std::string, ShippedScenario>& scenarios, Join join);
 
   void create(Peer* p, PeerState& ps, const CreateMsg& m);
   // LCM: the parts of a create's files the server asked for (one of ours)
@@ -72,13 +64,7 @@ class Creates {
   // whether or not the creating browser is still there.
   void created(Peer* p, std::uint64_t serial, const groundsim::reply_t& rep, const std::string& doc, bool drive);
 
-  boost::asio::io_context& io_;
-  Worker& worker_;
-  const HubConfig& cfg_;
-  const Bus& bus_;
-  Browsers& browsers_;
-  SessionTable& sessions_;
-  Requests& requests_;
+  HubContext c_;
   const std::map<std::string, ShippedScenario>& scenarios_;
   Join join_;
   std::map<std::int64_t, std::vector<groundsim::asset_want_t>> wants_;     // by request id (ours only)

@@ -28,12 +28,13 @@ Hub::Hub(asio::io_context& io, HubConfig cfg, Bus bus)
       requests_(io, bus_.request, bus_.client_id, cfg_.reply_timeout_s),
       lobby_(io, browsers_, sessions_),
       previews_(io, worker_, browsers_, cfg_.configs_dir),
-      creates_(io, worker_, cfg_, bus_, browsers_, sessions_, requests_, scenarios_,
-               [this](Peer* p, const JoinMsg& j) { seats_.join(p, j); }),
-      seats_(io, worker_, cfg_, bus_, browsers_, sessions_, requests_, lobby_, creates_) {
+      creates_(context(), scenarios_, [this](Peer* p, const JoinMsg& j) { seats_.join(p, j); }),
+      seats_(context(), lobby_, creates_) {
   offerScenarios();
   tick();
 }
+
+HubContext Hub::context() { return HubContext{io_, worker_, cfg_, bus_, browsers_, sessions_, requests_}; }
 
 Hub::~Hub() {
   worker_.stop();  // before the parts its jobs refer to

@@ -93,6 +93,7 @@ class Hub {
   std::uint64_t undecodable() const { return undecodable_.load(); }
 
  private:
+  HubContext context();   // what the parts share
   void offerScenarios();  // the shipped scenarios and the welcome every browser is sent
   void handle(Peer* p, PeerState& ps, const BrowserMessage& m);
   void controls(Peer* p, PeerState& ps, const ControlsMsg& m);

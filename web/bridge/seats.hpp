@@ -12,22 +12,15 @@
 #include <boost/asio/io_context.hpp>
 #include <groundsim/scenario_t.hpp>
 
-#include "bridge/browsers.hpp"
 #include "bridge/creates.hpp"
+#include "bridge/hub_context.hpp"
 #include "bridge/lobby.hpp"
-#include "bridge/requests.hpp"
-#include "bridge/session_table.hpp"
-#include "bridge/worker.hpp"
 
 namespace groundsim::web {
 
-struct Bus;
-struct HubConfig;
-
 class Seats {
  public:
-  Seats(boost::asio::io_context& io, Worker& worker, const HubConfig& cfg, const Bus& bus, Browsers& browsers,
-        SessionTable& sessions, Requests& requests, Lobby& lobby, const Creates& creates);
+  Seats(const HubContext& c, Lobby& lobby, const Creates& creates);
 
   void join(Peer* p, const JoinMsg& m);
   void leave(Peer* p);
@@ -44,13 +37,7 @@ class Seats {
   int seatDriver(Peer* p, const JoinMsg& m, SessionEntry& s);
   std::string joinedMessage(const PeerState& ps, const std::string& session, const SessionEntry& s) const;
 
-  boost::asio::io_context& io_;
-  Worker& worker_;
-  const HubConfig& cfg_;
-  const Bus& bus_;
-  Browsers& browsers_;
-  SessionTable& sessions_;
-  Requests& requests_;
+  HubContext c_;
   Lobby& lobby_;
   const Creates& creates_;
 };
