@@ -20,10 +20,7 @@
 namespace groundsim::recording {
 
 using namespace mcap;
-using mcap_detail::hex;
-using mcap_detail::num;
-using mcap_detail::opName;
-using mcap_detail::withPath;
+using namespace mcap_detail;  // the reader's own helpers (mcap_reader_detail.hpp)
 
 namespace mcap_detail {
 

@@ -13,8 +13,7 @@
 namespace groundsim::recording {
 
 using namespace mcap;
-using mcap_detail::num;
-using mcap_detail::opName;
+using namespace mcap_detail;  // the reader's own helpers (mcap_reader_detail.hpp)
 
 class McapReader::Scanner {
  public:
