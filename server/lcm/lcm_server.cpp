@@ -12,20 +12,17 @@
 #include <stdexcept>
 #include <vector>
 
-#include <groundsim/asset_part_t.hpp>
 #include <groundsim/asset_want_t.hpp>
 #include <groundsim/resend_t.hpp>
 #include <groundsim/resent_t.hpp>
 #include <groundsim/scenario_t.hpp>
 
 #include "convert.hpp"
+#include "input_checks.hpp"
 #include "latency_trace.hpp"
 #include "protocol/channels.hpp"
 #include "protocol/codec.hpp"
-#include "protocol/limits.hpp"
-#include "protocol/text.hpp"
 #include "protocol/vec_parts.hpp"
-#include "session/answers.hpp"
 #include "session/token.hpp"
 
 namespace groundsim::net {
@@ -36,19 +33,8 @@ std::int64_t wallMicros() {
   return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
 }
 
-session::ErrorCode codeFor(DecodeStatus s) {
-  return s == DecodeStatus::Fingerprint ? session::ErrorCode::Fingerprint : session::ErrorCode::Decode;
-}
-
-// Ids and tokens are echoed in replies, events and logs: they must be short
-// and printable. "" when fine, else the reason naming the field.
-std::string badId(const char* field, const std::string& v) {
-  bool printable = true;
-  for (unsigned char c : v) printable = printable && c >= 0x20 && c != 0x7f;
-  if (v.size() <= kMaxIdBytes && printable) return "";
-  return std::string(field) + ": " + net::quoted(v) + (printable ? "" : " holds control characters") +
-         (v.size() > kMaxIdBytes ? ", longer than " + std::to_string(kMaxIdBytes) + " bytes" : "");
-}
+using input_checks::badId;
+using input_checks::codeFor;
 
 }  // namespace
 
@@ -227,191 +213,6 @@ void LcmServer::publishEvent(const session::Event& e) try {
 } catch (const std::exception& x) {
   ++errors_;
   std::fprintf(stderr, "groundsim-server: cannot publish an event: %s\n", x.what());
-}
-
-void LcmServer::onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-// Handlers run inside lcm_handle(), which is C: an exception must stop here
-// (as Drake's DrakeLcm stores it) and become an event, never unwind.
-void LcmServer::handleDatagram(const std::string& channel, const void* data, int size) noexcept {
-  try {
-    ++inputs_;
-    if (channel == kRequestChannel) handleRequest(channel, data, size);
-    else if (channel == kDriveChannel) handleDrive(channel, data, size);
-    else if (channel == kControlsChannel) handleControls(channel, data, size);
-    else if (channel == kVecRequestChannel) handleVecRequest(channel, data, size);
-    else if (channel == kAssetChannel) handleAsset(channel, data, size);
-    else if (channel == kResendChannel) handleResend(channel, data, size);
-  } catch (const std::exception& e) {
-    try {
-      service_->reportBadInput(session::ErrorCode::Internal, channel, std::string("internal error: ") + e.what());
-    } catch (...) {
-    }
-  } catch (...) {
-    try {
-      service_->reportBadInput(session::ErrorCode::Internal, channel, "internal error: unknown exception");
-    } catch (...) {
-    }
-  }
-}
-
-void LcmServer::handleRequest(const std::string& channel, const void* data, int size) {
-  groundsim::request_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.request_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
-  for (const auto& [field, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
-    if (why.empty()) why = badId(field, *v);
-  session::Request r = fromMessage(msg);
-  if (!why.empty()) {
-    // answerable: the client id is fine, so the client hears why
-    session::Reply reply = session::makeReply(session::replyTo(r), "", false, session::ErrorCode::BadRequest, why);
-    session::Event e = session::refusalEvent(session::replyTo(r), "", reply.code, why);
-    e.channel = channel;
-    publishEvent(e);
-    publishReply(reply);
-    return;
-  }
-  if (r.op == session::Op::Drain) {
-    if (msg.server_id == server_id_) {
-      session::Reply ok = session::makeReply(session::replyTo(r), "", true);
-      publishReply(ok);
-      drain_requested_ = true;
-      return;
-    }
-    if (fleet_) return;  // the server named answers
-    const std::string why = "server_id: " + net::quoted(msg.server_id) + " is not this server (" + server_id_ + ")";
-    publishReply(session::makeReply(session::replyTo(r), "", false, session::ErrorCode::BadRequest, why));
-    return;
-  }
-  if (fleet_) {
-    if (r.op == session::Op::Create) {
-      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleRequest(r); });
-      return;
-    }
-    if (r.op == session::Op::List) {
-      if (!fleet_->isAnswerer()) return;
-      session::Reply reply = session::makeReply(session::replyTo(r), "", true);
-      reply.sessions = fleet_->fleetSessions(service_->status().sessions);
-      publishReply(reply);
-      return;
-    }
-    if (!fleet_->answers(r.session_id, [this, r] { service_->handleRequest(r); })) return;
-  }
-  service_->handleRequest(r);
-}
-
-void LcmServer::handleDrive(const std::string& channel, const void* data, int size) {
-  groundsim::drive_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.drive_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (why.empty()) why = badId("session_id", msg.session_id);
-  if (why.empty()) why = badId("token", msg.token);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
-  session::Drive drive = fromMessage(msg);
-  if (LatencyTrace::on())
-    LatencyTrace::line("drx %s %lld %lld", msg.session_id.c_str(), static_cast<long long>(msg.seq),
-                       static_cast<long long>(LatencyTrace::us(drive.received)));
-  if (fleet_ && !fleet_->answers(drive.session_id, [this, drive] { service_->handleDrive(drive); })) return;
-  service_->handleDrive(std::move(drive));
-}
-
-void LcmServer::handleControls(const std::string& channel, const void* data, int size) {
-  groundsim::controls_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.controls_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (why.empty()) why = badId("session_id", msg.session_id);
-  if (why.empty()) why = badId("token", msg.token);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
-  session::CarDrive car = fromMessage(msg);
-  if (fleet_ && !fleet_->answers(car.session_id, [this, car] { service_->handleControls(car); })) return;
-  service_->handleControls(std::move(car));
-}
-
-void LcmServer::handleVecRequest(const std::string& channel, const void* data, int size) {
-  groundsim::vec_request_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.vec_request_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
-  std::string field;
-  for (const auto& [f, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
-    if (why.empty() && !(why = badId(f, *v)).empty()) field = f;
-  session::VecRequest r = fromMessage(msg);
-  if (LatencyTrace::on())
-    LatencyTrace::line("vreq %s %s %lld %d %lld", msg.client_id.c_str(), msg.session_id.c_str(),
-                       static_cast<long long>(msg.request_id), static_cast<int>(msg.op),
-                       static_cast<long long>(LatencyTrace::nowUs()));
-  if (!why.empty()) {
-    // answerable: the client id is fine, so the client hears why
-    session::VecReply reply;
-    reply.op = r.op;
-    reply.request_id = r.request_id;
-    reply.client_id = r.client_id;
-    reply.ok = false;
-    reply.code = session::ErrorCode::BadRequest;
-    reply.field = field;
-    reply.error = why;
-    session::Event e = session::refusalEvent(session::ReplyTo{session::Op::List, r.request_id, r.client_id}, "",
-                                             reply.code, why);
-    e.channel = channel;
-    publishEvent(e);
-    publishVecReply(reply);
-    return;
-  }
-  if (fleet_) {
-    if (r.op == session::VecOp::Create) {
-      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleVecRequest(r); });
-      return;
-    }
-    if (!fleet_->answers(r.session_id, [this, r] { service_->handleVecRequest(r); })) return;
-  }
-  service_->handleVecRequest(std::move(r));
-}
-
-void LcmServer::handleAsset(const std::string& channel, const void* data, int size) {
-  groundsim::asset_part_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.asset_part_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "asset: " + why);
-  if (msg.size < 0)
-    return service_->reportBadInput(session::ErrorCode::BadRequest, channel,
-                                    "asset: size must be >= 0, got " + std::to_string(msg.size));
-  session::AssetPart p;
-  p.client_id = std::move(msg.client_id);
-  p.name = printable(msg.name, 200);
-  p.sha256 = printable(msg.sha256, 80);
-  p.size = static_cast<std::uint64_t>(msg.size);
-  p.part = msg.part;
-  p.nparts = msg.nparts;
-  p.data.assign(msg.data.begin(), msg.data.end());
-  service_->handleAssetPart(p, channel);
 }
 
 // A recorder's re-request: answered from the ring within the client's rate
