@@ -23,23 +23,19 @@
 // Only the chunks that hold that session and overlap the window are read
 // (the file's chunk indexes). Names are plain file names in the folder;
 // anything else is a 400 or 404 naming the parameter and the reason.
+//
+// Recordings only routes a request to the part that answers it: the
+// folder's files (recording_files.hpp), a session's states and events
+// (recording_reads.hpp), its scene and ground (recorded_scenes.hpp); the
+// query's parameters are read by http_answer.hpp.
 #pragma once
 
-#include <list>
-#include <map>
-#include <memory>
-#include <mutex>
 #include <string>
 
+#include "bridge/http_answer.hpp"
+#include "bridge/recorded_scenes.hpp"
+
 namespace groundsim::web {
-
-struct SceneView;
-
-struct HttpAnswer {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-};
 
 class Recordings {
  public:
@@ -50,40 +46,23 @@ class Recordings {
   // scenario's manifest. A ground grid has grid_n x grid_n nodes grid_step
   // m apart (the live sessions' own).
   explicit Recordings(std::string dir, std::string configs_dir = "", int grid_n = 81, double grid_step = 0.5)
-      : dir_(std::move(dir)), configs_dir_(std::move(configs_dir)), grid_n_(grid_n), grid_step_(grid_step) {}
+      : dir_(std::move(dir)), grid_n_(grid_n), grid_step_(grid_step), scenes_(std::move(configs_dir)) {}
   bool enabled() const { return !dir_.empty(); }
   // path starts with "/recordings"; query without the '?'. Safe to call
   // from several threads at once.
   HttpAnswer answer(const std::string& path, const std::string& query) const;
 
  private:
-  // A recorded session's scene, built once: a replay asks for its ground
-  // every few metres. At most kScenes kept (the newest used last).
-  struct Scene {
-    std::string key;          // file name, its size and time, session
-    std::shared_ptr<SceneView> view;
-    std::string error;        // why it cannot be built
-    int status = 0;           // and the answer that says so: 404 (no scenario), 422 (it does not build)
-    std::mutex ground_mutex;  // a view's ground is used by one thread at a time
-  };
-  static constexpr std::size_t kScenes = 4;
-  std::shared_ptr<Scene> scene(const std::string& file, const std::string& name, const std::string& session) const;
-
-  // the views answer() routes to: GET /recordings, and of one file (name,
-  // its path) a session's scene or ground, events, or states
-  using Query = std::map<std::string, std::string>;
-  HttpAnswer listing() const;
+  // GET /recordings/NAME[/VIEW]: name a plain file name of the folder
+  HttpAnswer ofFile(const std::string& name, const std::string& what, const std::string& query) const;
+  // a session's scene, or its ground around (cx, cy)
   HttpAnswer sceneOrGround(const std::string& what, const std::string& file, const std::string& name,
                            const std::string& session, const Query& q) const;
-  HttpAnswer events(const std::string& file, const std::string& name, const std::string& session) const;
-  HttpAnswer states(const std::string& file, const std::string& name, const std::string& session,
-                    const Query& q) const;
 
-  std::string dir_, configs_dir_;
+  std::string dir_;
   int grid_n_;
   double grid_step_;
-  mutable std::mutex scenes_mutex_;
-  mutable std::list<std::shared_ptr<Scene>> scenes_;
+  RecordedScenes scenes_;
 };
 
 }  // namespace groundsim::web
