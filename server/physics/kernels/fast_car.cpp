@@ -13,15 +13,20 @@ namespace {
 constexpr int kMaxWheels = 16;
 }  // namespace
 
-const char* fastCarUnsupported(const Model& m) {
-  Vec3 n;
-  double offset;
+const char* rigidStepUnsupported(const Model& m) {
   if (m.opt.integrator != IntegratorKind::SemiImplicitEuler) return "integrator is not semi_implicit_euler";
   if (m.opt.contact.friction_model != FrictionModel::StickSlip) return "friction is not stick_slip";
   if (!m.particles.empty()) return "the model has particles";
   for (const SceneObject& o : m.objects)
     if (o.body >= 0) return "the scene has objects with mass";
   if (!m.road_cars.empty() || m.aux_states != 0) return "the model has road cars";
+  return nullptr;
+}
+
+const char* fastCarUnsupported(const Model& m) {
+  Vec3 n;
+  double offset;
+  if (const char* why = rigidStepUnsupported(m)) return why;
   for (int k : m.contact_points)
     if (m.points[k].body < 0) return "the model has particle contacts";
   if (!m.spring_fans.empty()) return "the model has spring fans (rim springs)";

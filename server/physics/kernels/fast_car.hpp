@@ -74,6 +74,10 @@ struct FastCarPlan {
 };
 
 // nullptr when the model can take the specialised step; otherwise why not.
+// Why a model cannot take a rigid-body step path (this one or the ring
+// car's) whatever its wheels: integrator, friction, particles, objects with
+// mass, road cars; nullptr when none of these stands in the way.
+const char* rigidStepUnsupported(const Model& m);
 const char* fastCarUnsupported(const Model& m);
 // A body's mass, its reciprocal and its body-frame inverse inertia, as the
 // kernels read them (the shape flags and point range left for the caller).

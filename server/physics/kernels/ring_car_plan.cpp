@@ -14,12 +14,7 @@ namespace {
 // What the ring-car step does not do; the plane's n and offset otherwise.
 const char* unsupported(const Model& m, Vec3* n, double* offset) {
   if (m.opt.deterministic) return "physics.deterministic keeps the general loop's bits";
-  if (m.opt.integrator != IntegratorKind::SemiImplicitEuler) return "integrator is not semi_implicit_euler";
-  if (m.opt.contact.friction_model != FrictionModel::StickSlip) return "friction is not stick_slip";
-  if (!m.particles.empty()) return "the model has particles";
-  for (const SceneObject& o : m.objects)
-    if (o.body >= 0) return "the scene has objects with mass";
-  if (!m.road_cars.empty() || m.aux_states != 0) return "the model has road cars";
+  if (const char* why = rigidStepUnsupported(m)) return why;
   if (m.spring_fans.empty()) return "the model has no spring fans (rims)";
   if (m.wheels.empty() || m.wheels.size() > static_cast<size_t>(kMaxWheels)) return "no wheels or too many";
   for (const Wheel& w : m.wheels)
