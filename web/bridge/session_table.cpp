@@ -31,7 +31,32 @@ int SessionTable::ownedBy(std::uint64_t creator) const {
   return n;
 }
 
-void SessionTable::setScenario(const std::string& id, std::string doc) { scenarios_[id] = std::move(doc); }
+void SessionTable::setScenario(const std::string& id, std::string doc) {
+  auto [it, added] = scenarios_.insert_or_assign(id, std::move(doc));
+  if (added) scenario_order_.push_back(id);
+  forgetOldScenarios();
+}
+
+void SessionTable::forgetOldScenarios() {
+  std::size_t detached = 0, bytes = 0;
+  for (const auto& [id, doc] : scenarios_)
+    if (!entries_.count(id)) ++detached, bytes += doc.size();
+  // oldest first; a session with an entry keeps its document (and its place)
+  for (auto it = scenario_order_.begin();
+       it != scenario_order_.end() && (detached > kMaxDetached || bytes > kMaxDetachedBytes);) {
+    auto doc = scenarios_.find(*it);
+    if (doc == scenarios_.end()) {
+      it = scenario_order_.erase(it);
+    } else if (entries_.count(*it)) {
+      ++it;
+    } else {
+      --detached;
+      bytes -= doc->second.size();
+      scenarios_.erase(doc);
+      it = scenario_order_.erase(it);
+    }
+  }
+}
 
 const std::string* SessionTable::scenario(const std::string& id) const {
   auto it = scenarios_.find(id);

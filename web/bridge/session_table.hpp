@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -65,7 +66,12 @@ class SessionTable {
   std::size_t watchedCount() const;            // sessions with at least one watcher
   int ownedBy(std::uint64_t creator) const;    // sessions this bridge created for that browser
   // the scenario document a session runs, as seen on the bus or sent by a
-  // create (kept: a replay's is published once, when it starts)
+  // create (kept: a replay's is published once, when it starts). Documents
+  // of sessions without an entry are kept up to kMaxDetached of them and
+  // kMaxDetachedBytes in all, the oldest forgotten first (a session asked
+  // for again is fetched from the server): the bus cannot grow it unbounded.
+  static constexpr std::size_t kMaxDetached = 256;
+  static constexpr std::size_t kMaxDetachedBytes = std::size_t{64} << 20;
   void setScenario(const std::string& id, std::string doc);
   const std::string* scenario(const std::string& id) const;
   // publishes the session's watcher count to the LCM thread
@@ -80,7 +86,9 @@ class SessionTable {
 
  private:
   Map entries_;
+  void forgetOldScenarios();
   std::map<std::string, std::string> scenarios_;  // session -> scenario document
+  std::deque<std::string> scenario_order_;         // sessions of scenarios_, oldest first
 
   struct Seen {
     double t = 0;
