@@ -58,6 +58,7 @@ algorithms on one thread, the environments' reset seeds), so a rerun of a
 seed reproduces its curve exactly; only the wall times differ."""
 
 import argparse
+import dataclasses
 import json
 import os
 import pathlib
@@ -258,14 +259,50 @@ def evaluate(agent, env, task, episodes):
     return float(returns.mean()), float(success.mean()), success.astype(int).tolist()
 
 
-def main(argv=None):
-    args = parse_args(argv)
+@dataclasses.dataclass
+class Rollout:
+    """One iteration's samples, T steps of N envs: the normalised observations, the network actions u, their
+    log-probabilities and values (torch), the scaled rewards, the terminations, the truncations that are not
+    terminations, and which steps are samples (not the masked reset steps of NEXT_STEP)."""
+    obs: torch.Tensor
+    act: torch.Tensor
+    logp: torch.Tensor
+    val: torch.Tensor
+    rew: np.ndarray
+    term: np.ndarray
+    trunc: np.ndarray
+    valid: np.ndarray
+
+    @classmethod
+    def zeros(cls, T, N, obs_size, act_size):
+        return cls(torch.zeros((T, N, obs_size)), torch.zeros((T, N, act_size)), torch.zeros((T, N)),
+                   torch.zeros((T, N)), np.zeros((T, N)), np.zeros((T, N), bool), np.zeros((T, N), bool),
+                   np.zeros((T, N), bool))
+
+
+@dataclasses.dataclass
+class EnvStream:
+    """What the training envs carry from one rollout to the next: the last raw observation, which envs' episode
+    ended in the last step (this step resets them), the episodes' returns so far, the reward scaling's discounted
+    return and its running std (CleanRL's NormalizeReward), and the env steps taken."""
+    raw_obs: np.ndarray
+    prev_done: np.ndarray
+    ep_return: np.ndarray
+    disc_ret: np.ndarray
+    ret_rms: RunningMeanStd
+    global_step: int = 0
+
+
+def seeded_rng(args):
+    """torch seeded, deterministic and on one thread; the numpy generator of the minibatch permutations."""
     torch.set_num_threads(1)
     torch.manual_seed(args.seed)
     torch.use_deterministic_algorithms(True)
-    rng = np.random.default_rng(args.seed)
-    log = (lambda *a, **k: None) if args.quiet else (lambda *a, **k: print(*a, **k, flush=True))
+    return np.random.default_rng(args.seed)
 
+
+def make_setup(args):
+    """The training and held-out vector envs, the task, the agent (its mean action at --init-action) and Adam."""
     # the rollout below is written for NEXT_STEP autoreset: asked for explicitly, not taken as the default
     env = groundsim.make_vec(args.task, args.num_envs, args.num_threads, autoreset_mode="next_step")
     eval_env = groundsim.make_vec(args.task, args.eval_episodes, args.num_threads, autoreset_mode="next_step")
@@ -279,159 +316,160 @@ def main(argv=None):
         with torch.no_grad():  # the mean's bias: u0 with env_action(u0) = a0
             agent.actor_mean[-1].bias.copy_(torch.as_tensor(task.env_u(a0)))
     optimizer = torch.optim.Adam(agent.parameters(), lr=args.learning_rate, eps=1e-5)
+    return env, eval_env, task, agent, optimizer
 
-    N, T = args.num_envs, args.num_steps
-    batch = N * T
-    num_iterations = max(1, args.total_timesteps // batch)
-    obs_buf = torch.zeros((T, N, obs_size))
-    act_buf = torch.zeros((T, N, act_size))
-    logp_buf = torch.zeros((T, N))
-    val_buf = torch.zeros((T, N))
-    rew_buf = np.zeros((T, N))
-    term_buf = np.zeros((T, N), bool)
-    trunc_buf = np.zeros((T, N), bool)
-    valid_buf = np.zeros((T, N), bool)
 
-    # reward scaling (CleanRL's NormalizeReward): the running std of the discounted return
+def start_stream(env, args):
+    """The training envs reset from seed seed * TRAIN_SEED_STRIDE (env i from that + i)."""
     ret_rms = RunningMeanStd(1)
-    disc_ret = np.zeros(N)
-
-    name = args.name or f"ppo_{task.name}_seed{args.seed}"
-    log(f"{name}: {N} envs x {T} steps = {batch} per iteration, {num_iterations} iterations "
-        f"({num_iterations * batch} env steps), obs {obs_size}, actions {act_size}, episodes of at most "
-        f"{task.max_actions} actions; success: {task.success_definition}")
-
+    disc_ret = np.zeros(args.num_envs)
     raw_obs, _ = env.reset(seed=args.seed * TRAIN_SEED_STRIDE)
-    raw_obs = np.array(raw_obs)
-    prev_done = np.zeros(N, bool)  # the env's episode ended in the last step: this step resets it
-    ep_return = np.zeros(N)
-    curve = []
-    global_step = 0
-    t_start = time.perf_counter()
-    train_s = 0.0  # wall time of rollouts and updates, the held-out evaluations excluded
-    first_target = None
+    return EnvStream(raw_obs=np.array(raw_obs), prev_done=np.zeros(args.num_envs, bool),
+                     ep_return=np.zeros(args.num_envs), disc_ret=disc_ret, ret_rms=ret_rms)
 
-    for iteration in range(1, num_iterations + 1):
-        t_iter = time.perf_counter()
-        if args.anneal_lr:
-            optimizer.param_groups[0]["lr"] = (1.0 - (iteration - 1.0) / num_iterations) * args.learning_rate
-        ended_returns, ended_success = [], []
-        for t in range(T):
-            agent.obs_rms.update(raw_obs)
-            x = agent.obs_rms(raw_obs)
-            with torch.no_grad():
-                u, logp, _, value = agent.get_action_and_value(x)
-            obs_buf[t], act_buf[t], logp_buf[t], val_buf[t] = x, u, logp, value.flatten()
-            valid_buf[t] = ~prev_done
-            next_obs, rew, term, trunc, _ = env.step(task.env_action(u.numpy()))
-            next_obs, rew = np.array(next_obs), np.array(rew, np.float64)
-            term, trunc = np.array(term, bool), np.array(trunc, bool)
-            global_step += N
-            done = term | trunc
-            # reward scaling; the masked reset steps bring reward 0 and the accumulator restarts at 0
-            disc_ret = disc_ret * args.gamma + rew
-            if args.norm_reward:
-                ret_rms.update(disc_ret[:, None])
-                rew_buf[t] = np.clip(rew / np.sqrt(ret_rms.var.item() + 1e-8), -10, 10)
-            else:
-                rew_buf[t] = rew
-            disc_ret[done] = 0.0
-            term_buf[t], trunc_buf[t] = term, trunc & ~term
-            ep_return += rew
-            if done.any():
-                ok = task.successes(next_obs, term, ep_return)
-                for i in np.flatnonzero(done):
-                    ended_returns.append(float(ep_return[i]))
-                    ended_success.append(bool(ok[i]))
-                ep_return[done] = 0.0
-            prev_done = done
-            raw_obs = next_obs
 
-        # GAE: cut at every episode end; a truncation bootstraps the value of its final
-        # observation, which is the next stored observation (NEXT_STEP) or raw_obs after the last step
+def scaled_reward(args, stream, rew, done):
+    """The reward divided by the running std of the discounted return (clipped to [-10, 10]) with
+    --norm-reward; the masked reset steps bring reward 0 and the accumulator restarts at 0."""
+    stream.disc_ret = stream.disc_ret * args.gamma + rew
+    if args.norm_reward:
+        stream.ret_rms.update(stream.disc_ret[:, None])
+        scaled = np.clip(rew / np.sqrt(stream.ret_rms.var.item() + 1e-8), -10, 10)
+    else:
+        scaled = rew
+    stream.disc_ret[done] = 0.0
+    return scaled
+
+
+def collect_rollout(args, env, task, agent, stream, buf):
+    """num_steps actions of each env into buf: the returns and successes of the training episodes that ended."""
+    ended_returns, ended_success = [], []
+    for t in range(args.num_steps):
+        agent.obs_rms.update(stream.raw_obs)
+        x = agent.obs_rms(stream.raw_obs)
         with torch.no_grad():
-            last_value = agent.get_value(agent.obs_rms(raw_obs)).flatten().numpy()
-        values = val_buf.numpy().astype(np.float64)
-        next_values = np.concatenate([values[1:], last_value[None].astype(np.float64)])
-        advantages = np.zeros((T, N))
-        lastgaelam = np.zeros(N)
-        for t in reversed(range(T)):
-            ended = term_buf[t] | trunc_buf[t]
-            delta = rew_buf[t] + args.gamma * next_values[t] * (~term_buf[t]) - values[t]
-            lastgaelam = delta + args.gamma * args.gae_lambda * (~ended) * lastgaelam
-            lastgaelam = np.where(valid_buf[t], lastgaelam, 0.0)
-            advantages[t] = lastgaelam
-        returns = advantages + values
+            u, logp, _, value = agent.get_action_and_value(x)
+        buf.obs[t], buf.act[t], buf.logp[t], buf.val[t] = x, u, logp, value.flatten()
+        buf.valid[t] = ~stream.prev_done
+        next_obs, rew, term, trunc, _ = env.step(task.env_action(u.numpy()))
+        next_obs, rew = np.array(next_obs), np.array(rew, np.float64)
+        term, trunc = np.array(term, bool), np.array(trunc, bool)
+        stream.global_step += args.num_envs
+        done = term | trunc
+        buf.rew[t] = scaled_reward(args, stream, rew, done)
+        buf.term[t], buf.trunc[t] = term, trunc & ~term
+        stream.ep_return += rew
+        if done.any():
+            ok = task.successes(next_obs, term, stream.ep_return)
+            for i in np.flatnonzero(done):
+                ended_returns.append(float(stream.ep_return[i]))
+                ended_success.append(bool(ok[i]))
+            stream.ep_return[done] = 0.0
+        stream.prev_done = done
+        stream.raw_obs = next_obs
+    return ended_returns, ended_success
 
-        valid = valid_buf.reshape(-1)
-        idx_valid = np.flatnonzero(valid)
-        b_obs = obs_buf.reshape(-1, obs_size)
-        b_act = act_buf.reshape(-1, act_size)
-        b_logp = logp_buf.reshape(-1)
-        b_adv = torch.as_tensor(advantages.reshape(-1), dtype=torch.float32)
-        b_ret = torch.as_tensor(returns.reshape(-1), dtype=torch.float32)
-        b_val = val_buf.reshape(-1)
-        clipfracs, approx_kl = [], torch.tensor(0.0)
-        for epoch in range(args.update_epochs):
-            perm = idx_valid[rng.permutation(len(idx_valid))]
-            for mb in np.array_split(perm, args.num_minibatches):
-                mb = torch.as_tensor(mb)
-                _, newlogp, entropy, newvalue = agent.get_action_and_value(b_obs[mb], b_act[mb])
-                logratio = newlogp - b_logp[mb]
-                ratio = logratio.exp()
-                with torch.no_grad():
-                    approx_kl = ((ratio - 1) - logratio).mean()
-                    clipfracs.append(((ratio - 1.0).abs() > args.clip_coef).float().mean().item())
-                adv = b_adv[mb]
-                if args.norm_adv:
-                    adv = (adv - adv.mean()) / (adv.std() + 1e-8)
-                pg_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - args.clip_coef, 1 + args.clip_coef)).mean()
-                newvalue = newvalue.view(-1)
-                if args.clip_vloss:
-                    v_unclipped = (newvalue - b_ret[mb]) ** 2
-                    v_clipped = b_val[mb] + (newvalue - b_val[mb]).clamp(-args.clip_coef, args.clip_coef)
-                    v_loss = 0.5 * torch.max(v_unclipped, (v_clipped - b_ret[mb]) ** 2).mean()
-                else:
-                    v_loss = 0.5 * ((newvalue - b_ret[mb]) ** 2).mean()
-                loss = pg_loss - args.ent_coef * entropy.mean() + v_loss * args.vf_coef
-                optimizer.zero_grad()
-                loss.backward()
-                nn.utils.clip_grad_norm_(agent.parameters(), args.max_grad_norm)
-                optimizer.step()
-            if args.target_kl is not None and approx_kl > args.target_kl:
-                break
-        train_s += time.perf_counter() - t_iter
-        iter_sps = batch / (time.perf_counter() - t_iter)
 
-        row = {"iteration": iteration, "env_steps": global_step,
-               "episodes": len(ended_returns),
-               "return": float(np.mean(ended_returns)) if ended_returns else None,
-               "success": float(np.mean(ended_success)) if ended_success else None,
-               "v_loss": float(v_loss.item()), "pg_loss": float(pg_loss.item()),
-               "approx_kl": float(approx_kl.item()), "clipfrac": float(np.mean(clipfracs)),
-               "std": float(agent.actor_logstd.exp().mean().item())}
-        if iteration % args.eval_every == 0 or iteration == num_iterations:
-            row["heldout_return"], row["heldout_success"], heldout = evaluate(agent, eval_env, task,
-                                                                              args.eval_episodes)
-            if first_target is None and row["heldout_success"] >= 0.9:
-                first_target = global_step
-            if args.save_model:  # a checkpoint at each evaluation: a long run can be used before it ends
-                torch.save(agent.state_dict(), args.save_model)
-        row["wall_s"] = time.perf_counter() - t_start
-        row["train_s"] = train_s
-        row["sps"] = global_step / train_s
-        curve.append(row)
-        msg = (f"iter {iteration:4d} steps {global_step:9d}  train episodes {row['episodes']:4d} "
-               f"return {row['return'] if row['return'] is not None else float('nan'):8.2f} "
-               f"success {100 * (row['success'] or 0):5.1f}%  SPS {iter_sps:7.0f} (mean {row['sps']:7.0f})  "
-               f"kl {row['approx_kl']:.4f} std {row['std']:.3f}  {row['wall_s']:7.1f} s")
-        if "heldout_success" in row:
-            msg += f"  | held-out return {row['heldout_return']:8.2f} success {100 * row['heldout_success']:5.1f}%"
-        log(msg)
+def gae(args, agent, buf, raw_obs):
+    """Advantages and returns. GAE cut at every episode end; a truncation bootstraps the value of its final
+    observation, which is the next stored observation (NEXT_STEP) or raw_obs after the last step."""
+    with torch.no_grad():
+        last_value = agent.get_value(agent.obs_rms(raw_obs)).flatten().numpy()
+    values = buf.val.numpy().astype(np.float64)
+    next_values = np.concatenate([values[1:], last_value[None].astype(np.float64)])
+    advantages = np.zeros((args.num_steps, args.num_envs))
+    lastgaelam = np.zeros(args.num_envs)
+    for t in reversed(range(args.num_steps)):
+        ended = buf.term[t] | buf.trunc[t]
+        delta = buf.rew[t] + args.gamma * next_values[t] * (~buf.term[t]) - values[t]
+        lastgaelam = delta + args.gamma * args.gae_lambda * (~ended) * lastgaelam
+        lastgaelam = np.where(buf.valid[t], lastgaelam, 0.0)
+        advantages[t] = lastgaelam
+    return advantages, advantages + values
 
-    env.close()
-    eval_env.close()
-    result = {
+
+def minibatch_loss(args, agent, b, mb, clipfracs):
+    """The clipped surrogate, the (optionally clipped) value loss and the entropy bonus of one minibatch:
+    (loss, pg_loss, v_loss, approx_kl); the minibatch's clip fraction is appended to clipfracs."""
+    _, newlogp, entropy, newvalue = agent.get_action_and_value(b["obs"][mb], b["act"][mb])
+    logratio = newlogp - b["logp"][mb]
+    ratio = logratio.exp()
+    with torch.no_grad():
+        approx_kl = ((ratio - 1) - logratio).mean()
+        clipfracs.append(((ratio - 1.0).abs() > args.clip_coef).float().mean().item())
+    adv = b["adv"][mb]
+    if args.norm_adv:
+        adv = (adv - adv.mean()) / (adv.std() + 1e-8)
+    pg_loss = torch.max(-adv * ratio, -adv * ratio.clamp(1 - args.clip_coef, 1 + args.clip_coef)).mean()
+    newvalue = newvalue.view(-1)
+    if args.clip_vloss:
+        v_unclipped = (newvalue - b["ret"][mb]) ** 2
+        v_clipped = b["val"][mb] + (newvalue - b["val"][mb]).clamp(-args.clip_coef, args.clip_coef)
+        v_loss = 0.5 * torch.max(v_unclipped, (v_clipped - b["ret"][mb]) ** 2).mean()
+    else:
+        v_loss = 0.5 * ((newvalue - b["ret"][mb]) ** 2).mean()
+    loss = pg_loss - args.ent_coef * entropy.mean() + v_loss * args.vf_coef
+    return loss, pg_loss, v_loss, approx_kl
+
+
+def ppo_update(args, agent, optimizer, buf, advantages, returns, rng):
+    """update_epochs passes over the samples (the valid steps) in num_minibatches minibatches, stopped early
+    beyond --target-kl: the last minibatch's (pg_loss, v_loss, approx_kl) and the clip fractions."""
+    idx_valid = np.flatnonzero(buf.valid.reshape(-1))
+    b = {"obs": buf.obs.reshape(-1, buf.obs.shape[-1]), "act": buf.act.reshape(-1, buf.act.shape[-1]),
+         "logp": buf.logp.reshape(-1), "adv": torch.as_tensor(advantages.reshape(-1), dtype=torch.float32),
+         "ret": torch.as_tensor(returns.reshape(-1), dtype=torch.float32), "val": buf.val.reshape(-1)}
+    clipfracs, approx_kl = [], torch.tensor(0.0)
+    for epoch in range(args.update_epochs):
+        perm = idx_valid[rng.permutation(len(idx_valid))]
+        for mb in np.array_split(perm, args.num_minibatches):
+            loss, pg_loss, v_loss, approx_kl = minibatch_loss(args, agent, b, torch.as_tensor(mb), clipfracs)
+            optimizer.zero_grad()
+            loss.backward()
+            nn.utils.clip_grad_norm_(agent.parameters(), args.max_grad_norm)
+            optimizer.step()
+        if args.target_kl is not None and approx_kl > args.target_kl:
+            break
+    return pg_loss, v_loss, approx_kl, clipfracs
+
+
+def curve_row(iteration, global_step, ended, update, agent):
+    """The iteration's point of the curve: the training episodes that ended in it and the update's statistics."""
+    (ended_returns, ended_success), (pg_loss, v_loss, approx_kl, clipfracs) = ended, update
+    return {"iteration": iteration, "env_steps": global_step,
+            "episodes": len(ended_returns),
+            "return": float(np.mean(ended_returns)) if ended_returns else None,
+            "success": float(np.mean(ended_success)) if ended_success else None,
+            "v_loss": float(v_loss.item()), "pg_loss": float(pg_loss.item()),
+            "approx_kl": float(approx_kl.item()), "clipfrac": float(np.mean(clipfracs)),
+            "std": float(agent.actor_logstd.exp().mean().item())}
+
+
+def heldout_point(args, agent, eval_env, task, row, global_step, first_target):
+    """The held-out evaluation into row (and a checkpoint with --save-model): the per-start successes and the
+    env steps of the first evaluation at 90% held-out success."""
+    row["heldout_return"], row["heldout_success"], heldout = evaluate(agent, eval_env, task, args.eval_episodes)
+    if first_target is None and row["heldout_success"] >= 0.9:
+        first_target = global_step
+    if args.save_model:  # a checkpoint at each evaluation: a long run can be used before it ends
+        torch.save(agent.state_dict(), args.save_model)
+    return heldout, first_target
+
+
+def iteration_line(row, iter_sps):
+    msg = (f"iter {row['iteration']:4d} steps {row['env_steps']:9d}  train episodes {row['episodes']:4d} "
+           f"return {row['return'] if row['return'] is not None else float('nan'):8.2f} "
+           f"success {100 * (row['success'] or 0):5.1f}%  SPS {iter_sps:7.0f} (mean {row['sps']:7.0f})  "
+           f"kl {row['approx_kl']:.4f} std {row['std']:.3f}  {row['wall_s']:7.1f} s")
+    if "heldout_success" in row:
+        msg += f"  | held-out return {row['heldout_return']:8.2f} success {100 * row['heldout_success']:5.1f}%"
+    return msg
+
+
+def result_json(args, argv, name, task, curve, heldout, global_step, first_target, train_s):
+    """The run's results: the task, the command, the final held-out evaluation, the throughput, the machine
+    and the curve."""
+    return {
         "name": name, "task": task.name, "task_file": os.path.relpath(args.task, ROOT) if
         os.path.isabs(args.task) else args.task, "seed": args.seed,
         "command": "PYTHONPATH=build/python /usr/bin/python3 examples/ppo.py " + " ".join(
@@ -449,13 +487,56 @@ def main(argv=None):
         "blas": blas_library(),
         "curve": curve,
     }
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    rng = seeded_rng(args)
+    log = (lambda *a, **k: None) if args.quiet else (lambda *a, **k: print(*a, **k, flush=True))
+    env, eval_env, task, agent, optimizer = make_setup(args)
+    obs_size, act_size = env.layout.obs_size, env.layout.action_size
+    N, T = args.num_envs, args.num_steps
+    batch = N * T
+    num_iterations = max(1, args.total_timesteps // batch)
+    buf = Rollout.zeros(T, N, obs_size, act_size)
+    name = args.name or f"ppo_{task.name}_seed{args.seed}"
+    log(f"{name}: {N} envs x {T} steps = {batch} per iteration, {num_iterations} iterations "
+        f"({num_iterations * batch} env steps), obs {obs_size}, actions {act_size}, episodes of at most "
+        f"{task.max_actions} actions; success: {task.success_definition}")
+
+    stream = start_stream(env, args)
+    curve, heldout, first_target = [], None, None
+    t_start = time.perf_counter()
+    train_s = 0.0  # wall time of rollouts and updates, the held-out evaluations excluded
+    for iteration in range(1, num_iterations + 1):
+        t_iter = time.perf_counter()
+        if args.anneal_lr:
+            optimizer.param_groups[0]["lr"] = (1.0 - (iteration - 1.0) / num_iterations) * args.learning_rate
+        ended = collect_rollout(args, env, task, agent, stream, buf)
+        advantages, returns = gae(args, agent, buf, stream.raw_obs)
+        update = ppo_update(args, agent, optimizer, buf, advantages, returns, rng)
+        train_s += time.perf_counter() - t_iter
+        iter_sps = batch / (time.perf_counter() - t_iter)
+        row = curve_row(iteration, stream.global_step, ended, update, agent)
+        if iteration % args.eval_every == 0 or iteration == num_iterations:
+            heldout, first_target = heldout_point(args, agent, eval_env, task, row, stream.global_step,
+                                                  first_target)
+        row["wall_s"] = time.perf_counter() - t_start
+        row["train_s"] = train_s
+        row["sps"] = stream.global_step / train_s
+        curve.append(row)
+        log(iteration_line(row, iter_sps))
+
+    env.close()
+    eval_env.close()
+    result = result_json(args, argv, name, task, curve, heldout, stream.global_step, first_target, train_s)
     out = pathlib.Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     (out / f"{name}.json").write_text(json.dumps(result, indent=1))
     if args.save_model:
         torch.save(agent.state_dict(), args.save_model)
     log(f"{name}: held-out success {100 * result['heldout_success']:.1f}% (return {result['heldout']['return']:.2f}) "
-        f"after {global_step} env steps, {result['wall_s']:.0f} s, {result['sps']:.0f} env steps/s; "
+        f"after {stream.global_step} env steps, {result['wall_s']:.0f} s, {result['sps']:.0f} env steps/s; "
         f"{out / (name + '.json')}")
     return result
 
