@@ -24,7 +24,7 @@
 #include "accuracy/pilot.hpp"
 #include "accuracy/trajectory.hpp"
 #include "physics/checks/stability.hpp"
-#include "physics/collision/body_contact.hpp"
+#include "physics/forces/body_contact.hpp"
 #include "physics/integrators/integrator.hpp"
 #include "scenario/scenario.hpp"
 #include "tolerance_scenes.hpp"

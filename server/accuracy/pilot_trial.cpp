@@ -8,7 +8,7 @@
 #include "accuracy/error_measure.hpp"
 #include "accuracy/pilot_detail.hpp"
 #include "physics/checks/stability.hpp"
-#include "physics/collision/body_contact.hpp"
+#include "physics/forces/body_contact.hpp"
 #include "physics/integrators/integrator.hpp"
 
 namespace groundsim::accuracy::pilot_detail {

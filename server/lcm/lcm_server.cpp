@@ -46,13 +46,10 @@ LcmServer::LcmServer(const std::string& url, const session::ServiceConfig& cfg, 
   service_ = std::make_unique<session::SessionService>(cfg, *this);
   // Requests and drives from many clients may arrive in bursts while this
   // thread is busy: a deep queue instead of LCM's silent 30.
-  lcm_.subscribe(kRequestChannel, &LcmServer::onRequest, this)->setQueueCapacity(kDeepQueue);
-  lcm_.subscribe(kDriveChannel, &LcmServer::onDrive, this)->setQueueCapacity(kDeepQueue);
-  lcm_.subscribe(kControlsChannel, &LcmServer::onControls, this)->setQueueCapacity(kDeepQueue);
-  lcm_.subscribe(kVecRequestChannel, &LcmServer::onVecRequest, this)->setQueueCapacity(kDeepQueue);
-  // parts come in bursts of up to 2 MiB (protocol/assets_client.cpp)
-  lcm_.subscribe(kAssetChannel, &LcmServer::onAsset, this)->setQueueCapacity(kDeepQueue);
-  lcm_.subscribe(kResendChannel, &LcmServer::onResend, this)->setQueueCapacity(kDeepQueue);
+  // (asset parts come in bursts of up to 2 MiB, protocol/assets_client.cpp)
+  for (const char* channel :
+       {kRequestChannel, kDriveChannel, kControlsChannel, kVecRequestChannel, kAssetChannel, kResendChannel})
+    lcm_.subscribe(channel, &LcmServer::onDatagram, this)->setQueueCapacity(kDeepQueue);
 }
 
 LcmServer::~LcmServer() { service_.reset(); }

@@ -86,12 +86,9 @@ class LcmServer final : public session::Output {
   Counters counters() const;
 
  private:
-  void onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  // every client channel (requests, drives, controls, vectorised requests,
+  // assets, resends): handleDatagram tells them apart by channel
+  void onDatagram(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onFleet(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void handleFleet(const std::string& channel, const void* data, int size);
   bool mayPublish(const std::string& session_id) const;

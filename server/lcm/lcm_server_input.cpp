@@ -23,27 +23,7 @@ namespace groundsim::net {
 using input_checks::badId;
 using input_checks::codeFor;
 
-void LcmServer::onRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onDrive(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onControls(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onVecRequest(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onAsset(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
-}
-
-void LcmServer::onResend(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+void LcmServer::onDatagram(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
 

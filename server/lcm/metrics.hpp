@@ -25,14 +25,9 @@
 #include <string_view>
 
 #include "lcm_server.hpp"
+#include "protocol/http_answer.hpp"
 
 namespace groundsim::net {
-
-struct HttpAnswer {
-  int status = 200;
-  std::string content_type = "text/plain; charset=utf-8";
-  std::string body;
-};
 
 class MetricsListener {
  public:

@@ -5,17 +5,39 @@
 #include <stdexcept>
 #include <string>
 
-#include "physics/collision/body_contact.hpp"
-#include "physics/road_car/road_car_phase.hpp"
+#include "physics/forces/body_contact.hpp"
+#include "physics/forces/road_car_phase.hpp"
 
 namespace groundsim {
 
 Simulator::Simulator(std::shared_ptr<const Model> model, State initial)
     : model_(std::move(model)), state_(std::move(initial)), ws_(*model_),
       integrator_(makeIntegrator(model_->opt.integrator)) {
-  if (fastCarUnsupported(*model_) == nullptr) fast_ = std::make_unique<FastCar>(*model_);
-  else if (ringCarUnsupported(*model_) == nullptr) ring_ = std::make_unique<RingCar>(*model_);
+  buildPath();
   restore(state_);
+}
+
+StepPath choosePath(const Model& m) {
+  if (fastCarUnsupported(m) == nullptr) return StepPath::FastCar;
+  if (ringCarUnsupported(m) == nullptr) return StepPath::RingCar;
+  return StepPath::General;
+}
+
+const char* stepPathName(StepPath p) {
+  switch (p) {
+    case StepPath::General: return "general";
+    case StepPath::FastCar: return "fast_car";
+    case StepPath::RingCar: return "ring_car";
+  }
+  return "?";
+}
+
+void Simulator::buildPath() {
+  path_ = choosePath(*model_);
+  fast_.reset();
+  ring_.reset();
+  if (path_ == StepPath::FastCar) fast_ = std::make_unique<FastCar>(*model_);
+  if (path_ == StepPath::RingCar) ring_ = std::make_unique<RingCar>(*model_);
 }
 
 namespace {
@@ -77,17 +99,21 @@ bool Simulator::step() {
   int n = std::max({1, m.opt.substeps, m.object_substeps});
   if (touching) n = std::max({n, contactSubsteps(m, state_.y, ws_, m.opt.dt), m.opt.collision.min_substeps});
   const double h = m.opt.dt / n;
-  if (fast_ && !touching) {
-    plainly_healthy = fast_->step(m, state_, ws_);
-    ws_stale_ = true;
-    integrator_->evaluations += n;
-  } else if (ring_ && !touching) {
-    ring_->step(m, state_, ws_);
-    ws_stale_ = true;
-    integrator_->evaluations += n;
-  } else {
-    for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
-    ws_stale_ = false;
+  switch (touching ? StepPath::General : path_) {
+    case StepPath::FastCar:
+      plainly_healthy = fast_->step(m, state_, ws_);
+      ws_stale_ = true;
+      integrator_->evaluations += n;
+      break;
+    case StepPath::RingCar:
+      ring_->step(m, state_, ws_);
+      ws_stale_ = true;
+      integrator_->evaluations += n;
+      break;
+    case StepPath::General:
+      for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+      ws_stale_ = false;
+      break;
   }
   ws_.step_pairs = false;
   ++state_.tick;
@@ -136,11 +162,7 @@ void Simulator::refine(int substeps) {
   integrator_ = makeIntegrator(model_->opt.integrator);
   integrator_->evaluations = evaluations;
   // the specialised kernels are built for a model: built again for this one
-  // (which of them applies does not depend on the substeps)
-  fast_.reset();
-  ring_.reset();
-  if (fastCarUnsupported(*model_) == nullptr) fast_ = std::make_unique<FastCar>(*model_);
-  else if (ringCarUnsupported(*model_) == nullptr) ring_ = std::make_unique<RingCar>(*model_);
+  buildPath();
 }
 
 bool Simulator::step(long long n) {

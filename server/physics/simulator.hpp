@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "physics/collision/contact_log.hpp"
+#include "physics/checks/contact_log.hpp"
 #include "physics/checks/diagnostics.hpp"
 #include "physics/kernels/fast_car.hpp"
 #include "physics/integrators/integrator.hpp"
@@ -18,6 +18,15 @@ namespace groundsim {
 
 // Turns commands into what the actuators apply this step (see State::applied).
 void applyControls(const Model& m, double dt, State& s);
+
+// The path a step takes while no pair of bodies may touch: the general
+// loop (forces/, integrators/), or a specialised kernel the model allows.
+enum class StepPath { General, FastCar, RingCar };
+// The model's path: the rigid car's where fastCarUnsupported finds nothing
+// in the way, else the ring car's where ringCarUnsupported does not, else
+// the general loop. The substeps do not change it.
+StepPath choosePath(const Model& m);
+const char* stepPathName(StepPath p);
 
 class Simulator {
  public:
@@ -54,7 +63,7 @@ class Simulator {
   int roadCarIndex(int vehicle) const;
   const Workspace& workspace() const {
     if (ws_stale_) {  // the specialised steps fill it on demand
-      if (fast_) fast_->exportTo(*model_, ws_);
+      if (path_ == StepPath::FastCar) fast_->exportTo(*model_, ws_);
       else ring_->exportTo(*model_, ws_);
       ws_stale_ = false;
     }
@@ -62,7 +71,9 @@ class Simulator {
   }
   // Gauss-Seidel sweeps of the last step's friction solve, without filling
   // the workspace where the ring-car step has it already
-  int frictionSweeps() const { return fast_ ? workspace().friction_sweeps : ws_.friction_sweeps; }
+  int frictionSweeps() const {
+    return path_ == StepPath::FastCar ? workspace().friction_sweeps : ws_.friction_sweeps;
+  }
   bool healthy() const { return state_.health == Health::Ok; }
   // The state, for advancing it outside this Simulator (BatchStep: many
   // environments' cars stepped together). The workspace then describes the
@@ -71,16 +82,19 @@ class Simulator {
   // tasks that observe none).
   State& batchState() { return state_; }
   long long forceEvaluations() const { return integrator_->evaluations; }
+  // Which path steps take while no pair of bodies may touch (chosen once
+  // per model: choosePath).
+  StepPath stepPath() const { return path_; }
   // Whether steps take the specialised rigid-car path (fast_car.hpp).
-  bool specialised() const { return fast_ != nullptr; }
+  bool specialised() const { return path_ == StepPath::FastCar; }
   // Whether steps take the specialised ring-car path (ring_car.hpp).
-  bool ringCar() const { return ring_ != nullptr; }
+  bool ringCar() const { return path_ == StepPath::RingCar; }
   // Energy of the current state, computed in the diagnostics' own scratch
   // (workspace().diagnostics): the last force evaluation stays as it was.
   Energy energy() const;
 
   // Hits between bodies under way after the last step, and those that
-  // ended since the last takeEndedHits() (collision/contact_log.hpp).
+  // ended since the last takeEndedHits() (checks/contact_log.hpp).
   const std::vector<Hit>& hits() const { return hits_.active(); }
   std::vector<Hit> takeEndedHits() { return hits_.takeEnded(); }
 
@@ -93,9 +107,12 @@ class Simulator {
   mutable Workspace ws_;  // mutable: filled on demand after a specialised step
   mutable bool ws_stale_ = false;
   std::unique_ptr<Integrator> integrator_;
-  // the specialised step where the model allows it (fast_car.hpp)
+  // Builds the kernel of the path the model takes (buildPath) for model_.
+  void buildPath();
+  StepPath path_ = StepPath::General;
+  // the kernel of path_: the rigid car's (fast_car.hpp) or the ring car's
+  // (ring_car.hpp); none on the general path
   std::unique_ptr<FastCar> fast_;
-  // the ring car's specialised step where the model allows it (ring_car.hpp)
   std::unique_ptr<RingCar> ring_;
   ContactLog hits_;
 };

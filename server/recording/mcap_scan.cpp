@@ -81,20 +81,9 @@ class McapReader::Scanner {
       case Op::Chunk: chunk(len); break;
       case Op::MessageIndex: messageIndex(len); break;
       case Op::Message: message(len); break;
-      case Op::Attachment: {
-        AttachmentIndex a;
-        a.offset = pos_;
-        a.length = kRecordPrefix + len;
-        r_.attachment_refs_.push_back(std::move(a));
-        break;
-      }
-      case Op::Metadata: {
-        MetadataIndex m;
-        m.offset = pos_;
-        m.length = kRecordPrefix + len;
-        r_.metadata_refs_.push_back(std::move(m));
-        break;
-      }
+      // where the whole record stands (a scan reads no name)
+      case Op::Attachment: r_.attachment_refs_.push_back({.offset = pos_, .length = kRecordPrefix + len}); break;
+      case Op::Metadata: r_.metadata_refs_.push_back({.offset = pos_, .length = kRecordPrefix + len}); break;
       case Op::DataEnd:
         r_.data_end_offset_ = pos_;
         return true;

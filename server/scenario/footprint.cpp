@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "physics/collision/collision_build.hpp"
+#include "physics/build/collision_build.hpp"
 
 namespace groundsim::scenario {
 namespace {

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-#include "physics/collision/collision_build.hpp"
+#include "physics/build/collision_build.hpp"
 
 namespace groundsim::scenario {
 

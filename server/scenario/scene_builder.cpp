@@ -6,7 +6,7 @@
 #include <map>
 #include <utility>
 
-#include "physics/collision/collision_build.hpp"
+#include "physics/build/collision_build.hpp"
 #include "physics/build/road_car_builder.hpp"
 #include "physics/checks/stability.hpp"
 #include "physics/integrators/integrator.hpp"

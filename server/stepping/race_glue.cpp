@@ -41,6 +41,16 @@ double groundZ(const Ground& g, double x, double y, double fallback) {
   return groundPointBelow(g, x, y, &surface, &normal) ? surface.z() : fallback;
 }
 
+// A road car's pedals set, its other controls kept (other vehicles: nothing).
+void setPedals(Simulator& sim, int v, double throttle, double brake) {
+  const int c = sim.roadCarIndex(v);
+  if (c < 0) return;
+  CarControls cc = sim.carControls(c);
+  cc.throttle = throttle;
+  cc.brake = brake;
+  sim.setCarControls(c, cc);
+}
+
 double yawOf(const Quat& q) {
   const Vec3 f = q * Vec3::UnitX();
   return std::atan2(f.y(), f.x());
@@ -134,15 +144,7 @@ void raceHold(RaceGlue& g, Simulator& sim) {
   for (int v = 0; v < n; ++v) g.before[static_cast<std::size_t>(v)] = centre(sim, v);
   if (!g.race.held(sim.state().t)) return;
   // the countdown: no throttle, brakes on, whatever a driver sends
-  for (int v = 0; v < n; ++v) {
-    const int c = sim.roadCarIndex(v);
-    if (c >= 0) {
-      CarControls cc = sim.carControls(c);
-      cc.throttle = 0.0;
-      cc.brake = 1.0;
-      sim.setCarControls(c, cc);
-    }
-  }
+  for (int v = 0; v < n; ++v) setPedals(sim, v, 0.0, 1.0);
   const Model& m = sim.model();
   for (std::size_t w = 0; w < m.wheels.size(); ++w) {
     if (m.vehicle_of_wheel[w] < 0) continue;
@@ -258,13 +260,7 @@ std::vector<race::RaceEvent> raceRespawnCar(RaceGlue& g, Simulator& sim, const S
     }
   }
   placeVehicle(sim, initial, car, spot[0], spot[1], pose.yaw);
-  const int c = sim.roadCarIndex(car);
-  if (c >= 0) {
-    CarControls cc = sim.carControls(c);
-    cc.throttle = 0.0;
-    cc.brake = 0.0;
-    sim.setCarControls(c, cc);
-  }
+  setPedals(sim, car, 0.0, 0.0);
   pose.position = spot;
   std::vector<race::RaceEvent> happened = g.race.respawned(car, pose, sim.state().t);
   // protected: it passes through the others until then (contact between bodies only)

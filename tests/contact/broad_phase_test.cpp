@@ -1,4 +1,4 @@
-// The broad phase of contact between bodies (collision/body_contact.cpp):
+// The broad phase of contact between bodies (forces/body_contact.cpp):
 // oriented boxes against sampled truth, cars in neighbouring lanes that are
 // not candidates, and a melee of every kind of body in which no contact is
 // ever found (by the narrow phase over all pairs) in a pair the broad phase
@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/collision/body_contact.hpp"
+#include "physics/forces/body_contact.hpp"
 #include "physics/collision/obb.hpp"
 #include "physics/forces/forces.hpp"
 #include "physics/simulator.hpp"

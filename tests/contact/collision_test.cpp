@@ -66,7 +66,7 @@ json sedan(const std::string& name, double x, double y, double speed) {
 // L_z are conserved exactly by the law. The contact between bodies keeps
 // them to round-off (ReportCarsCrashConservesHorizontalMomentumExactly,
 // 1e-6). The sedans do not, for a reason outside the contact: the road
-// car's suspension (road_car.cpp) moves each 20 kg wheel carrier along its
+// car's suspension (forces/road_cars.cpp) moves each 20 kg wheel carrier along its
 // strut with M a + m_u sum n s'' = F_ext, leaving out the carriers'
 // Coriolis and centripetal terms (2 s' w x n, s a x n, s w x (w x n)) and
 // the travel's shift of the mass matrix, so a road car that pitches or

@@ -31,7 +31,7 @@ Eigen::VectorXd run(bool deterministic, std::string* path) {
   CarPlacement at;
   at.wheel_spin = 5.0;
   auto built = reportCar(o, makePlane(Vec3::UnitZ(), 0), {}, at);
-  *path = simdPathName(*built.model);
+  *path = simdPathName(built.model->opt.deterministic);
   Simulator sim(built.model, built.initial);
   sim.controls()[2].drive_torque = sim.controls()[3].drive_torque = 0.3;
   EXPECT_TRUE(sim.step(4000));

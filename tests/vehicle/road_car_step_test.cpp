@@ -41,7 +41,7 @@ TEST(RoadCarStep, TheBodyFrameInverseSolvesTheWorldMassMatrixAtAnyTravelAndAttit
     for (int trial = 0; trial < 50; ++trial) {
       const Mat3 R = Quat(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
       const Vec3 nb = R.col(2);
-      // road_car.cpp's world-frame matrix as it was built each evaluation
+      // road_cars.cpp's world-frame matrix as it was built each evaluation
       Mat6 M = Mat6::Zero();
       M.topLeftCorner<3, 3>() = body.mass * Mat3::Identity();
       M.bottomRightCorner<3, 3>() = R * body.inertia * R.transpose();
@@ -67,7 +67,7 @@ TEST(RoadCarStep, TheBodyFrameInverseSolvesTheWorldMassMatrixAtAnyTravelAndAttit
 TEST(RoadCarStep, FourTyresAtOnceAreTyreForcesToRounding) {
   const CarSim cs = makeCar(sedan(), carOptions());
   const RoadCar& rc = cs.car();
-  const bool wide = useWideSimd(cs.sim->model());
+  const bool wide = useWideSimd(cs.sim->model().opt.deterministic);
   int curves = 0;
   for (double Fz : {0.0, 150.0, 3500.0, 9000.0})
     for (double mu : {0.3, 1.0})
@@ -105,7 +105,7 @@ TEST(RoadCarStep, FourTyresAtOnceAreTyreForcesToRounding) {
 
 TEST(RoadCarStep, VectorMathIsLibmWithinFourUlp) {
   const CarSim cs = makeCar(sedan(), carOptions());
-  const bool wide = useWideSimd(cs.sim->model());
+  const bool wide = useWideSimd(cs.sim->model().opt.deterministic);
   if (!wide || !vectorMathAvailable()) GTEST_SKIP() << "no AVX2 or no libmvec: the calls are libm's";
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

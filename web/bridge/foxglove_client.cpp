@@ -5,13 +5,9 @@
 
 #include <boost/asio/post.hpp>
 
-namespace groundsim::web::foxglove {
+#include "bridge/http_read.hpp"
 
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-using tcp = asio::ip::tcp;
+namespace groundsim::web::foxglove {
 
 namespace {
 

@@ -6,20 +6,12 @@
 #include <string_view>
 #include <vector>
 
-#include <boost/beast/core.hpp>
-#include <boost/beast/websocket.hpp>
-
 #include "bridge/foxglove_client.hpp"
 #include "bridge/foxglove_protocol.hpp"
+#include "bridge/http_read.hpp"
 #include "bridge/listen.hpp"
 
 namespace groundsim::web::foxglove {
-
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-using tcp = asio::ip::tcp;
 
 namespace {
 
@@ -30,17 +22,12 @@ class Handshake : public std::enable_shared_from_this<Handshake> {
   using Accept = std::function<void(tcp::socket, http::request<http::string_body>, std::string subprotocol)>;
   using Refused = std::function<void(const std::string& why)>;
   Handshake(tcp::socket s, Accept accept, Refused refused)
-      : stream_(std::move(s)), accept_(std::move(accept)), refused_(std::move(refused)) {}
+      : reader_(std::move(s)), accept_(std::move(accept)), refused_(std::move(refused)) {}
 
+  // an upgrade request has no body; a client gets 10 s to send it
   void read() {
-    parser_.emplace();
-    parser_->header_limit(8192);
-    parser_->body_limit(0);
-    stream_.expires_after(std::chrono::seconds(10));
-    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;
-      self->handle(self->parser_->release());
-    });
+    reader_.read({.header_bytes = 8192, .body_bytes = 0, .timeout = std::chrono::seconds(10)},
+                 [self = shared_from_this()](http::request<http::string_body> req) { self->handle(std::move(req)); });
   }
 
  private:
@@ -73,21 +60,19 @@ class Handshake : public std::enable_shared_from_this<Handshake> {
       refused_("subprotocol " + (asked.empty() ? std::string("none") : asked));
       return write(res);
     }
-    stream_.expires_never();
-    accept_(stream_.release_socket(), std::move(req), *chosen);
+    reader_.stream().expires_never();
+    accept_(reader_.stream().release_socket(), std::move(req), *chosen);
   }
 
   void write(std::shared_ptr<http::response<http::string_body>> res) {
     res->prepare_payload();
-    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code, std::size_t) {
+    http::async_write(reader_.stream(), *res, [self = shared_from_this(), res](beast::error_code, std::size_t) {
       beast::error_code e;
-      self->stream_.socket().shutdown(tcp::socket::shutdown_send, e);
+      self->reader_.stream().socket().shutdown(tcp::socket::shutdown_send, e);
     });
   }
 
-  beast::tcp_stream stream_;
-  beast::flat_buffer buffer_;
-  std::optional<http::request_parser<http::string_body>> parser_;
+  RequestReader reader_;
   Accept accept_;
   Refused refused_;
 };

@@ -1,5 +1,6 @@
-// An HTTP answer computed off the I/O thread (recordings.hpp), and the
-// pieces of a request's query its answers read: parameters, seconds,
+// Answers computed off the I/O thread (recordings.hpp; HttpAnswer itself is
+// protocol/http_answer.hpp, and every answer here says its content type:
+// JSON), and the pieces of a request's query its answers read: parameters, seconds,
 // metres, each refused with a reason naming the parameter.
 #pragma once
 
@@ -7,13 +8,9 @@
 #include <optional>
 #include <string>
 
-namespace groundsim::web {
+#include "protocol/http_answer.hpp"
 
-struct HttpAnswer {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-};
+namespace groundsim::web {
 
 // {"error":"why"} with that status.
 HttpAnswer errorAnswer(int status, const std::string& why);

@@ -12,22 +12,14 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/websocket.hpp>
 
 #include "bridge/gzip.hpp"
+#include "bridge/http_read.hpp"
 #include "bridge/listen.hpp"
 #include "lcm/latency_trace.hpp"
 #include "protocol/metrics_text.hpp"
 
 namespace groundsim::web {
-
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-using tcp = asio::ip::tcp;
 
 namespace {
 
@@ -219,22 +211,17 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   HttpSession(tcp::socket socket, Hub& hub, std::shared_ptr<const std::map<std::string, StaticFile>> files,
               std::shared_ptr<WebTraffic> traffic, std::shared_ptr<const Recordings> recordings,
               std::shared_ptr<std::function<std::string()>> more_metrics)
-      : stream_(std::move(socket)),
+      : reader_(std::move(socket)),
         hub_(hub),
         files_(std::move(files)),
         traffic_(std::move(traffic)),
         recordings_(std::move(recordings)),
         more_metrics_(std::move(more_metrics)) {}
 
+  // the page's requests are GETs and small POSTs; 30 s to send one
   void read() {
-    parser_.emplace();
-    parser_->body_limit(4096);
-    parser_->header_limit(8192);
-    stream_.expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return;
-      self->handle(self->parser_->release());
-    });
+    reader_.read({.header_bytes = 8192, .body_bytes = 4096, .timeout = std::chrono::seconds(30)},
+                 [self = shared_from_this()](http::request<http::string_body> req) { self->handle(std::move(req)); });
   }
 
  private:
@@ -243,10 +230,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     const auto q = target.find('?');
     const std::string path = target.substr(0, q);
     if (path == "/ws" && websocket::is_upgrade(req)) {
-      stream_.expires_never();
+      reader_.stream().expires_never();
       // the small send buffer is for the state stream only: an HTTP answer
       // (a recording's window of 1.6 MB) would leave 64 KiB per ACK round
-      tcp::socket socket = stream_.release_socket();
+      tcp::socket socket = reader_.stream().release_socket();
       beast::error_code ec;
       socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ec);
       std::make_shared<WsSession>(std::move(socket), hub_, traffic_)->start(std::move(req));
@@ -312,7 +299,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
           zipped = true;
         }
       readers.fetch_sub(1);
-      asio::post(self->stream_.get_executor(), [self, res, a, zipped] {
+      asio::post(self->reader_.stream().get_executor(), [self, res, a, zipped] {
         res->result(static_cast<http::status>(a.status));
         res->set(http::field::content_type, a.content_type);
         res->set(http::field::vary, "Accept-Encoding");
@@ -326,25 +313,23 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void write(std::shared_ptr<http::response<http::string_body>> res) {
     res->prepare_payload();
-    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t n) {
+    http::async_write(reader_.stream(), *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t n) {
       self->traffic_->bytes_sent += n;
       if (ec || !res->keep_alive()) {
         beast::error_code e;
-        self->stream_.socket().shutdown(tcp::socket::shutdown_send, e);
+        self->reader_.stream().socket().shutdown(tcp::socket::shutdown_send, e);
         return;
       }
       self->read();
     });
   }
 
-  beast::tcp_stream stream_;
-  beast::flat_buffer buffer_;
+  RequestReader reader_;
   Hub& hub_;
   std::shared_ptr<const std::map<std::string, StaticFile>> files_;
   std::shared_ptr<WebTraffic> traffic_;
   std::shared_ptr<const Recordings> recordings_;
   std::shared_ptr<std::function<std::string()>> more_metrics_;
-  std::optional<http::request_parser<http::string_body>> parser_;
 };
 
 }  // namespace

@@ -5,7 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physics/collision/collision_build.hpp"
+#include "physics/build/collision_build.hpp"
 
 namespace groundsim {
 

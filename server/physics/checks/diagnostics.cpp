@@ -4,7 +4,7 @@
 #include <cstring>
 #include <sstream>
 
-#include "physics/collision/body_contact.hpp"
+#include "physics/forces/body_contact.hpp"
 #include "physics/forces/forces.hpp"
 
 namespace groundsim {

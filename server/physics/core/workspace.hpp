@@ -89,7 +89,7 @@ struct Workspace {
   double drive_power = 0.0;            // W
   int friction_sweeps = 0;             // Gauss-Seidel sweeps the last evaluation needed
 
-  // contact between bodies (collision/body_contact.cpp)
+  // contact between bodies (forces/body_contact.cpp)
   std::vector<Vec3> group_lo, group_hi;  // (ngroup) m, world boxes this evaluation
   std::vector<Vec3> group_com;         // (ngroup) m, reference body's COM (static: box centre)
   std::vector<OrientedBox> group_box;  // (ngroup) movable groups' oriented boxes, padded
@@ -104,7 +104,7 @@ struct Workspace {
   double body_contact_energy = 0.0;    // J, 1/2 S depth^2 over probes inside shapes
   double body_contact_depth = 0.0;     // m, deepest probe
 
-  // road cars (road_car.cpp): per-step inputs, per-evaluation outputs, state rates
+  // road cars (forces/road_cars.cpp): per-step inputs, per-evaluation outputs, state rates
   std::vector<CarRuntime> car_inputs;  // (nroadcar)
   std::vector<RoadCarOut> road;        // (nroadcar)
   Eigen::VectorXd aux_dot;             // (aux_states)

@@ -56,7 +56,7 @@ void accumulateGeneric(const Model& m, Workspace& ws) { accumulateBody(m, ws); }
 }  // namespace
 
 void accumulateBodyForces(const Model& m, Workspace& ws) {
-  if (useWideSimd(m)) accumulateWide(m, ws);
+  if (useWideSimd(m.opt.deterministic)) accumulateWide(m, ws);
   else accumulateGeneric(m, ws);
 }
 

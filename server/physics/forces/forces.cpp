@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "physics/collision/body_contact.hpp"
-#include "physics/road_car/road_car_phase.hpp"
+#include "physics/forces/body_contact.hpp"
+#include "physics/forces/road_car_phase.hpp"
 
 namespace groundsim {
 
@@ -17,11 +17,11 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   applyContactNormals(m, ws);
   applyExplicitFriction(m, ws);      // regularised / sign models only
   accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
-  bodyContacts(m, true, ws);         // bodies touching bodies (collision/body_contact.cpp)
+  bodyContacts(m, true, ws);         // bodies touching bodies (forces/body_contact.cpp)
   ws.max_depth = std::max(ws.max_depth, ws.body_contact_depth);
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
   if (!velocityLevelBrakes(m)) applyRegularizedBrakes(m, controls, ws);
-  applyRoadCars(m, y, h, ws);        // tyres, suspension, powertrain, brakes, drag (road_car.cpp)
+  applyRoadCars(m, y, h, ws);        // tyres, suspension, powertrain, brakes, drag (road_cars.cpp)
   // stick-slip friction and brakes need the velocities the other forces are
   // about to produce, so they come last
   solveVelocityConstraints(m, y, controls, h, ws);

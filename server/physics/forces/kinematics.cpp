@@ -82,7 +82,7 @@ void kinematicsGeneric(const Model& m, const Eigen::VectorXd& y,
 
 void computeKinematics(const Model& m, const Eigen::VectorXd& y,
                        const std::vector<WheelControl>& controls, Workspace& ws) {
-  if (useWideSimd(m)) kinematicsWide(m, y, controls, ws);
+  if (useWideSimd(m.opt.deterministic)) kinematicsWide(m, y, controls, ws);
   else kinematicsGeneric(m, y, controls, ws);
 }
 

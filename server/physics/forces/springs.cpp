@@ -123,7 +123,7 @@ void applySprings(const Model& m, Workspace& ws) {
   std::fill(ws.fx.begin(), ws.fx.end(), 0.0);
   std::fill(ws.fy.begin(), ws.fy.end(), 0.0);
   std::fill(ws.fz.begin(), ws.fz.end(), 0.0);
-  if (useWideSimd(m)) fansWide(m, ws);
+  if (useWideSimd(m.opt.deterministic)) fansWide(m, ws);
   else fansGeneric(m, ws);
   for (int s : m.loose_springs) applyOne(m.springs[s], ws);
 }

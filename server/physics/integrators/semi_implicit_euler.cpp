@@ -4,7 +4,7 @@
 // Symplectic for conservative forces; stable for omega h < 2.
 #include "physics/forces/forces.hpp"
 #include "physics/integrators/integrator_methods.hpp"
-#include "physics/road_car/road_car_phase.hpp"
+#include "physics/forces/road_car_phase.hpp"
 
 namespace groundsim {
 

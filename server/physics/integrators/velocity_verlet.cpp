@@ -7,7 +7,7 @@
 // stays bit-exact. The cache lives in the Workspace (ws.verlet).
 #include "physics/forces/forces.hpp"
 #include "physics/integrators/integrator_methods.hpp"
-#include "physics/road_car/road_car_phase.hpp"
+#include "physics/forces/road_car_phase.hpp"
 
 namespace groundsim {
 

@@ -94,7 +94,7 @@ Stepping stepping(const Model& m) {
   st.sub = std::max(1, m.opt.substeps);
   st.dt = m.opt.dt;
   st.h = st.dt / st.sub;
-  st.wide = useWideSimd(m);
+  st.wide = useWideSimd(m.opt.deterministic);
   st.max_pen = m.opt.limits.max_penetration;
   st.vmax2 = m.opt.limits.max_speed * m.opt.limits.max_speed;
   return st;

@@ -74,6 +74,10 @@ void classifyInertia(FastCarPlan::BodyC& bc) {
 
 FastCarPlan::BodyC bodyConstants(const Body& b) {
   FastCarPlan::BodyC bc{};
+  // unclassified: a general matrix, which every reader handles; the fast
+  // car's plan classifies (classifyInertia) where it reads the shape
+  bc.diagonal = false;
+  bc.axis = -1;
   bc.mass = b.mass;
   bc.inv_mass = 1.0 / b.mass;
   for (int r = 0; r < 3; ++r)
@@ -282,7 +286,7 @@ bool FastCar::step(const Model& m, State& s, Workspace& ws) {
   }
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
-  const bool wide = useWideSimd(m);
+  const bool wide = useWideSimd(m.opt.deterministic);
   double* y = s.y.data();
   for (int k = 0; k < n; ++k) {
     if (wide) evaluateWide(P, y, drive, brake, steer, h, S);

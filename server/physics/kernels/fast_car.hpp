@@ -80,7 +80,8 @@ struct FastCarPlan {
 const char* rigidStepUnsupported(const Model& m);
 const char* fastCarUnsupported(const Model& m);
 // A body's mass, its reciprocal and its body-frame inverse inertia, as the
-// kernels read them (the shape flags and point range left for the caller).
+// kernels read them, its shape unclassified (diagonal false, axis -1: a
+// general matrix) and its point range left for the caller.
 FastCarPlan::BodyC bodyConstants(const Body& b);
 
 FastCarPlan makeFastCarPlan(const Model& m);  // requires fastCarUnsupported(m) == nullptr

@@ -432,7 +432,7 @@ void RingCar::step(const Model& m, State& s, Workspace& ws) {
   Impl& I = *impl_;
   const int n = std::max(1, m.opt.substeps);
   const double h = m.opt.dt / n;
-  const bool wide = useWideSimd(m);
+  const bool wide = useWideSimd(m.opt.deterministic);
   double* y = s.y.data();
   for (int k = 0; k < n; ++k) {
     // one substep: the rollback copy (Simulator::step) holds the configuration already

@@ -114,7 +114,7 @@ struct RoadCarParams {
   double wheel_radius = 0.32;       // m
   double wheel_mass = 20.0;         // kg     unsprung, per wheel
   double wheel_inertia = 1.0;       // kg m^2 spin
-  // body box for contact with other bodies (collision/collision_build.cpp),
+  // body box for contact with other bodies (build/collision_build.cpp),
   // length, width, height from the ground at design ride height; a zero
   // entry: 1.74 wheelbase, 1.16 track, 2.64 cg_height (a sedan's 4.7 x 1.8 x 1.45)
   Vec3 body_size = Vec3::Zero();    // m
@@ -155,7 +155,7 @@ struct RoadCar {
   std::array<double, 4> spring_rate{}, damper_rate{}, preload{}, static_load{};  // N/m, N s/m, N, N
   std::array<double, 4> nominal_load{};  // N  tyre F_z0
   std::array<double, 4> inv_nominal_load{};  // 1/N  its reciprocal
-  // Inverse of the body's reduced mass matrix (road_car.cpp) in the body
+  // Inverse of the body's reduced mass matrix (reducedMassBody) in the body
   // frame, (linear, angular) order. It is constant there: the struts are the
   // body's z axis and a hub moves only along its strut, so r_hub x n has the
   // same body-frame components at every travel. Set by addRoadCar.

@@ -3,7 +3,7 @@
 //
 // Unknowns: per wheel the patch impulse (lambda_x, lambda_y) in the tyre
 // frame and the brake impulse beta about the axle, 12 in all. Each moves
-// the body (through the reduced mass matrix M of road_car.cpp, so the
+// the body (through the reduced mass matrix M of road_car.hpp, so the
 // wheels' strut motion is included), the carriers along their struts and
 // the wheel's spin; the velocities they act on are each patch's slip at
 // the end of the step and each wheel's spin. W (12x12) maps impulses to
@@ -57,7 +57,7 @@ Vec12 velocities(const Ctx& c, const Vec3& dv, const Vec3& dw, const double dsd[
 }
 
 // What force F at wheel k's patch adds to the body's generalised force and
-// to the carrier's along-strut force (road_car.cpp's assembly, linear in F:
+// to the carrier's along-strut force (forces/road_cars.cpp's assembly, linear in F:
 // the part along the strut moves the carrier, the moment about the hub
 // along the axle goes to the wheel's spin, not the body).
 void patchForce(const Ctx& c, const StickSlipWheel& w, const Vec3& F, Vec6& dG, double* dQ) {

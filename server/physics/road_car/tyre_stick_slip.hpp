@@ -49,7 +49,7 @@ struct StickSlipBody {
 void solveStickSlipTyres(const RoadCarParams& p, const StickSlipBody& body, double h,
                          std::array<StickSlipWheel, 4>& wheels);
 
-// road_car.cpp's steps for a stick-slip wheel. At the patch: the tyre frame
+// forces/road_cars.cpp's steps for a stick-slip wheel. At the patch: the tyre frame
 // and friction (peak = ground mu * friction_scale, sliding = that *
 // sliding_ratio), no force yet. Then its drive and brake: traction control
 // caps the drive torque at mu_static F_z r (the most the patch can return

@@ -23,8 +23,10 @@ bool cpuHasWide() {
 
 }  // namespace
 
-bool useWideSimd(const Model& m) { return !m.opt.deterministic && cpuHasWide(); }
+bool useWideSimd(bool deterministic) { return !deterministic && cpuHasWide(); }
 
-const char* simdPathName(const Model& m) { return useWideSimd(m) ? "x86-64-v3" : "generic"; }
+const char* simdPathName(bool deterministic) {
+  return useWideSimd(deterministic) ? "x86-64-v3" : "generic";
+}
 
 }  // namespace groundsim

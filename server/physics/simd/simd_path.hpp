@@ -10,15 +10,14 @@
 // one; the choice is made per call from the model.
 #pragma once
 
-#include "physics/core/model.hpp"
-
 namespace groundsim {
 
 // True when the CPU has x86-64-v3 (checked once) and the model does not ask
-// for determinism.
-bool useWideSimd(const Model& m);
+// for determinism (Options::deterministic, passed in: this floor knows no
+// Model).
+bool useWideSimd(bool deterministic);
 // "x86-64-v3" or "generic": the build useWideSimd chooses.
-const char* simdPathName(const Model& m);
+const char* simdPathName(bool deterministic);
 
 }  // namespace groundsim
 

@@ -1,4 +1,4 @@
-#include "physics/collision/contact_log.hpp"
+#include "physics/checks/contact_log.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // swept along x) and narrow phase (every probe of one group of a pair
 // against every shape of the other, both ways), with the report's eq. (10)
 // at each probe inside a shape. See collision.hpp and docs/contact.md.
-#include "physics/collision/body_contact.hpp"
+#include "physics/forces/body_contact.hpp"
 
 #include <algorithm>
 #include <cmath>

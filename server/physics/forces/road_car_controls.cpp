@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physics/road_car/road_car_phase.hpp"
+#include "physics/forces/road_car_phase.hpp"
 #include "physics/road_car/steering.hpp"
 
 namespace groundsim {

@@ -1,4 +1,4 @@
-// The road car's hooks into a step (road_car.cpp, road_car_controls.cpp):
+// The road car's hooks into a step (road_cars.cpp, road_car_controls.cpp):
 // controls once per step, forces once per evaluation, and the parts of the
 // semi-implicit integrators that advance its states.
 #pragma once

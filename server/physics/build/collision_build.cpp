@@ -1,4 +1,4 @@
-#include "physics/collision/collision_build.hpp"
+#include "physics/build/collision_build.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,20 +46,12 @@ void addRoadCarCollision(ModelBuilder& b, int group, const RoadCar& rc, double s
   box.pos = Vec3(x_mid, 0.0, -p.cg_height + clearance + box.shape.half.z());
   b.addCollider(box);
   for (const Vec3& q : box.shape.probes(spacing)) {
-    Probe pr;
-    pr.group = group;
-    pr.body = rc.body;
-    pr.local = box.pos + q;
-    b.addProbe(pr);
+    b.addProbe(Probe{.group = group, .body = rc.body, .local = box.pos + q});
   }
   for (int w = 0; w < 4; ++w) {
     addWheelDisc(b, group, rc.body, rc.hub[w], Vec3::UnitY(), p.wheel_radius);
     for (const Vec3& d : {Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(-1, 0, 0)}) {
-      Probe pr;
-      pr.group = group;
-      pr.body = rc.body;
-      pr.local = rc.hub[w] + p.wheel_radius * d;
-      b.addProbe(pr);
+      b.addProbe(Probe{.group = group, .body = rc.body, .local = rc.hub[w] + p.wheel_radius * d});
     }
   }
 }
@@ -123,23 +115,14 @@ void addVehicleCollision(ModelBuilder& b, int vehicle) {
     const Wheel& wh = m.wheels[w];
     addWheelDisc(b, group, wh.body, Vec3::Zero(), wh.axis, wh.radius);
     if (wh.contact == WheelContact::Circle) {
-      Probe pr;
-      pr.group = group;
-      pr.body = wh.body;
-      pr.wheel = w;
-      b.addProbe(pr);
+      b.addProbe(Probe{.group = group, .body = wh.body, .wheel = w});
     }
   }
   for (int k = 0; k < static_cast<int>(m.points.size()); ++k) {
     const Point& p = m.points[k];
     const bool mine = p.body >= 0 ? bodies.count(p.body) > 0 : (p.wheel >= 0 && wheels.count(p.wheel) > 0);
     if (!mine) continue;
-    Probe pr;
-    pr.group = group;
-    pr.body = p.body;
-    pr.particle = p.particle;
-    pr.point = k;
-    b.addProbe(pr);
+    b.addProbe(Probe{.group = group, .body = p.body, .particle = p.particle, .point = k});
   }
 }
 
@@ -164,10 +147,7 @@ int addSceneObject(ModelBuilder& b, const ObjectSpec& o) {
     c.rot = R;
     b.addCollider(c);
     for (const Vec3& q : probes) {
-      Probe pr;
-      pr.group = group;
-      pr.local = o.position + R * q;
-      b.addProbe(pr);
+      b.addProbe(Probe{.group = group, .local = o.position + R * q});
     }
     so.pos = o.position;
     so.rot = R;
@@ -217,11 +197,7 @@ int addSceneObject(ModelBuilder& b, const ObjectSpec& o) {
   c.pos = -off;
   b.addCollider(c);
   for (int k = 0; k < static_cast<int>(probes.size()); ++k) {
-    Probe pr;
-    pr.group = group;
-    pr.body = id;
-    pr.point = first + k;
-    b.addProbe(pr);
+    b.addProbe(Probe{.group = group, .body = id, .point = first + k});
   }
   so.body = id;
   so.pos = -off;
