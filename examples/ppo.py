@@ -491,6 +491,8 @@ def result_json(args, argv, name, task, curve, heldout, global_step, first_targe
 
 def main(argv=None):
     args = parse_args(argv)
+    if args.save_model:  # checkpoints are written from the first evaluation on: their folder must exist
+        pathlib.Path(args.save_model).parent.mkdir(parents=True, exist_ok=True)
     rng = seeded_rng(args)
     log = (lambda *a, **k: None) if args.quiet else (lambda *a, **k: print(*a, **k, flush=True))
     env, eval_env, task, agent, optimizer = make_setup(args)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 
 #include "protocol/codec.hpp"
 #include "protocol/limits.hpp"
@@ -25,6 +26,16 @@ inline std::string badId(const char* field, const std::string& v) {
   if (v.size() <= kMaxIdBytes && printable) return "";
   return std::string(field) + ": " + net::quoted(v) + (printable ? "" : " holds control characters") +
          (v.size() > kMaxIdBytes ? ", longer than " + std::to_string(kMaxIdBytes) + " bytes" : "");
+}
+
+// The first of a car input's ids (client_id, session_id, token) that is
+// not a valid id, and why; empty when all three are.
+template <class Msg>
+std::string badIds(const Msg& msg) {
+  for (const auto& [field, v] : {std::pair{"client_id", &msg.client_id}, std::pair{"session_id", &msg.session_id},
+                                 std::pair{"token", &msg.token}})
+    if (std::string why = badId(field, *v); !why.empty()) return why;
+  return {};
 }
 
 }  // namespace groundsim::net::input_checks

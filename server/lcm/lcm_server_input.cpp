@@ -21,6 +21,7 @@
 namespace groundsim::net {
 
 using input_checks::badId;
+using input_checks::badIds;
 using input_checks::codeFor;
 
 void LcmServer::onDatagram(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
@@ -102,10 +103,8 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
   groundsim::drive_t msg;
   const DecodeResult d = decodeMessage(data, size, msg, "groundsim.drive_t");
   if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (why.empty()) why = badId("session_id", msg.session_id);
-  if (why.empty()) why = badId("token", msg.token);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
+  if (const std::string why = badIds(msg); !why.empty())
+    return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
   session::Drive drive = fromMessage(msg);
   if (LatencyTrace::on())
     LatencyTrace::line("drx %s %lld %lld", msg.session_id.c_str(), static_cast<long long>(msg.seq),
@@ -118,10 +117,8 @@ void LcmServer::handleControls(const std::string& channel, const void* data, int
   groundsim::controls_t msg;
   const DecodeResult d = decodeMessage(data, size, msg, "groundsim.controls_t");
   if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
-  std::string why = badId("client_id", msg.client_id);
-  if (why.empty()) why = badId("session_id", msg.session_id);
-  if (why.empty()) why = badId("token", msg.token);
-  if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
+  if (const std::string why = badIds(msg); !why.empty())
+    return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
   session::CarDrive car = fromMessage(msg);
   if (fleet_ && !fleet_->answers(car.session_id, [this, car] { service_->handleControls(car); })) return;
   service_->handleControls(std::move(car));
@@ -143,14 +140,7 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
                        static_cast<long long>(LatencyTrace::nowUs()));
   if (!why.empty()) {
     // answerable: the client id is fine, so the client hears why
-    session::VecReply reply;
-    reply.op = r.op;
-    reply.request_id = r.request_id;
-    reply.client_id = r.client_id;
-    reply.ok = false;
-    reply.code = session::ErrorCode::BadRequest;
-    reply.field = field;
-    reply.error = why;
+    const session::VecReply reply = session::refusedVecReply(r, "", session::ErrorCode::BadRequest, field, why);
     session::Event e = session::refusalEvent(session::ReplyTo{session::Op::List, r.request_id, r.client_id}, "",
                                              reply.code, why);
     e.channel = channel;

@@ -14,6 +14,20 @@ Reply makeReply(const ReplyTo& to, const std::string& session_id, bool ok, Error
   return r;
 }
 
+VecReply refusedVecReply(const VecRequest& r, const std::string& session_id, ErrorCode code, std::string field,
+                         std::string error) {
+  VecReply reply;
+  reply.op = r.op;
+  reply.request_id = r.request_id;
+  reply.client_id = r.client_id;
+  reply.session_id = session_id;
+  reply.ok = false;
+  reply.code = code;
+  reply.field = std::move(field);
+  reply.error = std::move(error);
+  return reply;
+}
+
 Event refusalEvent(const ReplyTo& to, const std::string& session_id, ErrorCode code, const std::string& error,
                    double t) {
   Event e;

@@ -16,6 +16,10 @@ inline ReplyTo replyTo(const Request& r) { return ReplyTo{r.op, r.request_id, r.
 // A reply addressed to `to`, carrying the session id (may be "").
 Reply makeReply(const ReplyTo& to, const std::string& session_id, bool ok, ErrorCode code = ErrorCode::None,
                 std::string error = {});
+// A vectorised request's refusal: ok false, the code, the field at fault
+// and the whole error text, addressed to the request's client.
+VecReply refusedVecReply(const VecRequest& r, const std::string& session_id, ErrorCode code, std::string field,
+                         std::string error);
 // The event that accompanies a refusal of `to`.
 Event refusalEvent(const ReplyTo& to, const std::string& session_id, ErrorCode code, const std::string& error,
                    double t = 0.0);

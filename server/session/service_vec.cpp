@@ -21,15 +21,7 @@ using service_detail::MissingAssetsError;
 void SessionService::failVec(const VecRequest& r, ErrorCode code, const std::string& field,
                              const std::string& error) noexcept {
   try {
-    VecReply reply;
-    reply.op = r.op;
-    reply.request_id = r.request_id;
-    reply.client_id = r.client_id;
-    reply.session_id = r.session_id;
-    reply.ok = false;
-    reply.code = code;
-    reply.field = field;
-    reply.error = field.empty() ? error : field + ": " + error;
+    const VecReply reply = refusedVecReply(r, r.session_id, code, field, field.empty() ? error : field + ": " + error);
     out_.publishEvent(refusalEvent(ReplyTo{Op::List, r.request_id, r.client_id}, r.session_id, code, reply.error));
     out_.publishVecReply(reply);
   } catch (...) {
