@@ -1,12 +1,21 @@
 #include "answers.hpp"
 
+#include <cstdint>
+#include <utility>
+
 namespace groundsim::session {
 
-Reply makeReply(const ReplyTo& to, const std::string& session_id, bool ok, ErrorCode code, std::string error) {
-  Reply r;
-  r.op = to.op;
-  r.request_id = to.request_id;
-  r.client_id = to.client_id;
+namespace {
+
+// What every reply carries, a Reply's or a VecReply's: whom it answers,
+// the session, the outcome.
+template <class R, class Op>
+R addressed(Op op, std::int64_t request_id, const std::string& client_id, const std::string& session_id, bool ok,
+            ErrorCode code, std::string error) {
+  R r;
+  r.op = op;
+  r.request_id = request_id;
+  r.client_id = client_id;
   r.session_id = session_id;
   r.ok = ok;
   r.code = code;
@@ -14,17 +23,16 @@ Reply makeReply(const ReplyTo& to, const std::string& session_id, bool ok, Error
   return r;
 }
 
+}  // namespace
+
+Reply makeReply(const ReplyTo& to, const std::string& session_id, bool ok, ErrorCode code, std::string error) {
+  return addressed<Reply>(to.op, to.request_id, to.client_id, session_id, ok, code, std::move(error));
+}
+
 VecReply refusedVecReply(const VecRequest& r, const std::string& session_id, ErrorCode code, std::string field,
                          std::string error) {
-  VecReply reply;
-  reply.op = r.op;
-  reply.request_id = r.request_id;
-  reply.client_id = r.client_id;
-  reply.session_id = session_id;
-  reply.ok = false;
-  reply.code = code;
+  VecReply reply = addressed<VecReply>(r.op, r.request_id, r.client_id, session_id, false, code, std::move(error));
   reply.field = std::move(field);
-  reply.error = std::move(error);
   return reply;
 }
 
