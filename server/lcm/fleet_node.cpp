@@ -23,16 +23,19 @@ void log(const std::string& line) { std::fprintf(stderr, "groundsim-server: flee
 
 FleetNode::FleetNode(FleetOptions options, session::SessionService& service, session::Output& out)
     : options_(std::move(options)), service_(service), out_(out), client_(options_.endpoints) {
-  fleet::Membership::Options mo;
-  mo.id = options_.server_id;
-  mo.address = options_.address;
-  mo.build = options_.build;
-  mo.ttl_s = options_.ttl_s;
-  mo.prefix = options_.prefix;
-  mo.resume_lease = true;
   const auto& cfg = service_.config();
-  mo.capacity = {{"sessions_free", cfg.max_sessions}, {"max_sessions", cfg.max_sessions},
-                 {"workers", cfg.workers}, {"load", 0.0}};
+  const fleet::Membership::Options mo{
+      .id = options_.server_id,
+      .address = options_.address,
+      .build = options_.build,
+      .ttl_s = options_.ttl_s,
+      .prefix = options_.prefix,
+      .resume_lease = true,
+      .capacity = {{"sessions_free", cfg.max_sessions},
+                   {"max_sessions", cfg.max_sessions},
+                   {"workers", cfg.workers},
+                   {"load", 0.0}},
+  };
   fleet::Membership::Callbacks cb;
   cb.on_lost = [this](const std::string& why) {
     fenced_ = true;

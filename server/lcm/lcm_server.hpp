@@ -98,6 +98,10 @@ class LcmServer final : public session::Output {
   void handleRequest(const std::string& channel, const void* data, int size);
   void handleDrive(const std::string& channel, const void* data, int size);
   void handleControls(const std::string& channel, const void* data, int size);
+  // Decodes a client's datagram into msg; one that does not decode is
+  // reported as bad input on its channel (false).
+  template <class Msg>
+  bool decoded(Msg& msg, const char* type, const std::string& channel, const void* data, int size);
   // keep_session: also keep the bytes in the resend ring as that session's
   // frame keep_seq ("" and keep_seq >= 0: as event keep_seq); send false:
   // only keep them (a fenced owner's, for re-requests once its lease is back)

@@ -24,6 +24,13 @@ using input_checks::badId;
 using input_checks::badIds;
 using input_checks::codeFor;
 
+template <class Msg>
+bool LcmServer::decoded(Msg& msg, const char* type, const std::string& channel, const void* data, int size) {
+  const DecodeResult d = decodeMessage(data, size, msg, type);
+  if (!d.ok()) service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  return d.ok();
+}
+
 void LcmServer::onDatagram(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
 }
@@ -54,8 +61,7 @@ void LcmServer::handleDatagram(const std::string& channel, const void* data, int
 
 void LcmServer::handleRequest(const std::string& channel, const void* data, int size) {
   groundsim::request_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.request_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.request_t", channel, data, size)) return;
   std::string why = badId("client_id", msg.client_id);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
   for (const auto& [field, v] : {std::pair{"session_id", &msg.session_id}, std::pair{"token", &msg.token}})
@@ -101,8 +107,7 @@ void LcmServer::handleRequest(const std::string& channel, const void* data, int 
 
 void LcmServer::handleDrive(const std::string& channel, const void* data, int size) {
   groundsim::drive_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.drive_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.drive_t", channel, data, size)) return;
   if (const std::string why = badIds(msg); !why.empty())
     return service_->reportBadInput(session::ErrorCode::BadControl, channel, "drive: " + why);
   session::Drive drive = fromMessage(msg);
@@ -115,8 +120,7 @@ void LcmServer::handleDrive(const std::string& channel, const void* data, int si
 
 void LcmServer::handleControls(const std::string& channel, const void* data, int size) {
   groundsim::controls_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.controls_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.controls_t", channel, data, size)) return;
   if (const std::string why = badIds(msg); !why.empty())
     return service_->reportBadInput(session::ErrorCode::BadControl, channel, "controls: " + why);
   session::CarDrive car = fromMessage(msg);
@@ -126,8 +130,7 @@ void LcmServer::handleControls(const std::string& channel, const void* data, int
 
 void LcmServer::handleVecRequest(const std::string& channel, const void* data, int size) {
   groundsim::vec_request_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.vec_request_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.vec_request_t", channel, data, size)) return;
   std::string why = badId("client_id", msg.client_id);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, why);
   std::string field;
@@ -160,8 +163,7 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
 
 void LcmServer::handleAsset(const std::string& channel, const void* data, int size) {
   groundsim::asset_part_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.asset_part_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.asset_part_t", channel, data, size)) return;
   std::string why = badId("client_id", msg.client_id);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "asset: " + why);
   if (msg.size < 0)
