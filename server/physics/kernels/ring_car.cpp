@@ -348,34 +348,6 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
   frictionAndBrakes(P, Y, ctl, h, braking, S);
 }
 
-// q (x y z w) turned by the rotation vector omega h (math.hpp's
-// integrateRotation), as fast_car_kernel.hpp's turn but with the series'
-// constant divisors as reciprocal products (a division by a constant that
-// is not a power of two stays a division: ten of them per body and step).
-GROUNDSIM_INLINE_BODY void turn(const double* q, const double* omega, double h, double* out, bool normalise) {
-  const double wx = omega[0] * h, wy = omega[1] * h, wz = omega[2] * h;
-  const double a2 = wx * wx + wy * wy + wz * wz;
-  double c, s;
-  if (a2 < pointwise::kRotationSeries) {
-    pointwise::halfAngleSeries(a2, c, s);
-  } else {
-    const double angle = std::sqrt(a2), ha = 0.5 * angle;
-    c = std::cos(ha);
-    s = std::sin(ha) / angle;
-  }
-  const double dx = s * wx, dy = s * wy, dz = s * wz;
-  const double bx = q[0], by = q[1], bz = q[2], bw = q[3];
-  const double rw = c * bw - dx * bx - dy * by - dz * bz;
-  const double rx = c * bx + dx * bw + dy * bz - dz * by;
-  const double ry = c * by + dy * bw + dz * bx - dx * bz;
-  const double rz = c * bz + dz * bw + dx * by - dy * bx;
-  const double inv = normalise ? 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz + rw * rw) : 1.0;
-  out[0] = rx * inv;
-  out[1] = ry * inv;
-  out[2] = rz * inv;
-  out[3] = rw * inv;
-}
-
 // Semi-implicit Euler (semi_implicit_euler.cpp): momenta, positions, the
 // midpoint rotation with one pass.
 GROUNDSIM_INLINE_BODY void integrate(const Plan& P, double* Y, double h, Scratch& S) {
@@ -391,10 +363,10 @@ GROUNDSIM_INLINE_BODY void integrate(const Plan& P, double* Y, double h, Scratch
     double w0[3], Rm[9], w[3], qm[4];
     const double q0[4] = {y[3], y[4], y[5], y[6]};
     mat3vec(B.Iw, y + 10, w0);
-    turn(q0, w0, 0.5 * h, qm, false);
+    fastcar::turn(q0, w0, 0.5 * h, qm, false);  // the one rotation routine of the rigid paths
     fastcar::quatToMat(qm[0], qm[1], qm[2], qm[3], Rm);
     fastcar::spinOf(Rm, bc.Ib, y + 10, w);
-    turn(q0, w, h, y + 3, true);
+    fastcar::turn(q0, w, h, y + 3, true);
   }
 }
 
