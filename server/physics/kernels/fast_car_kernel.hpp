@@ -70,32 +70,37 @@ GROUNDSIM_INLINE_BODY void kinematics(const FastCarPlan& P, const V* Y, const V*
 
 // 4.2's phases, in their order.
 
-// The springs between points (springs.cpp's applyOne), on zeroed point forces.
+// One spring-dashpot between two points (springs.cpp's applyOne): its
+// force added to a's, taken from b's. Pt: any point with position p,
+// velocity u and force f (the fast car's lanes, the ring car's plain points).
+template <class V, class Spring, class Pt>
+GROUNDSIM_INLINE_BODY void springBetween(const Spring& sp, Pt& A, Pt& Bp) {
+  using L = Lane<V>;
+  V d[3], e[3], g[3];
+  for (int k = 0; k < 3; ++k) {
+    d[k] = Bp.p[k] - A.p[k];
+    e[k] = Bp.u[k] - A.u[k];
+  }
+  if (sp.isotropic) {
+    for (int k = 0; k < 3; ++k) g[k] = sp.k * d[k] + sp.c * e[k];
+  } else {
+    const V len2 = dot3(d, d);
+    const V inv = 1.0 / L::sqrt(len2 + 1e-300);
+    const V t = pointwise::springTension(len2, inv, dot3(d, e), sp.k, sp.c, sp.rest);
+    for (int k = 0; k < 3; ++k) g[k] = t * d[k];
+  }
+  for (int k = 0; k < 3; ++k) {
+    A.f[k] += g[k];
+    Bp.f[k] -= g[k];
+  }
+}
+
+// The springs between points, on zeroed point forces.
 template <class V>
 GROUNDSIM_INLINE_BODY void springForces(const FastCarPlan& P, Scratch<V>& S) {
   using L = Lane<V>;
   for (PointL<V>& pt : S.pts) pt.f[0] = pt.f[1] = pt.f[2] = L::all(0.0);
-  for (const FastCarPlan::SpringC& sp : P.springs) {
-    PointL<V>& A = S.pts[sp.a];
-    PointL<V>& Bp = S.pts[sp.b];
-    V d[3], e[3], g[3];
-    for (int k = 0; k < 3; ++k) {
-      d[k] = Bp.p[k] - A.p[k];
-      e[k] = Bp.u[k] - A.u[k];
-    }
-    if (sp.isotropic) {
-      for (int k = 0; k < 3; ++k) g[k] = sp.k * d[k] + sp.c * e[k];
-    } else {
-      const V len2 = dot3(d, d);
-      const V inv = 1.0 / L::sqrt(len2 + 1e-300);
-      const V t = pointwise::springTension(len2, inv, dot3(d, e), sp.k, sp.c, sp.rest);
-      for (int k = 0; k < 3; ++k) g[k] = t * d[k];
-    }
-    for (int k = 0; k < 3; ++k) {
-      A.f[k] += g[k];
-      Bp.f[k] -= g[k];
-    }
-  }
+  for (const FastCarPlan::SpringC& sp : P.springs) springBetween<V>(sp, S.pts[sp.a], S.pts[sp.b]);
 }
 
 // The contact slots of body points (a car's axle points touch only when it

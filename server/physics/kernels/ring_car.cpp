@@ -247,29 +247,9 @@ GROUNDSIM_INLINE_BODY void rimsAndContacts(const Model& m, const Plan& P, const 
   }
 }
 
-// The springs between plain points (springs.cpp's applyOne).
+// The springs between plain points (the rigid paths' springBetween).
 GROUNDSIM_INLINE_BODY void looseSprings(const Plan& P, Scratch& S) {
-  for (const LooseSpring& sp : P.loose) {
-    PlainL& A = S.plain[sp.a];
-    PlainL& Bp = S.plain[sp.b];
-    double d[3], e[3], g[3];
-    for (int k = 0; k < 3; ++k) {
-      d[k] = Bp.p[k] - A.p[k];
-      e[k] = Bp.u[k] - A.u[k];
-    }
-    if (sp.isotropic) {
-      for (int k = 0; k < 3; ++k) g[k] = sp.k * d[k] + sp.c * e[k];
-    } else {
-      const double len2 = dot3(d, d);
-      const double inv = 1.0 / std::sqrt(len2 + 1e-300);
-      const double t = pointwise::springTension(len2, inv, dot3(d, e), sp.k, sp.c, sp.rest);
-      for (int k = 0; k < 3; ++k) g[k] = t * d[k];
-    }
-    for (int k = 0; k < 3; ++k) {
-      A.f[k] += g[k];
-      Bp.f[k] -= g[k];
-    }
-  }
+  for (const LooseSpring& sp : P.loose) fastcar::springBetween<double>(sp, S.plain[sp.a], S.plain[sp.b]);
 }
 
 // The plain points' forces summed on their bodies.
