@@ -149,7 +149,10 @@ std::string roadPlotScript(const Report& rep, const std::string& dir, const std:
   return gp.str();
 }
 
-void writeRoadMarkdown(const Report& rep, std::ostream& md) {
+namespace {
+
+// The section's opening: the manoeuvres, the reference and the tyre models.
+void writeRoadIntro(std::ostream& md) {
   md << "## The sedan's manoeuvres\n\n"
      << "The road car of issue 9 (`configs/sedan.json`, Magic Formula tyres, mu 1.0) built through the scenario "
         "layer as `groundsim run` builds it, each manoeuvre driven by its control table (rows at multiples of "
@@ -174,8 +177,12 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
         "`physics.substeps` n at step dt integrates "
         "exactly as dt / n with the controls held for n substeps, so the step grid covers it. The ODE "
         "integrators run with `contact.friction_model: \"regularized\"` (they are refused with stick-slip); "
-        "a road car's tyres do not use the ground's friction model, so nothing else changes.\n\n"
-     << "| manoeuvre | what | path length m | key figure | reference | ref: 2 dt vs dt, path max | path rms | key |\n"
+        "a road car's tyres do not use the ground's friction model, so nothing else changes.\n\n";
+}
+
+// Each manoeuvre's reference and how converged it is.
+void writeRoadReferences(const Report& rep, std::ostream& md) {
+  md << "| manoeuvre | what | path length m | key figure | reference | ref: 2 dt vs dt, path max | path rms | key |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   const auto& ms = roadManoeuvres();
   for (size_t i = 0; i < ms.size() && i < rep.road_refs.size(); ++i) {
@@ -185,7 +192,10 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
        << (ref.half.healthy ? fmt("%.1e", ref.half.path_max) : "diverged") << " | " << fmt("%.1e", ref.half.path_rms)
        << " | " << fmt("%.1e", ref.half.key_error) << " |\n";
   }
+}
 
+// Per manoeuvre and bound, the cheapest setting within it.
+void writeRoadFastest(const Report& rep, std::ostream& md) {
   md << "\n### Fastest setting within 0.1%, 1% and 5% of the reference path\n\n"
      << "Per manoeuvre, the cheapest healthy setting whose max path error is within the bound. Cheapest: the "
         "fewest force evaluations per simulated second (exact and machine independent; a road-car evaluation "
@@ -195,7 +205,7 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
         "the cells with 16 ms steps are so short that their figures are mostly noise).\n\n"
      << "| manoeuvre | bound | setting | path max | path rms | key error | evals/sim-s | sim-s/wall-s |\n"
      << "|---|---|---|---|---|---|---|---|\n";
-  for (const RoadManoeuvre& m : ms)
+  for (const RoadManoeuvre& m : roadManoeuvres())
     for (auto it = std::rbegin(kBounds); it != std::rend(kBounds); ++it) {
       const RoadChoice c = roadChoice(rep, it->bound, m.name);
       md << "| " << m.name << " | " << pct(it->bound) << " | ";
@@ -207,7 +217,11 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
          << fmt("%.2e", r->key_error) << " | " << fmt("%.0f", r->evalsPerSim()) << " | "
          << fmt("%.0f", r->simPerWall()) << " |\n";
     }
+}
 
+// The road-car presets: the cheapest setting within each bound on every
+// manoeuvre.
+void writeRoadPresets(const Report& rep, std::ostream& md) {
   md << "\n### Road-car presets\n\n"
      << "`\"preset\"` on a scenario whose vehicles are all road cars takes these settings "
         "(`server/scenario/presets.cpp`; `tests/vehicle/road_preset_test.cpp` checks that the code's table "
@@ -223,14 +237,15 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
        << fmt("%.2e", c.worst) << " | " << c.worst_in << " | " << fmt("%.0f", c.evals_per_sim) << " | "
        << fmt("%.0f", c.sim_per_wall) << " |\n";
   }
+}
 
-  writeStickSlipMarkdown(rep, md);
-
+// The work-precision plot and every road cell, manoeuvre by manoeuvre.
+void writeRoadCells(const Report& rep, std::ostream& md) {
   md << "\n![sedan work-precision](img/road_work_precision.png)\n\n"
      << "Dashed lines: the bounds 5%, 1%, 0.1%. Diverged settings are left out of a panel; the adaptive "
         "method's points are its tolerances 1e-3 to 1e-6 at an output step of 8 ms.\n\n"
      << "### Every road cell\n\n";
-  for (const RoadManoeuvre& m : ms) {
+  for (const RoadManoeuvre& m : roadManoeuvres()) {
     md << "#### " << m.name << "\n\n" << m.what << "; key figure: " << m.key << "\n\n"
        << "| setting | path max | path rms | key | key error | evals/sim-s | sim-s/wall-s |\n|---|---|---|---|---|---|---|\n";
     for (const RoadRun& r : rep.road) {
@@ -244,6 +259,17 @@ void writeRoadMarkdown(const Report& rep, std::ostream& md) {
     }
     md << "\n";
   }
+}
+
+}  // namespace
+
+void writeRoadMarkdown(const Report& rep, std::ostream& md) {
+  writeRoadIntro(md);
+  writeRoadReferences(rep, md);
+  writeRoadFastest(rep, md);
+  writeRoadPresets(rep, md);
+  writeStickSlipMarkdown(rep, md);
+  writeRoadCells(rep, md);
 }
 
 void writeStickSlipMarkdown(const Report& rep, std::ostream& md) {
