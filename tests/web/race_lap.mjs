@@ -122,8 +122,17 @@ await h.resume(page);
 
 // a second run against the ghost
 const firstRun = path.map(([t, x, y]) => [t - lap.t + lap.lap_time, x, y]);  // time into the lap
+// the restart is seen by a state listener (the first state of a new run,
+// earlier than every state before it), not by polling for t < 1 s: a poll
+// on a loaded machine, or a page sent only the newest state, can miss the
+// new run's first second
+await page.evaluate(() => {
+  const g = window.groundsim, before = g.lastState.t;
+  window.restartSeen = false;
+  g.stateListeners.push((s) => { if (s.t < before - 0.5) window.restartSeen = true; });
+});
 await page.keyboard.press('r');
-await h.until('the race to restart', () => page.evaluate(() => window.groundsim.lastState.t < 1.0 && !window.groundsim.race.mine.started), 60000);
+await h.until('the race to restart', () => page.evaluate(() => window.restartSeen && !window.groundsim.race.mine.started), 60000);
 await page.keyboard.down('w');
 // every frame's ghost until the second lap's event (a ceiling for a hung page only)
 const offsets = await page.evaluate(() => new Promise((resolve, reject) => {
