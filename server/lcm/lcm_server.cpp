@@ -34,7 +34,6 @@ std::int64_t wallMicros() {
 }
 
 using input_checks::badId;
-using input_checks::codeFor;
 
 }  // namespace
 
@@ -217,8 +216,7 @@ void LcmServer::publishEvent(const session::Event& e) try {
 // subscribers never see old messages again.
 void LcmServer::handleResend(const std::string& channel, const void* data, int size) {
   groundsim::resend_t msg;
-  const DecodeResult d = decodeMessage(data, size, msg, "groundsim.resend_t");
-  if (!d.ok()) return service_->reportBadInput(codeFor(d.status), channel, d.reason);
+  if (!decoded(msg, "groundsim.resend_t", channel, data, size)) return;
   std::string why = badId("client_id", msg.client_id);
   if (why.empty() && msg.client_id.empty()) why = "client_id: empty (answers go to " + std::string(kResentPrefix) + "<client_id>)";
   if (why.empty()) why = badId("session_id", msg.session_id);

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <groundsim/asset_part_t.hpp>
+#include <groundsim/resend_t.hpp>
 
 #include "convert.hpp"
 #include "fleet_node.hpp"
@@ -30,6 +31,8 @@ bool LcmServer::decoded(Msg& msg, const char* type, const std::string& channel, 
   if (!d.ok()) service_->reportBadInput(codeFor(d.status), channel, d.reason);
   return d.ok();
 }
+// the resend handler (lcm_server.cpp) decodes the same way
+template bool LcmServer::decoded(groundsim::resend_t&, const char*, const std::string&, const void*, int);
 
 void LcmServer::onDatagram(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
   handleDatagram(channel, rbuf->data, static_cast<int>(rbuf->data_size));
