@@ -67,27 +67,12 @@ void restoreFromRollback(const State& from, State& s) {
 
 }  // namespace
 
-void applyControls(const Model& m, double dt, State& s) {
-  for (size_t w = 0; w < m.wheels.size(); ++w) {
-    const Wheel& wh = m.wheels[w];
-    const WheelControl& c = s.controls[w];
-    WheelControl& a = s.applied[w];
-    a.drive_torque = std::isfinite(c.drive_torque) ? c.drive_torque : 0.0;
-    a.brake_torque = std::isfinite(c.brake_torque) ? std::max(c.brake_torque, 0.0) : 0.0;
-    const double target = wh.steerable && std::isfinite(c.steer)
-                              ? std::clamp(c.steer, -wh.max_steer, wh.max_steer)
-                              : 0.0;
-    const double most = wh.steer_rate * dt;
-    a.steer += std::clamp(target - a.steer, -most, most);
-  }
-  applyRoadCarControls(m, dt, s);
-}
-
 bool Simulator::step() {
   if (state_.health != Health::Ok) return false;
   const Model& m = *model_;
   saveForRollback(state_, ws_.last_good);
-  applyControls(m, m.opt.dt, state_);
+  // (the adaptive integrator applies them over each of its substeps)
+  if (!integrator_->appliesControls()) applyControls(m, m.opt.dt, state_);
   ws_.car_inputs = state_.cars;  // same size every step: no allocation
   bool plainly_healthy = false;
   // the specialised paths know no contact between bodies: while any pair

@@ -7,6 +7,7 @@
 
 #include "physics/checks/contact_log.hpp"
 #include "physics/checks/diagnostics.hpp"
+#include "physics/forces/controls.hpp"
 #include "physics/kernels/fast_car.hpp"
 #include "physics/integrators/integrator.hpp"
 #include "physics/core/model.hpp"
@@ -16,8 +17,6 @@
 
 namespace groundsim {
 
-// Turns commands into what the actuators apply this step (see State::applied).
-void applyControls(const Model& m, double dt, State& s);
 
 // The path a step takes while no pair of bodies may touch: the general
 // loop (forces/, integrators/), or a specialised kernel the model allows.

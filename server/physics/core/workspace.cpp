@@ -40,6 +40,8 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   pairs.reserve(4 * m.groups.size());
   pair_contacts.reserve(4 * m.groups.size());
   car_inputs.assign(m.road_cars.size(), CarRuntime{});
+  applied_mark.assign(m.wheels.size(), WheelControl{});
+  cars_mark.assign(m.road_cars.size(), CarRuntime{});
   road.assign(m.road_cars.size(), RoadCarOut{});
   aux_dot.setZero(m.aux_states);
   const int n = m.stateSize();

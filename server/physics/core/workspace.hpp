@@ -106,6 +106,9 @@ struct Workspace {
 
   // road cars (forces/road_cars.cpp): per-step inputs, per-evaluation outputs, state rates
   std::vector<CarRuntime> car_inputs;  // (nroadcar)
+  // the controls before an adaptive substep (applied, cars), restored when it is rejected
+  std::vector<WheelControl> applied_mark;  // (nwheel)
+  std::vector<CarRuntime> cars_mark;       // (nroadcar)
   std::vector<RoadCarOut> road;        // (nroadcar)
   Eigen::VectorXd aux_dot;             // (aux_states)
 

@@ -9,9 +9,14 @@
 // substep passed to computeForces, so with them k1 is re-evaluated whenever
 // the substep changes. Each advance() starts from a fresh k1: a restored
 // State then continues bit for bit (the only carried quantity is s.h_next).
+// The controls are applied over each substep (appliesControls): steering
+// moves at its rate and the gear's timer runs with the substeps, so they
+// are refined with the error, not held for the output step; a rejected
+// substep puts them back, and k1 is evaluated again when they moved.
 #include <algorithm>
 #include <cmath>
 
+#include "physics/forces/controls.hpp"
 #include "physics/forces/forces.hpp"
 #include "physics/integrators/integrator_methods.hpp"
 
@@ -59,7 +64,11 @@ void Adaptive::advance(const Model& m, State& s, Workspace& ws, double h) {
     // (a last sliver of a few ulps is folded into this substep)
     const bool last = trial >= (1.0 - 1e-9) * remaining;
     const double hs = last ? remaining : trial;
-    if (!k1_valid || (k1_step_dependent && k1_step != hs)) {
+    ws.applied_mark = s.applied;  // same sizes: no allocation
+    ws.cars_mark = s.cars;
+    applyControls(m, hs, s);
+    ws.car_inputs = s.cars;
+    if (!k1_valid || controlsMoved(ws.applied_mark, ws.cars_mark, s) || (k1_step_dependent && k1_step != hs)) {
       p1 = eval(y, hs, ws.k1);
       k1_step_dependent = forcesDependOnStep(m, s.applied, ws);
       k1_step = hs;
@@ -95,6 +104,8 @@ void Adaptive::advance(const Model& m, State& s, Workspace& ws, double h) {
     } else {
       trial = hs * std::min(factor, 1.0);
       ++rejected;
+      s.applied = ws.applied_mark;
+      s.cars = ws.cars_mark;
     }
   }
   s.h_next = trial;

@@ -17,6 +17,9 @@ class Integrator {
   // take as many internal steps as their tolerance needs to cover h.
   virtual void advance(const Model& m, State& s, Workspace& ws, double h) = 0;
   virtual const char* name() const = 0;
+  // true: advance() applies the commanded controls itself (applyControls,
+  // over each of its substeps); false: the caller applies them once per step
+  virtual bool appliesControls() const { return false; }
   // force evaluations so far (the cost measure of the accuracy benchmark)
   long long evaluations = 0;
 };

@@ -64,6 +64,8 @@ class Adaptive final : public Integrator {
  public:
   void advance(const Model& m, State& s, Workspace& ws, double h) override;
   const char* name() const override { return "adaptive"; }
+  // its controls follow its substeps: steering at its rate, the gear's timer
+  bool appliesControls() const override { return true; }
   long long accepted = 0, rejected = 0;  // substep statistics
 };
 

@@ -1,5 +1,8 @@
-// Once per step: commanded controls -> what the car applies (clamped,
-// steering at its rate, the gear).
+// Once per step (the adaptive integrator: once per substep): commanded
+// controls -> what the wheels and road cars apply (clamped, steering at its
+// rate, the gear).
+#include "physics/forces/controls.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -54,6 +57,30 @@ void applyRoadCarControls(const Model& m, double dt, State& s) {
       }
     }
   }
+}
+
+void applyControls(const Model& m, double dt, State& s) {
+  for (size_t w = 0; w < m.wheels.size(); ++w) {
+    const Wheel& wh = m.wheels[w];
+    const WheelControl& c = s.controls[w];
+    WheelControl& a = s.applied[w];
+    a.drive_torque = std::isfinite(c.drive_torque) ? c.drive_torque : 0.0;
+    a.brake_torque = std::isfinite(c.brake_torque) ? std::max(c.brake_torque, 0.0) : 0.0;
+    const double target = wh.steerable && std::isfinite(c.steer)
+                              ? std::clamp(c.steer, -wh.max_steer, wh.max_steer)
+                              : 0.0;
+    const double most = wh.steer_rate * dt;
+    a.steer += std::clamp(target - a.steer, -most, most);
+  }
+  applyRoadCarControls(m, dt, s);
+}
+
+bool controlsMoved(const std::vector<WheelControl>& applied, const std::vector<CarRuntime>& cars, const State& s) {
+  for (size_t w = 0; w < s.applied.size(); ++w)
+    if (s.applied[w].steer != applied[w].steer) return true;
+  for (size_t c = 0; c < s.cars.size(); ++c)
+    if (s.cars[c].steer_angle != cars[c].steer_angle || s.cars[c].gear != cars[c].gear) return true;
+  return false;
 }
 
 }  // namespace groundsim
