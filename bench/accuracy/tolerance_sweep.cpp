@@ -140,6 +140,7 @@ struct SweepOptions {
   std::vector<double> tolerances = {0.1, 0.01, 0.001};
   std::string csv_path, configs = GROUNDSIM_CONFIGS;
   std::string reuse;
+  double duration = 0.0;  // > 0: every scene runs this long (its scripted controls hold their last value)
   bool verbose = false;
 };
 
@@ -151,6 +152,8 @@ void addOptions(CLI::App& app, SweepOptions& o) {
   app.add_option("--reuse", o.reuse,
                  "Take the oracle cells from this --csv of an earlier sweep and the references' uncertainties from its "
                  "stdout (FILE.txt beside FILE.csv): the chooser and the live estimate only (for development)");
+  app.add_option("--duration", o.duration, "Run every scene this many simulated s (the pilot's bound of long runs)")
+      ->check(CLI::PositiveNumber);
   app.add_flag("-v,--verbose", o.verbose, "Print each pilot's trials and the oracle cells");
 }
 
@@ -365,7 +368,9 @@ Row toleranceRow(const ToleranceScene& sc, const scenario::Scenario& s, double t
 // One scene: its reference, the oracle's cells (or --reuse's), then a row
 // per tolerance, each printed as it is done.
 std::vector<Row> sweepScene(const ToleranceScene& sc, const SweepOptions& o, const Reused& reused, std::ofstream& csv) {
-  const scenario::Scenario s = loadToleranceScene(o.configs, sc);
+  ToleranceScene scene = sc;
+  if (o.duration > 0.0) scene.overrides.push_back("duration=" + std::to_string(o.duration));
+  const scenario::Scenario s = loadToleranceScene(o.configs, scene);
   const auto w0 = std::chrono::steady_clock::now();
   Reference ref = referenceOf(s);
   std::vector<Cell> cells;

@@ -382,6 +382,9 @@ void printAccuracy(const accuracy::Choice& choice, const accuracy::LiveEstimate*
   std::printf("pilot      %.3g s of the scene per trial, %.3g s wall: %.0f%% of pilot and run (%.3gx the run)\n",
               choice.pilot_duration, choice.pilot_wall_seconds, 100.0 * choice.pilot_wall_seconds / total,
               choice.pilot_wall_seconds / std::max(r.wall, 1e-9));
+  std::printf("pilot work %.3g work units, %.0f%% of the run's predicted %.3g%s%s\n", choice.pilot_work,
+              100.0 * choice.pilot_work / std::max(choice.run_work, 1e-9), choice.run_work,
+              choice.pilot_bound.empty() ? "" : ": ", choice.pilot_bound.c_str());
   if (live)
     std::printf("estimate   %.3g (path %.3g, speed %.3g; %d windows, shadow steps %.1f%% of the run's)%s\n",
                 live->estimate(), live->pathEstimate(), live->speedEstimate(), live->windowsMeasured(),

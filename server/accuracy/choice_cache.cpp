@@ -51,6 +51,9 @@ std::string choiceKey(const scenario::Scenario& s, double tolerance, const Pilot
   addBytes(bytes, tolerance);
   addBytes(bytes, o.pilot_duration);
   addBytes(bytes, o.fallback_duration);
+  addBytes(bytes, o.max_share);
+  addBytes(bytes, o.scout_duration);
+  addBytes(bytes, o.min_pilot_work);
   addBytes(bytes, o.max_pilot_steps);
   addBytes(bytes, o.max_work);
   addBytes(bytes, o.safety);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "accuracy/error_measure.hpp"
 #include "accuracy/model_options.hpp"
@@ -19,13 +20,9 @@ using pilot_detail::adaptiveTrial;
 using pilot_detail::fmt;
 using pilot_detail::kLadderTop;
 using pilot_detail::kRoundoff;
+using pilot_detail::leastWork;
+using pilot_detail::PilotPlan;
 using pilot_detail::trial;
-
-namespace {
-
-constexpr double kWholePilotCap = 60.0;  // s: the longest scene piloted whole by default
-
-}  // namespace
 
 // Richardson on three runs at h, h/2, h/4: d_coarse = |E(h) - E(h/2)|,
 // d_fine = |E(h/2) - E(h/4)|, so p = log2(d_coarse / d_fine) and the error
@@ -53,6 +50,7 @@ ErrorFit fitErrorLaw(double d_coarse, double d_fine, int nominal) {
 PilotOptions pilotOptions(const scenario::AccuracySpec& a, const scenario::Budget& budget) {
   PilotOptions o;
   o.pilot_duration = a.pilot_duration;
+  o.max_share = a.pilot_share;
   o.regularized_friction = a.regularized_friction;
   o.max_work = budget.max_work;
   return o;
@@ -221,30 +219,67 @@ double mostEvaluations(const ModelPilot& m) {
 
 namespace {
 
-// How long the pilot's runs are, and the top of the ladder.
-struct PilotPlan {
-  bool whole = true;         // the whole scene (no pilot_duration given)
-  double duration = 0.0;     // simulated s per trial
-  double short_segment = 0.0;  // the fallback of a trial the work budget refuses whole
-  double top = 0.0;          // the coarsest ladder step offered
+// The trial and step taken: the cheapest (in work, which compares models)
+// whose predicted error times the safety factor is within the tolerance,
+// or, when none is, the closest (meets false; no trial: none usable).
+struct Pick {
+  const IntegratorTrial* trial = nullptr;
+  double dt = 0.0;
+  bool meets = false;
+  double work = std::numeric_limits<double>::infinity();  // per simulated s, when it meets
 };
 
-// The measure reads the final speed, at the run's end, and takes the
-// largest path error over the whole run: a pilot that stops short of it
-// samples the speed error at another moment (a car still rolling, not yet
-// braked to rest) and leaves whatever happens later (a spin, a stop, a late
-// impact) to a growth law that cannot see it. By default (no
-// pilot_duration given) the pilot runs the whole scene, up to
-// kWholePilotCap; a trial whose whole-scene runs would pass the work budget
-// falls back to the first fallback_duration.
-PilotPlan planPilot(const scenario::Scenario& s, const PilotOptions& o) {
-  PilotPlan p;
-  p.whole = !(o.pilot_duration > 0.0);
-  p.duration = std::min(s.duration, p.whole ? kWholePilotCap : o.pilot_duration);
-  p.short_segment = std::min(p.duration, o.fallback_duration);
-  // a step longer than the output period would skip frames
-  p.top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
-  return p;
+Pick cheapest(const std::vector<IntegratorTrial>& trials, double tolerance, const PilotOptions& o) {
+  Pick best, closest;
+  double closest_err = std::numeric_limits<double>::infinity();
+  for (const IntegratorTrial& t : trials) {
+    if (!t.usable) continue;
+    const double finest_h = t.adaptive() ? std::cbrt(o.min_local_tolerance) : o.min_dt;
+    for (double h = t.dt0; h >= finest_h * (1 - 1e-9); h /= 2) {
+      const double err = t.error(h), cost = t.cost(h) * t.work_per_evaluation;
+      if (err < closest_err) {
+        closest_err = err;
+        closest = {&t, h, false};
+      }
+      if (err * o.safety <= tolerance) {
+        if (cost < best.work) best = {&t, h, true, cost};
+        break;  // finer steps of this integrator only cost more
+      }
+    }
+  }
+  return best.trial ? best : closest;
+}
+
+// cheapest(), throwing naming every refusal when no trial ran at all.
+Pick pickCheapest(const std::vector<IntegratorTrial>& trials, double tolerance, const PilotOptions& o) {
+  const Pick p = cheapest(trials, tolerance, o);
+  if (p.trial) return p;
+  std::vector<scenario::Issue> issues;
+  for (const IntegratorTrial& t : trials)
+    issues.push_back({"/physics/integrator", std::string(integratorName(t.kind)) + ": " + t.refusal});
+  throw scenario::ScenarioError(std::move(issues));
+}
+
+// Branch and bound: an integrator whose least work per simulated s (at its
+// coarsest stable step, pilot_budget.cpp) is no less than that of a setting
+// already known to meet the tolerance cannot be chosen, so it is not
+// piloted; it stays in the trials, not usable, saying why. The same choice
+// as piloting it, for less.
+bool ruledOut(const scenario::Scenario& s, IntegratorKind k, double top, double work_per_evaluation,
+              const std::vector<IntegratorTrial>& known, double tolerance, const PilotOptions& o, ModelPilot& out) {
+  const Pick best = cheapest(known, tolerance, o);
+  if (!best.meets) return false;
+  const double least = leastWork(s, k, top, work_per_evaluation);
+  if (!(least >= best.work) || std::isinf(least)) return false;  // inf: refused, and its trial says why
+  IntegratorTrial t;
+  t.kind = k;
+  t.work_per_evaluation = work_per_evaluation;
+  t.refusal = "not piloted: at its coarsest stable step it costs at least " + fmt(least) +
+              " work units per sim-s, no less than " + integratorName(best.trial->kind) + " at dt " + fmt(best.dt) +
+              " s (" + fmt(best.work) + "), which meets the tolerance";
+  out.trials.push_back(t);
+  out.finest.emplace_back();
+  return true;
 }
 
 // Model fidelity: a cheaper model the core offers for these vehicles is
@@ -277,6 +312,24 @@ void pilotModel(const ModelOption& option, const ModelPilot& user, int u, double
     c.models.push_back(m);
     return;
   }
+  const double work = workPerEvaluation(option.scenario);
+  auto offered = [&](IntegratorKind k) {
+    return option.only.empty() || std::find(option.only.begin(), option.only.end(), k) != option.only.end();
+  };
+  // a model none of whose integrators can be cheaper than the choice the
+  // scene as written already has is not piloted
+  const Pick best = cheapest(c.trials, tolerance, o);
+  double least = std::numeric_limits<double>::infinity();
+  for (IntegratorKind k : o.integrators)
+    if (best.meets && offered(k)) least = std::min(least, leastWork(option.scenario, k, plan.top, work));
+  if (best.meets && least >= best.work) {
+    m.gap = std::numeric_limits<double>::infinity();
+    m.verdict = "not piloted: at its coarsest stable steps it costs at least " + fmt(least) +
+                " work units per sim-s, no less than the " + fmt(best.work) +
+                " of a setting of the scene as written that meets the tolerance";
+    c.models.push_back(m);
+    return;
+  }
   ModelPilot other;
   const IntegratorKind first = user.trials[static_cast<size_t>(u)].kind;
   auto capped = [&](IntegratorKind k) {
@@ -287,14 +340,22 @@ void pilotModel(const ModelOption& option, const ModelPilot& user, int u, double
   auto pilot = [&](IntegratorKind k) {
     pilotIntegrator(option.scenario, k, tolerance, capped(k), plan.duration, plan.short_segment, plan.whole, plan.top,
                     other);
+    for (IntegratorTrial& t : other.trials) t.work_per_evaluation = work;
   };
   pilot(first);
   boundModelGap(user, other, duration, m);
   m.admitted = m.gap <= kModelShare * tolerance;
   if (m.admitted) {
-    for (IntegratorKind k : o.integrators)
-      if (k != first && (option.only.empty() || std::find(option.only.begin(), option.only.end(), k) != option.only.end()))
-        pilot(k);
+    for (IntegratorKind k : o.integrators) {
+      if (k == first || !offered(k)) continue;
+      // what it could be chosen against: the scene's trials, and its model's so far (with its gap)
+      std::vector<IntegratorTrial> known = c.trials;
+      for (const IntegratorTrial& t : other.trials) {
+        known.push_back(t);
+        known.back().model_gap = m.gap;
+      }
+      if (!ruledOut(option.scenario, k, plan.top, work, known, tolerance, o, other)) pilot(k);
+    }
     boundModelGap(user, other, duration, m);  // the most accurate run may be another's now
   }
   m.admitted = m.gap <= kModelShare * tolerance;
@@ -308,52 +369,11 @@ void pilotModel(const ModelOption& option, const ModelPilot& user, int u, double
   m.trials = other.trials;
   c.models.push_back(m);
   if (!m.admitted) return;
-  const double work = workPerEvaluation(option.scenario);
   for (IntegratorTrial& t : other.trials) {
     t.model = static_cast<int>(c.models.size());
     t.model_gap = m.gap;
-    t.work_per_evaluation = work;
     c.trials.push_back(t);
   }
-}
-
-// The trial and step taken: the cheapest (in work, which compares models)
-// whose predicted error times the safety factor is within the tolerance,
-// or, when none is, the closest. Throws naming every refusal when no trial
-// ran at all.
-struct Pick {
-  const IntegratorTrial* trial = nullptr;
-  double dt = 0.0;
-  bool meets = false;
-};
-
-Pick pickCheapest(const std::vector<IntegratorTrial>& trials, double tolerance, const PilotOptions& o) {
-  Pick best, closest;
-  double best_cost = std::numeric_limits<double>::infinity(), closest_err = std::numeric_limits<double>::infinity();
-  for (const IntegratorTrial& t : trials) {
-    if (!t.usable) continue;
-    const double finest_h = t.adaptive() ? std::cbrt(o.min_local_tolerance) : o.min_dt;
-    for (double h = t.dt0; h >= finest_h * (1 - 1e-9); h /= 2) {
-      const double err = t.error(h), cost = t.cost(h) * t.work_per_evaluation;
-      if (err < closest_err) {
-        closest_err = err;
-        closest = {&t, h, false};
-      }
-      if (err * o.safety <= tolerance) {
-        if (cost < best_cost) {
-          best_cost = cost;
-          best = {&t, h, true};
-        }
-        break;  // finer steps of this integrator only cost more
-      }
-    }
-  }
-  if (best.trial) return best;
-  if (closest.trial) return closest;
-  std::vector<scenario::Issue> issues;
-  for (const IntegratorTrial& t : trials)
-    issues.push_back({"/physics/integrator", std::string(integratorName(t.kind)) + ": " + t.refusal});
-  throw scenario::ScenarioError(std::move(issues));
 }
 
 // The live estimate's windows calibrated on the pilot's own run at the
@@ -410,26 +430,50 @@ void describePick(const Pick& p, const scenario::Scenario& s, const std::vector<
 
 }  // namespace
 
-Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+// One pilot over plan's segment: the scene's integrators (each one that
+// could still be chosen), the cheaper models, the pick; what it took.
+Choice pilotOver(const scenario::Scenario& s, double tolerance, const PilotOptions& o, const PilotPlan& plan) {
   Choice c;
   c.tolerance = tolerance;
-  const PilotPlan plan = planPilot(s, o);
   c.pilot_duration = plan.duration;
   ModelPilot user;
+  const double user_work = workPerEvaluation(s);
   PilotOptions oc = o;  // the adaptive trial's bound, from the fixed-step trials piloted before it
   for (IntegratorKind k : o.integrators) {
     if (k == IntegratorKind::Adaptive && o.max_adaptive_evaluations <= 0.0) oc.max_adaptive_evaluations = 2.0 * mostEvaluations(user);
+    if (ruledOut(s, k, plan.top, user_work, user.trials, tolerance, o, user)) continue;
     pilotIntegrator(s, k, tolerance, oc, plan.duration, plan.short_segment, plan.whole, plan.top, user);
+    for (IntegratorTrial& t : user.trials) t.work_per_evaluation = user_work;
   }
-  const double user_work = workPerEvaluation(s);
-  for (IntegratorTrial& t : user.trials) t.work_per_evaluation = user_work;
   c.trials = user.trials;
+  // a scout pilots the scene as written alone: the models wait for the
+  // pilot its choice affords
   const std::vector<ModelOption> options =
-      o.other_models ? modelOptions(s, o.regularized_friction) : std::vector<ModelOption>{};
+      o.other_models && !plan.scout ? modelOptions(s, o.regularized_friction) : std::vector<ModelOption>{};
   const int u = mostAccurate(user);
   for (const ModelOption& option : options) pilotModel(option, user, u, tolerance, oc, plan, s.duration, c);
   describePick(pickCheapest(c.trials, tolerance, o), s, options, c);
+  c.pilot_work = pilot_detail::pilotWork(c);
+  c.run_work = c.predicted_work * s.duration;
+  return c;
+}
+
+}  // namespace
+
+// The pilot: over the whole scene, or a scout and then the longest segment
+// the run's predicted cost affords (PilotOptions::max_share).
+Choice chooseSettings(const scenario::Scenario& s, double tolerance, const PilotOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const PilotPlan plan = pilot_detail::planPilot(s, o);
+  Choice c = pilotOver(s, tolerance, o, plan);
+  if (plan.scout) {
+    Choice scout = std::move(c);
+    const std::optional<PilotPlan> longer = pilot_detail::extendedPlan(s, o, plan, scout);
+    c = longer ? pilotOver(s, tolerance, o, *longer) : std::move(scout);
+    if (longer) c.pilot_work += scout.pilot_work, c.pilot_bound = scout.pilot_bound;
+  }
   c.pilot_wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
 }
@@ -460,9 +504,12 @@ std::string Choice::line() const {
 std::string Choice::report() const {
   std::string out;
   char buf[320];
-  std::snprintf(buf, sizeof buf, "pilot: %zu integrators, %.3g s of the scene at 3 steps each, %.3g s wall\n",
-                trials.size(), pilot_duration, pilot_wall_seconds);
+  std::snprintf(buf, sizeof buf,
+                "pilot: %zu integrators, %.3g s of the scene at 3 steps each, %.3g work units (the run: %.3g), %.3g s "
+                "wall\n",
+                trials.size(), pilot_duration, pilot_work, run_work, pilot_wall_seconds);
   out += buf;
+  if (!pilot_bound.empty()) out += "  " + pilot_bound + "\n";
   for (const ModelTrial& m : models) out += "  model " + m.name + " (" + m.what + "): " + m.verdict + "\n";
   // the trials of the choice's candidates, then those of the models kept
   // out (what their pilot cost)

@@ -27,6 +27,27 @@ struct PilotOptions {
   // whole-scene runs would pass the work budget
   double pilot_duration = 0.0;
   double fallback_duration = 5.0;
+  // The pilot's cost bounded by the run's (no pilot_duration given): a
+  // scout over the first scout_duration s chooses, and predicts the run's
+  // work; the pilot is then run again over the longest segment (up to the
+  // whole scene) whose work, with the scout's, stays within max_share of
+  // that run's, or at least min_pilot_work. A longer segment is only worth
+  // a second pilot when it is at least twice the scout's; otherwise the
+  // scout's choice stands. Only runs longer than bounded_after are bounded:
+  // a shorter one is piloted whole (the measure reads its end, and a
+  // manoeuvre after the scout's segment is seen; the tolerance sweep's
+  // scenes, 5-20 s, judged at 20% chose settings up to 2.2x over their
+  // tolerance). The scout pilots the scene's own models alone
+  // (model_options.hpp: the cheaper ones wait for the second pilot).
+  // max_share 0: the whole scene, no scout.
+  double max_share = 0.2;
+  double bounded_after = 20.0;  // s: a scene up to this long is piloted whole
+  double scout_duration = 0.5;
+  // work units (scenario/budget.hpp) a pilot may always spend, whatever the
+  // run costs: about 0.75 s of this machine (1.5e-8 s a unit on the
+  // report's car), so a short or cheap scene is still piloted whole
+  // (0: the share alone bounds it)
+  double min_pilot_work = 5e7;
   // the pilot refines a fit that is not clean (order off its nominal, or
   // differences that do not shrink) with finer runs, while their steps
   // stay within this many in all per integrator
@@ -102,6 +123,8 @@ struct IntegratorTrial {
   // work units (scenario/budget.hpp) of one force evaluation of its model:
   // evaluations of two models compare through it
   double work_per_evaluation = 1.0;
+  // the force evaluations its runs took in all (the pilot's cost)
+  double pilot_evaluations = 0.0;
   // The adaptive integrator (Bogacki-Shampine 3(2), error-controlled): its
   // runs cover each output step output_dt in internal steps sized by a
   // local tolerance tau, and its "steps" above (dt0, level_dt, error(h))
@@ -186,6 +209,14 @@ struct Choice {
   std::vector<IntegratorTrial> trials;
   double pilot_duration = 0.0;    // simulated s per trial run (the chosen trial's)
   double pilot_wall_seconds = 0.0;
+  // work units (scenario/budget.hpp): what the pilot's runs took (the
+  // scout's included), and what the run is predicted to take
+  // (predicted_work over the scene's duration): counts, not timings
+  double pilot_work = 0.0;
+  double run_work = 0.0;
+  // how the pilot's segment was chosen, one line: the scout and the bound
+  // (empty: the segment was given, or the scene is short enough to pilot whole)
+  std::string pilot_bound;
   bool from_cache = false;        // made before for the same content (choice_cache.hpp): no pilot ran
   // s with the chosen settings (its document says so; its `accuracy` kept)
   scenario::Scenario scenario;

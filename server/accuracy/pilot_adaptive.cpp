@@ -77,6 +77,7 @@ class AdaptiveTrial {
                                segment_, nominalOrder(IntegratorKind::Adaptive)));
     spent_ += static_cast<double>(r_.back().evaluations) / 3.0 * std::max(1, t_.contact_substeps) * step_work_;
     evaluations_ += static_cast<double>(r_.back().evaluations);
+    t_.pilot_evaluations = evaluations_;
     hs_.push_back(std::cbrt(tau));
     if (!r_.back().healthy) {
       t_.refusal = "local tolerance " + fmt(tau) + " diverged in the pilot (" + r_.back().failure + ")";

@@ -55,4 +55,38 @@ IntegratorTrial trial(const scenario::Scenario& s, IntegratorKind kind, double s
 IntegratorTrial adaptiveTrial(const scenario::Scenario& s, double segment, double top, double tolerance,
                               const PilotOptions& o, Trajectory& finest_run);
 
+// How long the pilot's runs are, and the top of the ladder
+// (pilot_budget.cpp).
+struct PilotPlan {
+  bool whole = true;           // the whole scene, up to kWholePilotCap
+  double duration = 0.0;       // simulated s per trial
+  double short_segment = 0.0;  // the fallback of a trial the work budget refuses whole
+  double top = 0.0;            // the coarsest ladder step offered
+  bool scout = false;          // a first, short pilot whose choice bounds the next one's segment
+};
+inline constexpr double kWholePilotCap = 60.0;  // s: the longest scene piloted whole
+
+// The first pilot: the segment given, the whole scene when it is short or
+// the pilot is not bounded (max_share 0), else the scout.
+PilotPlan planPilot(const scenario::Scenario& s, const PilotOptions& o);
+
+// After the scout chose: the longest segment whose pilot, with the
+// scout's work, stays within the bound (PilotOptions::max_share of the
+// run's predicted work, at least min_pilot_work), when it is at least twice
+// the scout's; nullopt: the scout's choice stands. Says how in
+// scout.pilot_bound.
+std::optional<PilotPlan> extendedPlan(const scenario::Scenario& s, const PilotOptions& o, const PilotPlan& scout,
+                                      Choice& scouted);
+
+// What the pilot's runs took, in work units: every trial's evaluations
+// times its model's work per evaluation (the models kept out included).
+double pilotWork(const Choice& c);
+
+// The least work per simulated s integrator k can cost on s: its force
+// evaluations of one step (the second: the first may prime a cache) at
+// its coarsest stable ladder step, over that step, times the model's work
+// per evaluation. Infinite when the scene refuses k. The adaptive
+// integrator's steps follow its error, not a limit: 0 (never ruled out).
+double leastWork(const scenario::Scenario& s, IntegratorKind k, double top, double work_per_evaluation);
+
 }  // namespace groundsim::accuracy::pilot_detail

@@ -183,7 +183,9 @@ class FixedStepTrial {
   }
 
   Trajectory runAt(double h) {
-    return runTrajectory(withSettings(s_, kind_, h, t_.contact_substeps), segment_, nominalOrder(kind_));
+    Trajectory r = runTrajectory(withSettings(s_, kind_, h, t_.contact_substeps), segment_, nominalOrder(kind_));
+    t_.pilot_evaluations += static_cast<double>(r.evaluations);
+    return r;
   }
 
   // The runs at dt, dt/2, dt/4 into r (their steps added to steps); contact's

@@ -9,6 +9,7 @@ AccuracySpec readAccuracy(ObjectReader r) {
   // the ladder) is not that exact; at 1 the error may be as large as the path
   a.tolerance = r.number("tolerance", def.tolerance, Range::closed(1e-6, 1.0));
   a.pilot_duration = r.number("pilot_duration", def.pilot_duration, Range::closed(0.05, 60.0));
+  a.pilot_share = r.number("pilot_share", def.pilot_share, Range::closed(0.0, 100.0));
   a.regularized_friction = r.boolean("regularized_friction", def.regularized_friction);
   a.live_estimate = r.boolean("live_estimate", def.live_estimate);
   a.refine = r.boolean("refine", def.refine);

@@ -15,6 +15,10 @@ struct AccuracySpec {
   // (capped by the scenario's duration); 0, the default: the whole scene
   // (server/accuracy/pilot.hpp)
   double pilot_duration = 0.0;
+  // without a pilot_duration: the share of the run's predicted work the
+  // pilot may take (a scout chooses first, and the pilot runs over the
+  // longest segment that share affords); 0: the whole scene, up to 60 s
+  double pilot_share = 0.2;
   // also pilot RK4 and the adaptive integrator on the ground's friction
   // made regularized, where it is stick-slip or sign (a model the pilot
   // admits only within a third of the tolerance; off by default: it

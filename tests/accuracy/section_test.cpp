@@ -24,6 +24,8 @@ TEST(Section, ReadsTheToleranceAndDefaults) {
   ASSERT_TRUE(s.accuracy.has_value());
   EXPECT_EQ(s.accuracy->tolerance, 0.02);
   EXPECT_EQ(s.accuracy->pilot_duration, AccuracySpec{}.pilot_duration);
+  EXPECT_EQ(s.accuracy->pilot_share, 0.2);
+  EXPECT_EQ(parseScenario(doc({{"tolerance", 0.02}, {"pilot_share", 0}})).accuracy->pilot_share, 0.0);
   EXPECT_TRUE(s.accuracy->live_estimate);
   EXPECT_TRUE(s.accuracy->refine);
   EXPECT_EQ(s.accuracy->max_refinements, 3);
@@ -37,6 +39,8 @@ TEST(Section, NamesTheFieldAndTheReason) {
   EXPECT_EQ(firstIssue(doc({{"tolerance", "1%"}})).rfind("/accuracy/tolerance: expected a number", 0), 0u)
       << firstIssue(doc({{"tolerance", "1%"}}));
   EXPECT_EQ(firstIssue(doc({{"pilot_duration", 1e9}})).rfind("/accuracy/pilot_duration: must be", 0), 0u);
+  EXPECT_EQ(firstIssue(doc({{"pilot_share", -0.1}})).rfind("/accuracy/pilot_share: must be", 0), 0u)
+      << firstIssue(doc({{"pilot_share", -0.1}}));
   EXPECT_EQ(firstIssue(doc({{"tolerence", 0.1}})).rfind("/accuracy/tolerence: unknown key", 0), 0u)
       << firstIssue(doc({{"tolerence", 0.1}}));
   EXPECT_EQ(firstIssue(doc({{"max_refinements", 7}})).rfind("/accuracy/max_refinements: must be", 0), 0u)
