@@ -497,6 +497,12 @@ std::string Choice::line() const {
       out += "; model " + models[k].name + " not taken: " +
              (models[k].admitted ? "admitted, but not cheaper at this tolerance" : models[k].verdict);
   if (!caveat.empty()) out += "; " + caveat;
+  // a pilot over part of the scene cannot see what happens after it (a
+  // crash, a late manoeuvre): said where the choice is read
+  if (pilot_duration < scenario.duration * (1 - 1e-9))
+    out += "; piloted on the first " + fmt(pilot_duration) + " s of " + fmt(scenario.duration) +
+           " s: what happens after is extrapolated" +
+           (scenario.duration <= pilot_detail::kWholePilotCap ? " (\"pilot_share\": 0 pilots the whole scene)" : "");
   if (!meets) out += "; NO setting down to the finest step is predicted to meet the tolerance";
   return out;
 }

@@ -27,27 +27,22 @@ struct PilotOptions {
   // whole-scene runs would pass the work budget
   double pilot_duration = 0.0;
   double fallback_duration = 5.0;
-  // The pilot's cost bounded by the run's (no pilot_duration given): a
-  // scout over the first scout_duration s chooses, and predicts the run's
-  // work; the pilot is then run again over the longest segment (up to the
-  // whole scene) whose work, with the scout's, stays within max_share of
-  // that run's, or at least min_pilot_work. A longer segment is only worth
-  // a second pilot when it is at least twice the scout's; otherwise the
-  // scout's choice stands. Only runs longer than bounded_after are bounded:
-  // a shorter one is piloted whole (the measure reads its end, and a
-  // manoeuvre after the scout's segment is seen; the tolerance sweep's
-  // scenes, 5-20 s, judged at 20% chose settings up to 2.2x over their
-  // tolerance). The scout pilots the scene's own models alone
-  // (model_options.hpp: the cheaper ones wait for the second pilot).
-  // max_share 0: the whole scene, no scout.
-  double max_share = 0.2;
-  double bounded_after = 20.0;  // s: a scene up to this long is piloted whole
+  // The pilot's cost bounded by the run's (accuracy.pilot_share; no
+  // pilot_duration given): a scout over the first scout_duration s
+  // chooses, and predicts the run's work; the pilot is then run again over
+  // the longest segment (up to the whole scene) whose work, with the
+  // scout's, stays within max_share of that run's, or at least
+  // min_pilot_work. A longer segment is only worth a second pilot when it
+  // is at least twice the scout's; otherwise the scout's choice stands. The
+  // scout pilots the scene's own models alone (model_options.hpp: the
+  // cheaper ones wait for the second pilot). Off by default (max_share 0:
+  // the whole scene, no scout): on the tolerance sweep's scenes run 60 s
+  // at 20%, a scout cannot see a crash or a manoeuvre after its half
+  // second: 23 of 31 judged choices within their tolerance, 5 more than
+  // 1.5x over, up to 7.8x (docs/accuracy.md, "The pilot's cost").
+  double max_share = 0.0;
   double scout_duration = 0.5;
-  // work units (scenario/budget.hpp) a pilot may always spend, whatever the
-  // run costs: about 0.75 s of this machine (1.5e-8 s a unit on the
-  // report's car), so a short or cheap scene is still piloted whole
-  // (0: the share alone bounds it)
-  double min_pilot_work = 5e7;
+  double min_pilot_work = 0.0;
   // the pilot refines a fit that is not clean (order off its nominal, or
   // differences that do not shrink) with finer runs, while their steps
   // stay within this many in all per integrator

@@ -26,7 +26,7 @@ PilotPlan planPilot(const scenario::Scenario& s, const PilotOptions& o) {
   p.duration = std::min(s.duration, p.whole ? kWholePilotCap : o.pilot_duration);
   // a step longer than the output period would skip frames
   p.top = ladderStepAtMost(std::min(kLadderTop, 1.0 / s.output_rate));
-  if (p.whole && o.max_share > 0.0 && s.duration > o.bounded_after && p.duration > 2.0 * o.scout_duration) {
+  if (p.whole && o.max_share > 0.0 && p.duration > 2.0 * o.scout_duration) {
     p.whole = false;
     p.scout = true;
     p.duration = o.scout_duration;
@@ -42,11 +42,12 @@ std::optional<PilotPlan> extendedPlan(const scenario::Scenario& s, const PilotOp
   const double bound = std::max(o.max_share * scouted.run_work, o.min_pilot_work);
   // work grows with the segment: what is left of the bound, in scouts
   const double affords = std::floor((bound - spent) / spent * scout.duration / scout.top) * scout.top;
-  char buf[320];
+  char buf[320], floor[64] = "";
+  if (o.min_pilot_work > 0.0) std::snprintf(floor, sizeof floor, " (at least %.3g)", o.min_pilot_work);
   std::snprintf(buf, sizeof buf,
                 "a scout over %.3g s took %.3g work units; the run is predicted %.3g, and the pilot may take %.0f%% "
-                "of it (at least %.3g): %.3g",
-                scout.duration, spent, scouted.run_work, 100.0 * o.max_share, o.min_pilot_work, bound);
+                "of it%s: %.3g",
+                scout.duration, spent, scouted.run_work, 100.0 * o.max_share, floor, bound);
   scouted.pilot_bound = buf;
   if (!(affords >= 2.0 * scout.duration)) {
     scouted.pilot_bound += ", which affords no segment twice the scout's: the scout's choice stands" +

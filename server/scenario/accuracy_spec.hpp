@@ -17,8 +17,9 @@ struct AccuracySpec {
   double pilot_duration = 0.0;
   // without a pilot_duration: the share of the run's predicted work the
   // pilot may take (a scout chooses first, and the pilot runs over the
-  // longest segment that share affords); 0: the whole scene, up to 60 s
-  double pilot_share = 0.2;
+  // longest segment that share affords); 0, the default: the whole scene,
+  // up to 60 s (server/accuracy/pilot.hpp, PilotOptions::max_share)
+  double pilot_share = 0.0;
   // also pilot RK4 and the adaptive integrator on the ground's friction
   // made regularized, where it is stick-slip or sign (a model the pilot
   // admits only within a third of the tolerance; off by default: it

@@ -16,13 +16,11 @@ bool notPiloted(const IntegratorTrial& t) { return !t.usable && t.refusal.rfind(
 
 // A 60 s run: the scout chooses, the pilot stays within 20% of the run it
 // prepares, and the choice still meets the tolerance over the whole run.
-// (The sedan's pilot is cheap: without min_pilot_work 0 the floor would
-// let it run whole, below.)
 TEST(PilotBudget, ALongRunsPilotTakesAtMostItsShareAndTheChoiceMeets) {
   const scenario::Scenario s = test::config("sedan_slalom.json", {"duration=60"});
   const Trajectory ref = test::reference(s, 0.02 / 64);
   PilotOptions o;
-  o.min_pilot_work = 0.0;
+  o.max_share = 0.2;
   for (double tol : {0.1, 0.01}) {
     const Choice c = chooseSettings(s, tol, o);
     SCOPED_TRACE(c.report());
@@ -36,25 +34,30 @@ TEST(PilotBudget, ALongRunsPilotTakesAtMostItsShareAndTheChoiceMeets) {
   }
 }
 
-// Unbounded (max_share 0) the same scene's pilot runs it whole and takes
-// more than the bounded one: the bound is what made it cheap.
+// Unbounded (max_share 0, the default) the same scene's pilot runs it
+// whole and takes more than the bounded one: the bound is what made it cheap.
 TEST(PilotBudget, UnboundedThePilotRunsTheWholeScene) {
   const scenario::Scenario s = test::config("sedan_slalom.json", {"duration=60"});
-  PilotOptions whole;
-  whole.max_share = 0.0;
-  const Choice c = chooseSettings(s, 0.01, whole);
+  const Choice c = chooseSettings(s, 0.01);
   EXPECT_EQ(c.pilot_duration, 60.0);
   EXPECT_TRUE(c.pilot_bound.empty());
+  EXPECT_EQ(c.line().find("piloted on the first"), std::string::npos) << c.line();
   PilotOptions bounded;
-  bounded.min_pilot_work = 0.0;
-  EXPECT_GT(c.pilot_work, chooseSettings(s, 0.01, bounded).pilot_work);
+  bounded.max_share = 0.2;
+  const Choice b = chooseSettings(s, 0.01, bounded);
+  EXPECT_GT(c.pilot_work, b.pilot_work);
+  // a choice from part of the scene says so where it is read
+  EXPECT_NE(b.line().find("piloted on the first"), std::string::npos) << b.line();
 }
 
-// A pilot within min_pilot_work is not cut, however cheap the run: the
-// sedan's whole 60 s pilot takes less, so after the scout it runs whole.
+// A pilot within min_pilot_work (0 by default) is not cut, however cheap
+// the run: the sedan's whole 60 s pilot takes less than 5e7 units, so
+// after the scout it runs whole.
 TEST(PilotBudget, APilotWithinTheFloorRunsWhole) {
   const scenario::Scenario s = test::config("sedan_slalom.json", {"duration=60"});
-  const PilotOptions o;
+  PilotOptions o;
+  o.max_share = 0.2;
+  o.min_pilot_work = 5e7;
   const Choice c = chooseSettings(s, 0.01, o);
   SCOPED_TRACE(c.report());
   EXPECT_EQ(c.pilot_duration, 60.0);
@@ -62,20 +65,15 @@ TEST(PilotBudget, APilotWithinTheFloorRunsWhole) {
   EXPECT_LE(c.pilot_work, o.min_pilot_work);
 }
 
-// A scene up to bounded_after (20 s) is piloted whole, with no scout; so is
-// one no longer than two scouts, whatever bounded_after says.
+// A scene no longer than two scouts is piloted whole, with no scout.
 TEST(PilotBudget, AShortSceneIsPilotedWhole) {
-  const scenario::Scenario s = test::config("sedan_slalom.json", {"duration=20"});
-  const Choice c = chooseSettings(s, 0.01);
-  EXPECT_EQ(c.pilot_duration, 20.0);
-  EXPECT_TRUE(c.pilot_bound.empty());
-  PilotOptions all;
-  all.bounded_after = 0.0;
-  all.min_pilot_work = 0.0;
-  EXPECT_LT(chooseSettings(s, 0.01, all).pilot_duration, 20.0);
-  const Choice one = chooseSettings(test::config("sedan_slalom.json", {"duration=1"}), 0.01, all);
+  PilotOptions o;
+  o.max_share = 0.2;
+  const Choice one = chooseSettings(test::config("sedan_slalom.json", {"duration=1"}), 0.01, o);
   EXPECT_EQ(one.pilot_duration, 1.0);
   EXPECT_TRUE(one.pilot_bound.empty());
+  const Choice two = chooseSettings(test::config("sedan_slalom.json", {"duration=20"}), 0.01, o);
+  EXPECT_FALSE(two.pilot_bound.empty());
 }
 
 // Branch and bound: on the report's rim car (semi-implicit Euler meets 10%

@@ -24,8 +24,8 @@ TEST(Section, ReadsTheToleranceAndDefaults) {
   ASSERT_TRUE(s.accuracy.has_value());
   EXPECT_EQ(s.accuracy->tolerance, 0.02);
   EXPECT_EQ(s.accuracy->pilot_duration, AccuracySpec{}.pilot_duration);
-  EXPECT_EQ(s.accuracy->pilot_share, 0.2);
-  EXPECT_EQ(parseScenario(doc({{"tolerance", 0.02}, {"pilot_share", 0}})).accuracy->pilot_share, 0.0);
+  EXPECT_EQ(s.accuracy->pilot_share, 0.0);
+  EXPECT_EQ(parseScenario(doc({{"tolerance", 0.02}, {"pilot_share", 0.2}})).accuracy->pilot_share, 0.2);
   EXPECT_TRUE(s.accuracy->live_estimate);
   EXPECT_TRUE(s.accuracy->refine);
   EXPECT_EQ(s.accuracy->max_refinements, 3);
