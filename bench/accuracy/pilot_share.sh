@@ -33,7 +33,7 @@ for scene in "${scenes[@]}"; do
     pilot=$(sed -n 's/^pilot      \([^ ]*\) s of the scene per trial, \([^ ]*\) s wall.*/\1 \2/p' <<<"$out")
     run=$(sed -n 's/^wall time  \([^ ]*\) s:.*/\1/p' <<<"$out")
     work=$(sed -n 's/^pilot work [^ ]* work units, \([0-9]*\)%.*/\1/p' <<<"$out")
-    chosen=$(sed -n 's/^accuracy   tolerance [^:]*: \(.*\) at dt \([^ ]*\) s.*/\1 \2/p' <<<"$out" | sed 's/ (local tolerance.*)//')
+    chosen=$(sed -n 's/^accuracy   tolerance [^:]*: \(.*\) at dt \([^ ]*\) s.*/\1 \2/p' <<<"$out" | sed -e 's/ (local tolerance.*)//' -e 's/^model \([^ ]*\) (.*) with /\1: /')
     read -r segment pwall <<<"$pilot"
     ratio=$(awk -v p="$pwall" -v r="$run" 'BEGIN { printf "%.0f%%", 100 * p / r }')
     printf '| %s | %s | %s | %s | %s | %s | %s%% | %s |\n' "$(basename "$scene" .json)" "$tol" "$segment" "$pwall" "$run" \
