@@ -1,5 +1,6 @@
 #include "render/frame.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -78,6 +79,33 @@ Rgb colourOf(const Model& m, const Collider& c) {
   return rgbOf(g.mass > 0.0 ? kMovable : kStatic);
 }
 
+// The ground patch: on one plane its two corner triangles (the grid is
+// drawn from each pixel's world x and y, so they give the grid's pixels,
+// without its 2 n^2 triangles' setup); else each cell's two triangles,
+// every vertex to the camera once (a vertex is shared by up to six).
+void drawGround(Raster& raster, FrameCache& cache) {
+  const int n = cache.n;
+  const std::vector<Vec3>& p = cache.ground;
+  const Rgb white{1.0, 1.0, 1.0};
+  if (cache.planar) {
+    const size_t a = 0, b = static_cast<size_t>(n) - 1, cc = static_cast<size_t>(n - 1) * n, d = cc + n - 1;
+    raster.triangle(p[a], p[b], p[d], white, true);
+    raster.triangle(p[a], p[d], p[cc], white, true);
+    return;
+  }
+  const std::vector<unsigned char>& found = cache.found;
+  cache.camera.resize(p.size());
+  for (size_t k = 0; k < p.size(); ++k) cache.camera[k] = raster.toCamera(p[k]);
+  const std::vector<Vec3>& q = cache.camera;
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j + 1 < n; ++j) {
+      const size_t a = static_cast<size_t>(i) * n + j, b = a + 1, cc = a + n, d = cc + 1;
+      if (!(found[a] && found[b] && found[cc] && found[d])) continue;
+      if (!raster.outside(q[a], q[b], q[d])) raster.triangle(p[a], p[b], p[d], q[a], q[b], q[d], white, true);
+      if (!raster.outside(q[a], q[d], q[cc])) raster.triangle(p[a], p[d], p[cc], q[a], q[d], q[cc], white, true);
+    }
+}
+
 }  // namespace
 
 void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow, const FrameOptions& o,
@@ -114,21 +142,12 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
         cache.found[k] = groundPointBelow(ground, x0 + j * step, y0 + i * step, &point, &normal) ? 1 : 0;
         cache.ground[k] = point;
       }
+    Vec3 plane_n;
+    double plane_offset = 0.0;
+    cache.planar = m.ground && m.ground->asPlane(&plane_n, &plane_offset) &&
+                   std::all_of(cache.found.begin(), cache.found.end(), [](unsigned char f) { return f != 0; });
   }
-  // each vertex to the camera once (a vertex is shared by up to six triangles)
-  const std::vector<Vec3>& p = cache.ground;
-  const std::vector<unsigned char>& found = cache.found;
-  cache.camera.resize(p.size());
-  for (size_t k = 0; k < p.size(); ++k) cache.camera[k] = raster.toCamera(p[k]);
-  const std::vector<Vec3>& q = cache.camera;
-  const Rgb white{1.0, 1.0, 1.0};
-  for (int i = 0; i + 1 < n; ++i)
-    for (int j = 0; j + 1 < n; ++j) {
-      const size_t a = static_cast<size_t>(i) * n + j, b = a + 1, cc = a + n, d = cc + 1;
-      if (!(found[a] && found[b] && found[cc] && found[d])) continue;
-      if (!raster.outside(q[a], q[b], q[d])) raster.triangle(p[a], p[b], p[d], q[a], q[b], q[d], white, true);
-      if (!raster.outside(q[a], q[d], q[cc])) raster.triangle(p[a], p[d], p[cc], q[a], q[d], q[cc], white, true);
-    }
+  drawGround(raster, cache);
 
   // every collider in its body's pose (static ones in the world), its
   // triangles made again only when its shape is not the one they were made of

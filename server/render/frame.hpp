@@ -36,6 +36,9 @@ struct FrameCache {
   int n = 0;
   std::vector<Vec3> ground;
   std::vector<unsigned char> found;
+  // the patch lies in one plane (a plane ground, every point found): drawn
+  // as its two corner triangles, its grid from each pixel's world x and y
+  bool planar = false;
   std::vector<Vec3> camera;               // the patch's vertices in this frame's camera coordinates
   std::vector<Shape> shape_of;            // each collider's shape as its triangles were made
   std::vector<std::vector<Tri>> shapes;   // each collider's triangles in its own frame

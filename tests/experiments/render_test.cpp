@@ -3,6 +3,12 @@
 // bytes for the same state, and sizes out of range refused.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
+#include "physics/simulator.hpp"
+#include "render/frame.hpp"
+#include "render/raster.hpp"
+#include "scenario/scenario.hpp"
 #include "task_util.hpp"
 
 namespace groundsim::experiments::test {
@@ -31,6 +37,34 @@ TEST(Render, SkyAboveTheCarInTheMiddleAndTheSameBytesForTheSameState) {
   for (int k = 0; k < 20; ++k) b.step();
   b.env->render(0, w, h, g.data());
   EXPECT_NE(f, g);
+}
+
+// On a plane the patch is drawn as its two corner triangles
+// (FrameCache::planar): the grid comes from each pixel's world x and y, so
+// the frame is the one the patch's cells draw (here the same bytes; a few
+// pixels may round differently at the cells' edges on another compiler).
+TEST(Render, APlaneDrawnAsTwoTrianglesIsTheGridsFrame) {
+  const scenario::Scene scene = scenario::buildScene(scenario::parseScenario(roadCarDoc(plane(), task())));
+  Simulator sim(scene.built.model, scene.built.initial);
+  for (int k = 0; k < 10; ++k) sim.step();
+  GroundProbe probe(*sim.model().ground);
+  const int w = 128, h = 96;
+  render::Raster raster(w, h);
+  render::FrameCache cache;
+  std::vector<std::uint8_t> planar(static_cast<size_t>(w * h * 3)), grid(planar.size());
+  render::renderFrame(sim.model(), sim.state(), probe, 0, render::FrameOptions{}, raster, cache, planar.data());
+  ASSERT_TRUE(cache.planar);
+  cache.planar = false;  // the same patch (the cache is kept: the camera did not move), drawn cell by cell
+  render::renderFrame(sim.model(), sim.state(), probe, 0, render::FrameOptions{}, raster, cache, grid.data());
+  int differ = 0, most = 0;
+  for (size_t k = 0; k < planar.size(); ++k) {
+    const int d = std::abs(static_cast<int>(planar[k]) - static_cast<int>(grid[k]));
+    differ += d > 0;
+    most = std::max(most, d);
+  }
+  std::printf("%d of %zu bytes differ, by %d at most\n", differ, planar.size(), most);
+  EXPECT_LE(differ, static_cast<int>(planar.size() / 100));
+  EXPECT_LE(most, 8);
 }
 
 TEST(Render, SizesOutOfRangeAreRefused) {
