@@ -28,16 +28,22 @@ double frac(double v) {
   return v - f;
 }
 
-Rgb groundAt(double x, double y) {
-  const Rgb &grass = kGrass, &edge = kEdge, &half = kHalf;
+// Which of the texture's colours (kGround) lies at world x, y.
+enum GroundColour { kGrassColour, kEdgeColour, kHalfColour };
+constexpr std::array<Rgb, 3> kGround{kGrass, kEdge, kHalf};
+int groundAt(double x, double y) {
   const double fx = frac(x), fy = frac(y);
   const double edge_w = 3.0 / 256.0, half_w = 1.0 / 256.0;  // the canvas' line widths over its 256 px
-  if (fx < edge_w || fx > 1.0 - edge_w || fy < edge_w || fy > 1.0 - edge_w) return edge;
-  if (std::abs(fx - 0.5) < half_w || std::abs(fy - 0.5) < half_w) return half;
-  return grass;
+  if (fx < edge_w || fx > 1.0 - edge_w || fy < edge_w || fy > 1.0 - edge_w) return kEdgeColour;
+  if (std::abs(fx - 0.5) < half_w || std::abs(fy - 0.5) < half_w) return kHalfColour;
+  return kGrassColour;
 }
 
 std::uint8_t byteOf(double v) { return static_cast<std::uint8_t>(std::clamp(v * 255.0 + 0.5, 0.0, 255.0)); }
+
+// A colour's bytes, made once for a triangle's pixels that are not fogged.
+using Bytes = std::array<std::uint8_t, 3>;
+Bytes bytesOf(const Rgb& c) { return {byteOf(c.r), byteOf(c.g), byteOf(c.b)}; }
 
 }  // namespace
 
@@ -144,6 +150,14 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   double wb_row = ((c.x - xs) * (a.y - ys) - (c.y - ys) * (a.x - xs)) * inv_area;
   constexpr double kFogStartInv = 1.0 / kFogStart;
   const int last = x1 - x0;
+  // the unfogged pixels' bytes, made once: the triangle's colour, or the
+  // ground's three lit by it (the ground passes white: lit.r is the light)
+  const double light = lit.r;
+  const Bytes own = bytesOf(lit);
+  std::array<Bytes, 3> ground{};
+  if (grid)
+    for (size_t g = 0; g < ground.size(); ++g)
+      ground[g] = bytesOf({kGround[g].r * light, kGround[g].g * light, kGround[g].b * light});
   for (int py = y0; py <= y1; ++py, wa_row += dwa_dy, wb_row += dwb_dy) {
     // the row's pixels inside: where each weight w0 + dw i (i from the box's
     // first pixel) is >= 0, intersected; the third weight is 1 - wa - wb
@@ -171,29 +185,32 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
       if (!(inv_z > depth_[k])) continue;
       depth_[k] = inv_z;
       if (!grid && inv_z >= kFogStartInv) {  // unfogged, its own colour: no depth needed
-        put(k, lit);
+        put(k, own);
         continue;
       }
       const double z = 1.0 / inv_z;
       Rgb col = lit;
+      int g = 0;
       if (grid) {
-        const Rgb g = groundAt((wa * a.wx + wb * b.wx + wc * c.wx) * z, (wa * a.wy + wb * b.wy + wc * c.wy) * z);
-        const double light = lit.r;  // the ground passes white as its colour: lit.r is the light
-        col = {g.r * light, g.g * light, g.b * light};
+        g = groundAt((wa * a.wx + wb * b.wx + wc * c.wx) * z, (wa * a.wy + wb * b.wy + wc * c.wy) * z);
+        col = {kGround[static_cast<size_t>(g)].r * light, kGround[static_cast<size_t>(g)].g * light,
+               kGround[static_cast<size_t>(g)].b * light};
       }
       if (z <= kFogStart) {
-        put(k, col);
+        put(k, grid ? ground[static_cast<size_t>(g)] : own);
         continue;
       }
       const double f = std::min((z - kFogStart) * kFogScale, 1.0);
-      put(k, {col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
+      put(k, Rgb{col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
     }
   }
 }
 
-void Raster::put(size_t k, const Rgb& c) {
+void Raster::put(size_t k, const Rgb& c) { put(k, bytesOf(c)); }
+
+void Raster::put(size_t k, const std::array<std::uint8_t, 3>& bytes) {
   std::uint8_t* p = colour_.data() + 3 * k;
-  p[0] = byteOf(c.r), p[1] = byteOf(c.g), p[2] = byteOf(c.b);
+  p[0] = bytes[0], p[1] = bytes[1], p[2] = bytes[2];
 }
 
 void Raster::write(std::uint8_t* rgb) const { std::copy(colour_.begin(), colour_.end(), rgb); }

@@ -8,6 +8,7 @@
 // every machine (plain double arithmetic in a fixed order, one thread).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -62,6 +63,7 @@ class Raster {
   Vec3 eye_ = Vec3::Zero(), right_ = Vec3::UnitX(), up_ = Vec3::UnitZ(), forward_ = Vec3::UnitY();
   Rgb sky_;
   void put(size_t pixel, const Rgb& c);  // the pixel's colour, as bytes
+  void put(size_t pixel, const std::array<std::uint8_t, 3>& bytes);
   std::vector<std::uint8_t> colour_;     // RGB bytes, top row first
   std::vector<double> depth_;  // 1 / depth of what each pixel shows (0: sky)
 };
