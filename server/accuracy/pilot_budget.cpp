@@ -81,7 +81,7 @@ double leastWork(const scenario::Scenario& s, IntegratorKind k, double top, doub
   if (!scene) return std::numeric_limits<double>::infinity();
   double limit = std::numeric_limits<double>::infinity();
   for (const StiffMode& m : stiffestModes(*scene->built.model)) limit = std::min(limit, m.dt_limit);
-  const double dt0 = ladderStepAtMost(std::min(top, kStabilityMargin * (1 - 1e-9) * limit));
+  const double dt0 = stableLadderStep(top, limit);
   // contact between bodies off: its substeps are extra, and the least is
   // the integrator's own evaluations of a step
   scenario::Scenario apart = s;

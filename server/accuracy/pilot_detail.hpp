@@ -82,6 +82,10 @@ std::optional<PilotPlan> extendedPlan(const scenario::Scenario& s, const PilotOp
 // times its model's work per evaluation (the models kept out included).
 double pilotWork(const Choice& c);
 
+// The coarsest ladder step at or below top inside kStabilityMargin of the
+// limit (infinite: no stiff mode), where the stability check starts to warn.
+double stableLadderStep(double top, double limit);
+
 // The least work per simulated s integrator k can cost on s: its force
 // evaluations of one step (the second: the first may prime a cache) at
 // its coarsest stable ladder step, over that step, times the model's work

@@ -13,6 +13,10 @@
 
 namespace groundsim::accuracy::pilot_detail {
 
+double stableLadderStep(double top, double limit) {
+  return ladderStepAtMost(std::min(top, kStabilityMargin * (1 - 1e-9) * limit));
+}
+
 std::string fmt(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", x);
@@ -165,7 +169,7 @@ class FixedStepTrial {
     const std::vector<StiffMode> modes = stiffestModes(*scene.built.model);
     const StiffMode* worst = stiffest(modes);
     t_.stability_dt = worst ? worst->dt_limit : std::numeric_limits<double>::infinity();
-    const double dt = ladderStepAtMost(std::min(top, kStabilityMargin * (1 - 1e-9) * t_.stability_dt));
+    const double dt = stableLadderStep(top, t_.stability_dt);
     if (worst && dt < top)
       avoided_ = "steps above " + fmt(dt) + " s pass " + fmt(100 * kStabilityMargin) +
                  "% of the limit of the stiffest mode (" + worst->what + ", stable below " + fmt(worst->dt_limit) +
