@@ -128,12 +128,14 @@ void Recorder::write(Stream& s, std::uint16_t channel, std::int64_t seq, std::in
                 std::string_view(reinterpret_cast<const char*>(data), static_cast<std::size_t>(size)), s.group);
 }
 
-bool Recorder::fencedOff(Stream& s, std::int64_t epoch) {
+bool Recorder::fencedOff(Stream& s, std::int64_t epoch, std::int64_t seq) {
   if (epoch >= s.epoch) {
     if (epoch > s.epoch && s.epoch > 0) s.moved_at = s.top;  // what a new owner publishes up to here is re-simulated
+    if (epoch > s.epoch || seq < s.epoch_from) s.epoch_from = seq;
     s.epoch = epoch;
     return false;
   }
+  if (seq < s.epoch_from) return false;  // published before the move
   if (s.fenced++ == 0)
     std::fprintf(stderr, "record: %s: a message of epoch %lld after epoch %lld (a fenced owner's): not written, "
                          "counted in the ledger's fenced_count\n",
@@ -144,7 +146,7 @@ bool Recorder::fencedOff(Stream& s, std::int64_t epoch) {
 template <class Msg>
 void Recorder::companion(Stream& s, Ledger& l, std::uint16_t ch, const Msg& m, const std::string& channel,
                          const std::uint8_t* data, int size, bool repaired) {
-  if (fencedOff(s, m.epoch)) return;
+  if (fencedOff(s, m.epoch, m.seq)) return;
   // the first heard starts its ledger where the state's did
   if (!l.started() && s.ledger.started()) l.owe(std::min(s.ledger.first(), m.seq));
   if (l.arrive(m.seq, repaired)) write(s, ch, m.seq, m.utime, toJson(m), channel, data, size);
@@ -171,7 +173,7 @@ bool Recorder::handleState(const std::string& channel, const std::uint8_t* data,
   auto it = sessions_.find(m.session_id);
   if (it == sessions_.end()) return true;
   Stream& s = it->second;
-  if (fencedOff(s, m.epoch)) return true;
+  if (fencedOff(s, m.epoch, m.seq)) return true;
   if (!s.ledger.arrive(m.seq, repaired)) {
     if (m.seq <= s.moved_at) ++s.resimulated;
     return true;
@@ -210,7 +212,7 @@ bool Recorder::handleApplied(const std::string& channel, const std::uint8_t* dat
   auto it = sessions_.find(m.session_id);
   if (it == sessions_.end()) return true;
   Stream& s = it->second;
-  if (fencedOff(s, m.epoch)) return true;
+  if (fencedOff(s, m.epoch, m.frame_seq)) return true;
   if (!s.applied.started()) s.applied.owe(s.ledger.started() && s.ledger.first() == 0 ? 0 : m.seq);
   if (m.kind == groundsim::applied_t::KIND_END) {
     s.end_frames.insert(m.frame_seq);
@@ -309,6 +311,14 @@ void Recorder::onResent(const groundsim::resent_t& m, Clock::time_point now) {
       std::fprintf(stderr, "record: %s: the server holds nothing of it: seq %lld..%lld lost\n", s->id.c_str(),
                    static_cast<long long>(m.seq), static_cast<long long>(m.last_seq));
       lose(*s, m.seq, m.last_seq < 0 ? INT64_MAX : m.last_seq);
+      break;
+    case groundsim::resent_t::STATUS_ELSEWHERE:
+      // published by an earlier owner (the session moved): that server
+      // answers with what it sent once it hears the next ask; the gap keeps
+      // its schedule and is lost only when its asks are spent
+      if (s->elsewhere_told.insert(m.seq).second)
+        std::fprintf(stderr, "record: %s: seq %lld..%lld published by an earlier owner: asked of it again\n",
+                     s->id.c_str(), static_cast<long long>(m.seq), static_cast<long long>(m.last_seq));
       break;
     case groundsim::resent_t::STATUS_LIMITED:
       // over our rate: ask again soon, without spending an ask

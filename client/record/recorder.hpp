@@ -111,6 +111,11 @@ class Recorder {
     // protocol 2: the newest owner's epoch heard; a message of a lower one
     // (a fenced old owner's, docs/protocol.md) is counted, not written
     std::int64_t epoch = 0, fenced = 0;
+    // the lowest frame seq heard at `epoch`: an earlier owner's message of a
+    // lower seq was published before the move (an answer to a re-request of
+    // what the new owner does not hold) and is written
+    std::int64_t epoch_from = -1;
+    std::set<std::int64_t> elsewhere_told;  // ranges told to be an earlier owner's (printed once)
     // A failover: the new owner publishes again the seqs from its snapshot
     // on (docs/fleet.md). Those up to the highest seq heard when the epoch
     // rose are counted as re-simulated, not repeats (the first kept).
@@ -145,7 +150,9 @@ class Recorder {
   void ask(Stream& s, std::int8_t stream, Clock::time_point now, std::vector<groundsim::resend_t>& out);
   void askApplied(Stream& s, Clock::time_point now, std::vector<groundsim::resend_t>& out);
   void appliedOwed(Stream& s);  // the applied ledger starts where the state ledger does
-  bool fencedOff(Stream& s, std::int64_t epoch);  // true: of a lower epoch than heard, counted
+  // true: of a lower epoch than heard and not before the newest epoch's
+  // first seq (a fenced owner's), counted
+  bool fencedOff(Stream& s, std::int64_t epoch, std::int64_t seq);
   std::uint16_t rawChannel(const std::string& lcm_channel);
 
   std::unique_ptr<recording::McapWriter> out_;

@@ -64,7 +64,7 @@ void LcmServer::publish(const std::string& channel, const T& msg, const std::str
   std::lock_guard<std::mutex> lk(publish_mutex_);
   if (send) lcm_.publish(channel, buf.data(), static_cast<unsigned>(size));
   if (keep_seq < 0) return;
-  if (keep_session) ring_.addFrame(*keep_session, keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
+  if (keep_session) ring_.addFrame(*keep_session, keep_seq, channel, buf.data(), static_cast<std::size_t>(size), send);
   else ring_.addEvent(keep_seq, channel, buf.data(), static_cast<std::size_t>(size));
 }
 
@@ -211,6 +211,29 @@ void LcmServer::publishEvent(const session::Event& e) try {
   std::fprintf(stderr, "groundsim-server: cannot publish an event: %s\n", x.what());
 }
 
+static_assert(static_cast<std::int8_t>(ResendRing::Status::Ok) == groundsim::resent_t::STATUS_OK &&
+              static_cast<std::int8_t>(ResendRing::Status::Gone) == groundsim::resent_t::STATUS_GONE &&
+              static_cast<std::int8_t>(ResendRing::Status::Limited) == groundsim::resent_t::STATUS_LIMITED &&
+              static_cast<std::int8_t>(ResendRing::Status::UnknownSession) ==
+                  groundsim::resent_t::STATUS_UNKNOWN_SESSION &&
+              static_cast<std::int8_t>(ResendRing::Status::Elsewhere) == groundsim::resent_t::STATUS_ELSEWHERE,
+              "the ring's statuses are resent_t's");
+
+// In a fleet each server keeps its own ring: the owner answers for a session
+// (every server for its events), what it kept while fenced included. Every
+// other server that holds some of the session answers with the messages it
+// sent, so the frames an owner published before the session moved (its
+// lease lost while a recorder's re-request was on its way) are still
+// repaired; a fenced server answers only what it sent, and its kept frames
+// go out once its lease is back and the session still its own.
+ResendRing::Scope LcmServer::resendScope(const groundsim::resend_t& msg) {
+  if (!fleet_) return ResendRing::Scope::Owner;
+  if (fleet_->fenced()) return ResendRing::Scope::Published;
+  if (msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id, [] {}))
+    return ResendRing::Scope::Published;
+  return ResendRing::Scope::Owner;
+}
+
 // A recorder's re-request: answered from the ring within the client's rate
 // limit (resend_ring.hpp), on the client's own channel so other
 // subscribers never see old messages again.
@@ -227,15 +250,12 @@ void LcmServer::handleResend(const std::string& channel, const void* data, int s
   if (why.empty() && msg.from_seq < 0) why = "from_seq: must be >= 0, got " + std::to_string(msg.from_seq);
   if (why.empty() && msg.to_seq < -1) why = "to_seq: must be >= -1 (-1: up to the newest), got " + std::to_string(msg.to_seq);
   if (!why.empty()) return service_->reportBadInput(session::ErrorCode::BadRequest, channel, "resend: " + why);
-  // in a fleet each server keeps its own: the owner answers for a session, every server for its events;
-  // a fenced one answers nothing (what it kept goes out once its lease is back and the session still its own)
-  if (fleet_ && fleet_->fenced()) return;
-  if (fleet_ && msg.stream == groundsim::resend_t::STREAM_SESSION && !fleet_->answers(msg.session_id, [] {})) return;
+  const ResendRing::Scope scope = resendScope(msg);
   const std::string session = msg.stream == groundsim::resend_t::STREAM_EVENTS ? "" : msg.session_id;
   std::vector<ResendRing::Message> answer;
   {
     std::lock_guard<std::mutex> lk(publish_mutex_);
-    answer = ring_.answer(msg.client_id, session, msg.from_seq, msg.to_seq);
+    answer = ring_.answer(msg.client_id, session, msg.from_seq, msg.to_seq, scope);
   }
   const std::string out = kResentPrefix + msg.client_id;
   groundsim::resent_t r{};
@@ -246,10 +266,7 @@ void LcmServer::handleResend(const std::string& channel, const void* data, int s
   for (ResendRing::Message& m : answer) {
     r.seq = m.seq;
     r.last_seq = m.last_seq;
-    r.status = m.status == ResendRing::Status::Ok ? groundsim::resent_t::STATUS_OK
-               : m.status == ResendRing::Status::Gone ? groundsim::resent_t::STATUS_GONE
-               : m.status == ResendRing::Status::Limited ? groundsim::resent_t::STATUS_LIMITED
-                                                        : groundsim::resent_t::STATUS_UNKNOWN_SESSION;
+    r.status = static_cast<std::int8_t>(m.status);
     r.channel = m.channel;
     r.data.assign(m.bytes.begin(), m.bytes.end());
     r.size = static_cast<std::int32_t>(r.data.size());

@@ -15,6 +15,10 @@
 #include "session/types.hpp"
 #include "session/service.hpp"
 
+namespace groundsim {
+class resend_t;
+}
+
 namespace groundsim::net {
 
 class FleetNode;
@@ -93,6 +97,7 @@ class LcmServer final : public session::Output {
   void handleFleet(const std::string& channel, const void* data, int size);
   bool mayPublish(const std::string& session_id) const;
   void handleResend(const std::string& channel, const void* data, int size);
+  ResendRing::Scope resendScope(const groundsim::resend_t& msg);
   void handleAsset(const std::string& channel, const void* data, int size);
   void handleVecRequest(const std::string& channel, const void* data, int size);
   void handleRequest(const std::string& channel, const void* data, int size);

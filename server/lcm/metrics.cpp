@@ -230,11 +230,13 @@ std::string serverMetrics(const LcmServer::Counters& c, const ResendRing::Stats&
            resend.requests);
   m.family("groundsim_resend_answers_total", "counter",
            "Messages (resent_t) sent in answer to re-requests, by status: resent (a message as first published), "
-           "gone (a range older than the ring holds), limited (a range over the client's rate), unknown_session.");
+           "gone (a range older than the ring holds), limited (a range over the client's rate), unknown_session, "
+           "elsewhere (a range an earlier owner of the session published, before it moved here).");
   m.sample("groundsim_resend_answers_total", resend.resent, {{"status", "resent"}});
   m.sample("groundsim_resend_answers_total", resend.gone, {{"status", "gone"}});
   m.sample("groundsim_resend_answers_total", resend.limited, {{"status", "limited"}});
   m.sample("groundsim_resend_answers_total", resend.unknown, {{"status", "unknown_session"}});
+  m.sample("groundsim_resend_answers_total", resend.elsewhere, {{"status", "elsewhere"}});
   m.single("groundsim_resend_held_bytes", "gauge", "Bytes of published messages the resend ring holds for re-requests.",
            static_cast<std::uint64_t>(resend.bytes_held));
   m.single("groundsim_resend_sessions", "gauge", "Sessions whose recent frames the resend ring holds.",

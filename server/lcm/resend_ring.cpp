@@ -5,11 +5,11 @@
 
 namespace groundsim::net {
 
-void ResendRing::push(Ring& r, std::int64_t seq, const std::string& channel, const std::uint8_t* data,
-                      std::size_t size, std::size_t max_bytes, std::size_t max_messages) {
+void ResendRing::push(Ring& r, Held h, std::size_t max_bytes, std::size_t max_messages) {
   // keep whole frames: evict by seq, never half of one
-  r.held.push_back(Held{seq, channel, std::vector<std::uint8_t>(data, data + size)});
-  r.bytes += size;
+  const std::int64_t seq = h.seq;
+  r.bytes += h.bytes.size();
+  r.held.push_back(std::move(h));
   while (!r.held.empty() && (r.bytes > max_bytes || r.held.size() > max_messages)) {
     const std::int64_t oldest = r.held.front().seq;
     if (oldest == seq) break;  // the newest frame alone stays, whatever its size
@@ -21,7 +21,7 @@ void ResendRing::push(Ring& r, std::int64_t seq, const std::string& channel, con
 }
 
 void ResendRing::addFrame(const std::string& session, std::int64_t seq, const std::string& channel,
-                          const std::uint8_t* data, std::size_t size, Clock::time_point now) {
+                          const std::uint8_t* data, std::size_t size, bool sent, Clock::time_point now) {
   auto it = sessions_.find(session);
   if (it == sessions_.end()) {
     if (static_cast<int>(sessions_.size()) >= limits_.sessions) {
@@ -34,13 +34,15 @@ void ResendRing::addFrame(const std::string& session, std::int64_t seq, const st
   }
   Ring& r = it->second;
   r.written = now;
+  if (r.first < 0) r.first = seq;
   // a frame is up to three messages (state, car state, contact)
-  push(r, seq, channel, data, size, limits_.bytes_per_session, 3 * static_cast<std::size_t>(limits_.frames_per_session));
+  push(r, Held{seq, channel, std::vector<std::uint8_t>(data, data + size), sent}, limits_.bytes_per_session,
+       3 * static_cast<std::size_t>(limits_.frames_per_session));
 }
 
 void ResendRing::addEvent(std::int64_t seq, const std::string& channel, const std::uint8_t* data, std::size_t size) {
-  push(events_, seq, channel, data, size, std::numeric_limits<std::size_t>::max(),
-       static_cast<std::size_t>(limits_.events));
+  push(events_, Held{seq, channel, std::vector<std::uint8_t>(data, data + size)},
+       std::numeric_limits<std::size_t>::max(), static_cast<std::size_t>(limits_.events));
 }
 
 ResendRing::Bucket& ResendRing::bucket(const std::string& client, Clock::time_point now) {
@@ -67,12 +69,23 @@ ResendRing::Bucket& ResendRing::bucket(const std::string& client, Clock::time_po
 }
 
 std::vector<ResendRing::Message> ResendRing::collect(Ring& r, const std::string& client, std::int64_t from,
-                                                     std::int64_t to, Clock::time_point now) {
+                                                     std::int64_t to, Scope scope, Clock::time_point now) {
   std::vector<Message> out;
   if (r.held.empty()) return out;
   const std::int64_t oldest = r.held.front().seq, newest = r.held.back().seq;
   if (to < 0 || to > newest) to = newest;
   if (from > to) return out;
+  if (from < oldest && scope == Scope::Published) from = oldest;
+  if (from < r.first) {
+    Message elsewhere;
+    elsewhere.status = Status::Elsewhere;
+    elsewhere.seq = from;
+    elsewhere.last_seq = std::min(to, r.first - 1);
+    out.push_back(std::move(elsewhere));
+    ++stats_.elsewhere;
+    from = r.first;
+    if (from > to) return out;
+  }
   if (from < oldest) {
     Message gone;
     gone.status = Status::Gone;
@@ -88,6 +101,7 @@ std::vector<ResendRing::Message> ResendRing::collect(Ring& r, const std::string&
   auto it = std::lower_bound(r.held.begin(), r.held.end(), from,
                              [](const Held& h, std::int64_t s) { return h.seq < s; });
   for (; it != r.held.end() && it->seq <= to; ++it) {
+    if (scope == Scope::Published && !it->sent) continue;
     // a frame is sent whole or not at all
     if (it == r.held.begin() || std::prev(it)->seq != it->seq) {
       double need_m = 0, need_b = 0;
@@ -118,10 +132,12 @@ std::vector<ResendRing::Message> ResendRing::collect(Ring& r, const std::string&
 }
 
 std::vector<ResendRing::Message> ResendRing::answer(const std::string& client, const std::string& session,
-                                                    std::int64_t from, std::int64_t to, Clock::time_point now) {
+                                                    std::int64_t from, std::int64_t to, Scope scope,
+                                                    Clock::time_point now) {
   ++stats_.requests;
-  if (session.empty()) return collect(events_, client, from, to, now);
+  if (session.empty()) return collect(events_, client, from, to, scope, now);
   auto it = sessions_.find(session);
+  if (it == sessions_.end() && scope == Scope::Published) return {};
   if (it == sessions_.end()) {
     ++stats_.unknown;
     Message m;
@@ -130,7 +146,7 @@ std::vector<ResendRing::Message> ResendRing::answer(const std::string& client, c
     m.last_seq = to;
     return {m};
   }
-  return collect(it->second, client, from, to, now);
+  return collect(it->second, client, from, to, scope, now);
 }
 
 void ResendRing::expire(Clock::time_point now) {

@@ -229,10 +229,7 @@ int main(int argc, char** argv) {
       r.utime = wallMicros();
       r.seq = m.seq;
       r.last_seq = m.last_seq;
-      r.status = m.status == S::Ok      ? groundsim::resent_t::STATUS_OK
-                 : m.status == S::Gone  ? groundsim::resent_t::STATUS_GONE
-                 : m.status == S::Limited ? groundsim::resent_t::STATUS_LIMITED
-                                         : groundsim::resent_t::STATUS_UNKNOWN_SESSION;
+      r.status = static_cast<std::int8_t>(m.status);  // the ring's statuses are resent_t's
       (m.status == S::Ok ? resent_ok : m.status == S::Gone ? resent_gone : m.status == S::Limited ? resent_limited
                                                                                                 : resent_unknown)++;
       r.channel = m.channel;

@@ -240,6 +240,71 @@ TEST(Recorder, StatesANewOwnerPublishesAgainAreCountedReSimulated) {
   EXPECT_EQ(ledger.at("state_received"), "0-8");
 }
 
+// A move after loss: seq 6 of epoch 1 was lost on the wire and the new
+// owner (epoch 2) resumed from a snapshot after it (seq 8 on). Its ring
+// answers ELSEWHERE (an earlier owner published it): the gap stays owed
+// and is asked again, and the old owner's answer, a state of epoch 1 with
+// a seq before epoch 2's first, is written as repaired; a live message of
+// epoch 1 from the move on is still a fenced owner's.
+TEST(Recorder, AStateAnEarlierOwnerSentBeforeTheMoveIsRepairedFromIt) {
+  const std::string path = tempPath("recorder_elsewhere.mcap");
+  {
+    Recorder rec(std::make_unique<recording::McapWriter>(path), "moved");
+    rec.add("a", true);
+    const auto encoded = [](std::int64_t seq, std::int64_t epoch) {
+      groundsim::state_t m = state("a", seq);
+      m.epoch = epoch;
+      return encode(m);
+    };
+    const auto send = [&](std::int64_t seq, std::int64_t epoch) {
+      const auto b = encoded(seq, epoch);
+      EXPECT_TRUE(rec.onDatagram(net::stateChannel("a"), b.data(), static_cast<int>(b.size())));
+    };
+    const auto answer = [&](std::int64_t seq, std::int8_t status, std::int64_t epoch, Clock::time_point t) {
+      groundsim::resent_t m{};
+      m.stream = groundsim::resend_t::STREAM_SESSION;
+      m.session_id = "a";
+      m.seq = m.last_seq = seq;
+      m.status = status;
+      if (status == groundsim::resent_t::STATUS_OK) {
+        m.channel = net::stateChannel("a");
+        const auto b = encoded(seq, epoch);
+        m.data.assign(b.begin(), b.end());
+        m.size = static_cast<std::int32_t>(b.size());
+      }
+      rec.onResent(m, t);
+    };
+    for (int s = 0; s <= 9; ++s)
+      if (s != 6) send(s, 1);
+    for (int s = 8; s <= 12; ++s) send(s, 2);
+    auto t = Clock::now();
+    EXPECT_TRUE(rec.requests(t).empty());  // the gap is seen, asked for a little later
+    t += std::chrono::milliseconds(100);
+    auto asks = rec.requests(t);
+    ASSERT_EQ(asks.size(), 1u);
+    EXPECT_EQ(asks[0].from_seq, 6);
+    answer(6, groundsim::resent_t::STATUS_ELSEWHERE, 0, t);
+    EXPECT_TRUE(rec.repairing());  // not lost: asked again
+    EXPECT_EQ(rec.totals().lost, 0);
+    t += std::chrono::seconds(1);
+    asks = rec.requests(t);
+    ASSERT_EQ(asks.size(), 1u);
+    EXPECT_EQ(asks[0].from_seq, 6);
+    answer(6, groundsim::resent_t::STATUS_OK, 1, t);  // the old owner's answer
+    EXPECT_FALSE(rec.repairing());
+    send(13, 1);  // a fenced owner's live state
+    send(13, 2);
+    rec.finish();
+    EXPECT_EQ(rec.totals().lost, 0);
+  }
+  recording::McapReader r(path);
+  const auto ledger = r.metadata().at("ledger/a");
+  EXPECT_EQ(ledger.at("state_lost"), "");
+  EXPECT_EQ(ledger.at("state_repaired"), "6");
+  EXPECT_EQ(ledger.at("fenced_count"), "1");
+  EXPECT_EQ(ledger.at("state_received"), "0-5,7-13");
+}
+
 }  // namespace
 }  // namespace groundsim::record
 

@@ -19,11 +19,15 @@ using Clock = ResendRing::Clock;
 
 std::vector<std::uint8_t> bytes(int n, std::uint8_t v) { return std::vector<std::uint8_t>(n, v); }
 
-void frame(ResendRing& r, const std::string& s, std::int64_t seq, int size = 100, Clock::time_point now = Clock::now()) {
+void frame(ResendRing& r, const std::string& s, std::int64_t seq, int size = 100, Clock::time_point now = Clock::now(),
+           bool sent = true) {
   const auto b = bytes(size, static_cast<std::uint8_t>(seq));
-  r.addFrame(s, seq, "GROUNDSIM_STATE_" + s, b.data(), b.size(), now);
-  r.addFrame(s, seq, "GROUNDSIM_CONTACT_" + s, b.data(), b.size(), now);
+  r.addFrame(s, seq, "GROUNDSIM_STATE_" + s, b.data(), b.size(), sent, now);
+  r.addFrame(s, seq, "GROUNDSIM_CONTACT_" + s, b.data(), b.size(), sent, now);
 }
+
+constexpr auto kOwner = ResendRing::Scope::Owner;
+constexpr auto kPublished = ResendRing::Scope::Published;
 
 TEST(ResendRing, AnswersWholeFramesInOrderAndGoneForWhatFellOut) {
   ResendLimits lim;
@@ -74,7 +78,7 @@ TEST(ResendRing, ARecorderOverItsRateIsToldToWaitAndServedLater) {
   ResendRing r(lim);
   const auto t0 = Clock::now();
   for (int s = 0; s < 1000; ++s) frame(r, "a", s, 100, t0);
-  const auto first = r.answer("greedy", "a", 0, 999, t0);
+  const auto first = r.answer("greedy", "a", 0, 999, kOwner, t0);
   ASSERT_EQ(first.back().status, ResendRing::Status::Limited);
   const std::size_t sent = first.size() - 1;
   EXPECT_LE(sent, 50u);
@@ -82,10 +86,10 @@ TEST(ResendRing, ARecorderOverItsRateIsToldToWaitAndServedLater) {
   EXPECT_EQ(first.back().seq, static_cast<std::int64_t>(sent / 2));
   EXPECT_EQ(first.back().last_seq, 999);
   // another client has its own bucket
-  EXPECT_EQ(r.answer("other", "a", 0, 9, t0).size(), 20u);
+  EXPECT_EQ(r.answer("other", "a", 0, 9, kOwner, t0).size(), 20u);
   // right away: nothing; a quarter second later: about 25 more messages
-  EXPECT_EQ(r.answer("greedy", "a", 25, 999, t0).front().status, ResendRing::Status::Limited);
-  const auto later = r.answer("greedy", "a", 25, 999, t0 + std::chrono::milliseconds(250));
+  EXPECT_EQ(r.answer("greedy", "a", 25, 999, kOwner, t0).front().status, ResendRing::Status::Limited);
+  const auto later = r.answer("greedy", "a", 25, 999, kOwner, t0 + std::chrono::milliseconds(250));
   EXPECT_GE(later.size() - 1, 20u);
   EXPECT_LE(later.size() - 1, 26u);
 }
@@ -123,6 +127,58 @@ TEST(ResendRing, EventsAreOneServerWideStream) {
   EXPECT_EQ(got.front().last_seq, 199);
   EXPECT_EQ(got.size(), 1u + 11u);
   EXPECT_EQ(got.back().seq, 210);
+}
+
+// A fleet's server that published part of a session and then lost it (a
+// takeover while it was fenced) answers only the messages it sent: not
+// the frames it kept unsent while fenced (the new owner publishes its own
+// under those seqs), no Gone for what fell out and no UnknownSession, which
+// the owner says for the session.
+TEST(ResendRing, APreviousOwnerAnswersOnlyWhatItSent) {
+  ResendLimits lim;
+  lim.frames_per_session = 10;
+  ResendRing r(lim);
+  const auto t0 = Clock::now();
+  for (int s = 0; s < 30; ++s) frame(r, "a", s, 100, t0, /*sent=*/true);
+  for (int s = 30; s < 33; ++s) frame(r, "a", s, 100, t0, /*sent=*/false);  // fenced: kept, not sent
+  const auto owner = r.answer("c", "a", 0, -1, kOwner, t0);
+  ASSERT_EQ(owner.front().status, ResendRing::Status::Gone);
+  EXPECT_EQ(owner.back().seq, 32);  // the owner answers with what it kept too
+  const auto before = r.answer("c", "a", 0, -1, kPublished, t0);
+  ASSERT_FALSE(before.empty());
+  for (const auto& m : before) {
+    EXPECT_EQ(m.status, ResendRing::Status::Ok);
+    EXPECT_LT(m.seq, 30);
+  }
+  EXPECT_EQ(before.back().seq, 29);
+  EXPECT_EQ(before.size(), owner.size() - 1 - 2 * 3);  // less the Gone and the three kept frames
+  EXPECT_TRUE(r.answer("c", "a", 30, 32, kPublished, t0).empty());
+  EXPECT_TRUE(r.answer("c", "unknown", 0, 5, kPublished, t0).empty());
+}
+
+// A server that took a session over at seq 40 holds nothing before it:
+// those seqs an earlier owner published (Elsewhere, ask it), and those of
+// its own that fell out of its ring are Gone.
+TEST(ResendRing, SeqsBeforeATakeoverAreElsewhere) {
+  ResendLimits lim;
+  lim.frames_per_session = 10;
+  ResendRing r(lim);
+  for (int s = 40; s < 100; ++s) frame(r, "a", s);
+  const auto got = r.answer("c", "a", 30, 95);
+  ASSERT_GE(got.size(), 3u);
+  EXPECT_EQ(got[0].status, ResendRing::Status::Elsewhere);
+  EXPECT_EQ(got[0].seq, 30);
+  EXPECT_EQ(got[0].last_seq, 39);
+  EXPECT_EQ(got[1].status, ResendRing::Status::Gone);
+  EXPECT_EQ(got[1].seq, 40);
+  EXPECT_EQ(got[2].status, ResendRing::Status::Ok);
+  EXPECT_EQ(got[2].seq, got[1].last_seq + 1);
+  // a session created here starts at seq 0: nothing is elsewhere
+  frame(r, "b", 0);
+  EXPECT_EQ(r.answer("c", "b", 0, 0).front().status, ResendRing::Status::Ok);
+  // the previous owner's view of it: only what it holds, silent on the rest
+  EXPECT_TRUE(r.answer("c", "a", 30, 39, kPublished).empty());
+  EXPECT_EQ(r.stats().elsewhere, 1);
 }
 
 }  // namespace
