@@ -62,10 +62,13 @@ std::string FleetNode::key(const std::string& kind, const std::string& rest) con
 
 // ---- ownership --------------------------------------------------------------
 
+bool FleetNode::mayClaim() const { return !draining_ && !fenced_ && membership_->leaseId() != 0; }
+
 std::int64_t FleetNode::claim(const std::string& id, const std::string& placement) {
-  if (draining_) throw std::runtime_error("server " + options_.server_id + " is draining");
+  if (draining_) throw session::UnavailableError("server " + options_.server_id + " is draining");
   const std::int64_t lease = membership_->leaseId();
-  if (lease == 0 || fenced_) throw std::runtime_error("server " + options_.server_id + " cannot reach the fleet's etcd");
+  if (lease == 0 || fenced_)
+    throw session::UnavailableError("server " + options_.server_id + " cannot reach the fleet's etcd");
   const std::string value = ownerValue(options_.server_id, 1, placement);
   const fleet::TxnResult t =
       client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
@@ -240,8 +243,11 @@ void FleetNode::run() {
     // for as long as its client waits for a first answer, a release until done)
     std::size_t placed = 0, released = 0;
     try {
-      for (; placed < creates.size(); ++placed)
-        if (Clock::now() - creates[placed].at < kCreateRetry) place(creates[placed]);
+      for (; placed < creates.size(); ++placed) {
+        const auto age = Clock::now() - creates[placed].at;
+        if (age < kCreateRetry) place(creates[placed]);
+        else if (age < kGiveUpBy) giveUp(creates[placed]);
+      }
       for (; released < releases.size(); ++released) {
         const std::string& id = releases[released];
         std::int64_t epoch = 0;

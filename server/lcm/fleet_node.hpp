@@ -68,8 +68,11 @@ class FleetNode final : public session::Ownership {
 
   // ---- the receive thread ----
   // A create heard on the bus: `take` runs later on the node's thread if
-  // the create's placement (creates/<client>/<request>) names this server.
-  void onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take);
+  // the create's placement (creates/<client>/<request>) names this server;
+  // `refuse` if it could not be placed for kCreateRetry (etcd away) and
+  // this server, the fleet's answerer, then wrote the placement "nowhere".
+  void onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take,
+                std::function<void(const std::string&)> refuse);
   // Whether this server answers a request naming this session now: it
   // hosts it. When no server is known to own it (a session created a
   // moment ago may not be in the owners' view yet), `unknown` runs on the
@@ -150,13 +153,19 @@ class FleetNode final : public session::Ownership {
     std::string client_id;
     std::int64_t request_id = 0;
     std::function<void()> take;
+    std::function<void(const std::string&)> refuse;
     Clock::time_point at;  // heard; placement is tried again after an etcd error for kCreateRetry
   };
   static constexpr std::chrono::seconds kCreateRetry{10};
+  // then, until the create is kGiveUpBy old, the answerer tries to refuse it (giveUp)
+  static constexpr std::chrono::seconds kGiveUpBy{60};
+  static constexpr const char* kNowhere = "-";  // a creates/ value "-<server>": refused by that server
   static constexpr std::size_t kMaxPendingCreates = 4096;
   static constexpr std::size_t kMaxAsksPerScan = 64;  // gap repair: a flood of made-up gaps stays bounded
   bool retry_ = false;  // under mutex_: the last pass failed on etcd, wait a scan period
   void place(const Pending& p);
+  void giveUp(const Pending& p);
+  bool mayClaim() const;  // claim() would not throw: a lease held, not fenced, not draining
   // Sessions per server: owners' keys and recent placements (both count a
   // session being built, for every server alike, so the order is fair).
   std::map<std::string, int> loads();

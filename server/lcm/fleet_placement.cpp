@@ -4,6 +4,7 @@
 // placement policy (spread or packed).
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -19,12 +20,13 @@ namespace groundsim::net {
 using fleet_owners::Owner;
 using fleet_owners::ownerOf;
 
-void FleetNode::onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take) {
+void FleetNode::onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take,
+                         std::function<void(const std::string&)> refuse) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
     // kept for retries while etcd is away: a flood of creates is not all kept (their clients time out)
     if (creates_.size() >= kMaxPendingCreates) return;
-    creates_.push_back(Pending{client_id, request_id, std::move(take), Clock::now()});
+    creates_.push_back(Pending{client_id, request_id, std::move(take), std::move(refuse), Clock::now()});
   }
   wake_.notify_all();
 }
@@ -96,7 +98,9 @@ std::vector<std::string> FleetNode::ranked(const std::map<std::string, int>& loa
   for (const fleet::Member& m : membership_->members()) {
     const nlohmann::json& info = m.info;
     if (!info.is_object() || info.value("draining", false)) continue;
-    // a member whose heartbeat stopped (dead, its lease not lapsed yet) takes nothing
+    // a member whose heartbeat stopped (dead, its lease not lapsed yet) takes
+    // nothing, nor this server while fenced (it could not claim the session)
+    if (m.id == options_.server_id && !mayClaim()) continue;
     const auto beat = beats.find(m.id);
     if (m.id != options_.server_id && beat != beats.end() && now - beat->second > silent) continue;
     const nlohmann::json cap = info.value("capacity", nlohmann::json::object());
@@ -142,6 +146,27 @@ void FleetNode::place(const Pending& p) {
     if (placed_.size() < kMaxPendingCreates) placed_[k] = Placed{named, Clock::now()};
   }
   if (named == options_.server_id) p.take();
+}
+
+// A create no server could place for kCreateRetry (etcd did not answer):
+// every server stops placing it and tries to refuse it instead, by writing
+// its placement as "nowhere (refused by this server)" in the same
+// create-if-absent every placement uses. The one write that lands decides:
+// a placement still on its way either won (its server takes the create, no
+// refusal) or reads the refusal (and takes nothing), and of the servers
+// refusing only the one whose refusal was written answers. A client hears
+// exactly one answer, or none while etcd stays away.
+void FleetNode::giveUp(const Pending& p) {
+  const std::string k = key("creates", p.client_id + "/" + std::to_string(p.request_id));
+  const std::string mine = std::string(kNowhere) + options_.server_id;
+  const std::string named = client_.createOrRead(k, mine, claimsLease());
+  if (named == options_.server_id) return p.take();
+  if (named != mine) return;
+  std::fprintf(stderr, "groundsim-server: fleet: create %s/%lld refused: not placed in %lld s\n",
+               p.client_id.c_str(), static_cast<long long>(p.request_id),
+               static_cast<long long>(kCreateRetry.count()));
+  p.refuse("the fleet could not place the create in " + std::to_string(kCreateRetry.count()) +
+           " s (its etcd did not answer): nothing was created; create again");
 }
 
 }  // namespace groundsim::net

@@ -93,7 +93,11 @@ void LcmServer::handleRequest(const std::string& channel, const void* data, int 
   }
   if (fleet_) {
     if (r.op == session::Op::Create) {
-      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleRequest(r); });
+      fleet_->onCreate(
+          r.client_id, r.request_id, [this, r] { service_->handleRequest(r); },
+          [this, r](const std::string& why) {
+            publishReply(session::makeReply(session::replyTo(r), "", false, session::ErrorCode::Unavailable, why));
+          });
       return;
     }
     if (r.op == session::Op::List) {
@@ -156,7 +160,11 @@ void LcmServer::handleVecRequest(const std::string& channel, const void* data, i
   }
   if (fleet_) {
     if (r.op == session::VecOp::Create) {
-      fleet_->onCreate(r.client_id, r.request_id, [this, r] { service_->handleVecRequest(r); });
+      fleet_->onCreate(
+          r.client_id, r.request_id, [this, r] { service_->handleVecRequest(r); },
+          [this, r](const std::string& why) {
+            publishVecReply(session::refusedVecReply(r, "", session::ErrorCode::Unavailable, "", why));
+          });
       return;
     }
     if (!fleet_->answers(r.session_id, [this, r] { service_->handleVecRequest(r); })) return;

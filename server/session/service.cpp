@@ -375,6 +375,8 @@ void SessionService::build(const Request& r) {
     fail(r, ErrorCode::BadScenario, "invalid scenario: " + joinIssues(e));
   } catch (const MissingAssetsError& e) {
     fail(r, ErrorCode::MissingAssets, e.what());
+  } catch (const UnavailableError& e) {
+    fail(r, ErrorCode::Unavailable, std::string("unavailable: ") + e.what() + "; create again");
   } catch (const std::bad_alloc&) {
     fail(r, ErrorCode::BadScenario, "invalid scenario: building it needs more memory than the server has");
   } catch (const std::exception& e) {

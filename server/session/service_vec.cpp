@@ -116,6 +116,8 @@ void SessionService::buildVec(const VecRequest& r) {
     failVec(r, ErrorCode::BadScenario, "scenario_json", "invalid scenario: " + joinIssues(e));
   } catch (const MissingAssetsError& e) {
     failVec(r, ErrorCode::MissingAssets, "assets", e.what());
+  } catch (const UnavailableError& e) {
+    failVec(r, ErrorCode::Unavailable, "", std::string("unavailable: ") + e.what() + "; create again");
   } catch (const experiments::ExperimentError& e) {
     failVec(r, ErrorCode::BadRequest, e.field(), reasonOf(e));
   } catch (const std::bad_alloc&) {

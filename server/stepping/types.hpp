@@ -35,7 +35,10 @@ enum class ErrorCode : int {
   Internal = 13, Shutdown = 14,
   // a create names assets (files) the server does not hold yet: the client
   // sends them (asset_part_t) and creates again (asset_want_t.ERR_MISSING_ASSETS)
-  MissingAssets = 15
+  MissingAssets = 15,
+  // a fleet could not place a create: its etcd did not answer while the
+  // create was tried (FleetNode::kCreateRetry); nothing was created
+  Unavailable = 16
 };
 
 const char* modeName(Mode m);
