@@ -86,3 +86,28 @@ def test_infos_dicts_are_fresh_but_their_arrays_are_shared_without_copies(goal_d
     infos["episode_index"] = "changed by a wrapper"
     _, _, _, _, infos2 = env.step(actions(env, 1)[0])
     assert infos2["episode_index"].tolist() == [1, 1]
+
+
+def test_fresh_arrays_are_the_ones_the_batch_wrote_and_stay_unchanged(goal_doc):
+    """copy=True without copies: the arrays a call returns are those the C++
+    batch wrote into; a partial reset or a restore carries the other rows
+    over into new arrays and never writes one returned before."""
+    env = make_goal(goal_doc, 4)
+    env.reset(seed=3)
+    seq = actions(env, 3)
+    obs, rewards, term, trunc, infos = env.step(seq[0])
+    assert obs is env._obs and rewards is env._rewards and infos["episode_steps"] is env._info_arrays["episode_steps"]
+    kept = obs.copy()
+    snap = env.snapshot(1)
+    env.step(seq[1])
+    before_reset = env.step(seq[2])[0]
+    kept_before_reset = before_reset.copy()
+    partial, _ = env.reset(seed=5, options={"env": [2]})
+    np.testing.assert_array_equal(obs, kept)
+    np.testing.assert_array_equal(before_reset, kept_before_reset)
+    assert not np.shares_memory(partial, before_reset)
+    np.testing.assert_array_equal(np.delete(partial, 2, axis=0), np.delete(before_reset, 2, axis=0))
+    restored = env.restore(1, snap)
+    np.testing.assert_array_equal(restored, kept[1])
+    np.testing.assert_array_equal(np.delete(env._obs, 1, axis=0), np.delete(partial, 1, axis=0))
+    np.testing.assert_array_equal(before_reset, kept_before_reset)
