@@ -5,6 +5,13 @@
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
+#include "physics/simd/simd_path.hpp"
 
 namespace groundsim::render {
 namespace {
@@ -45,6 +52,104 @@ std::uint8_t byteOf(double v) { return static_cast<std::uint8_t>(std::clamp(v * 
 using Bytes = std::array<std::uint8_t, 3>;
 Bytes bytesOf(const Rgb& c) { return {byteOf(c.r), byteOf(c.g), byteOf(c.b)}; }
 
+// A span four pixels at a time: for pixels i of a row from lo on, 1 /
+// depth, the depth test, and for the pixels drawn their colour (Grid: the
+// ground's grid at the pixel's world x, y; else the triangle's) faded by
+// the fog, written as bytes.
+// The same operations in the same order as the scalar loop in Raster::fill
+// (an unfogged pixel's fade is 0: col + 0 (sky - col) is col), in AVX2
+// without FMA (target "avx2" alone: no multiply-add can be contracted), so
+// the bytes are the scalar loop's on every machine; libm is not called
+// (floor is a rounding toward zero, as frac's truncation). Returns how many
+// pixels it did (a multiple of 4); the rest is the scalar loop's.
+struct SpanIn {
+  double wa_row, wb_row, dwa_dx, dwb_dx;
+  double ainv, binv, cinv, awx, bwx, cwx, awy, bwy, cwy;
+  double lit[3][3];  // [channel][kGround index]: the ground's colours lit by the triangle's light (Grid),
+                     // else [channel][0]: the triangle's colour
+  double sky[3];
+};
+#if defined(__x86_64__)
+#define GROUNDSIM_AVX2 __attribute__((target("avx2"), always_inline)) inline
+// v - floor(v) as frac() computes it: truncated, one less where that is above v
+GROUNDSIM_AVX2 __m256d frac4(__m256d v) {
+  const __m256d f = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+  return _mm256_sub_pd(v, _mm256_blendv_pd(f, _mm256_sub_pd(f, _mm256_set1_pd(1.0)), _mm256_cmp_pd(f, v, _CMP_GT_OQ)));
+}
+// wa a + wb b + wc c, summed left to right
+GROUNDSIM_AVX2 __m256d interp(__m256d wa, __m256d wb, __m256d wc, double a, double b, double c) {
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(wa, _mm256_set1_pd(a)), _mm256_mul_pd(wb, _mm256_set1_pd(b))),
+                       _mm256_mul_pd(wc, _mm256_set1_pd(c)));
+}
+// a channel's byte, as byteOf: (v 255 + 0.5) clamped to [0, 255], truncated
+GROUNDSIM_AVX2 __m128i bytes4(__m256d v) {
+  const __m256d x = _mm256_add_pd(_mm256_mul_pd(v, _mm256_set1_pd(255.0)), _mm256_set1_pd(0.5));
+  return _mm256_cvttpd_epi32(_mm256_min_pd(_mm256_max_pd(x, _mm256_setzero_pd()), _mm256_set1_pd(255.0)));
+}
+template <bool Grid>
+__attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, double* depth, std::uint8_t* rgb) {
+  const int n = (hi - lo + 1) / 4 * 4;
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d lane = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  const double edge_w = 3.0 / 256.0, half_w = 1.0 / 256.0;
+  const __m256d ew = _mm256_set1_pd(edge_w), ew_hi = _mm256_set1_pd(1.0 - edge_w), hw = _mm256_set1_pd(half_w);
+  const __m256d half = _mm256_set1_pd(0.5), fog_start = _mm256_set1_pd(kFogStart), fog_scale = _mm256_set1_pd(kFogScale);
+  const __m256d fog_start_inv = _mm256_set1_pd(1.0 / kFogStart);
+  alignas(16) std::int32_t ch[3][4];
+  for (int q = 0; q < n; q += 4) {
+    const int i = lo + q;
+    const __m256d di = _mm256_add_pd(_mm256_set1_pd(static_cast<double>(i)), lane);
+    const __m256d wa =
+        _mm256_max_pd(_mm256_add_pd(_mm256_set1_pd(in.wa_row), _mm256_mul_pd(_mm256_set1_pd(in.dwa_dx), di)), zero);
+    const __m256d wb =
+        _mm256_max_pd(_mm256_add_pd(_mm256_set1_pd(in.wb_row), _mm256_mul_pd(_mm256_set1_pd(in.dwb_dx), di)), zero);
+    const __m256d wc = _mm256_max_pd(_mm256_sub_pd(_mm256_sub_pd(one, wa), wb), zero);
+    const __m256d inv_z = interp(wa, wb, wc, in.ainv, in.binv, in.cinv);
+    double* d = depth + i;
+    const __m256d old = _mm256_loadu_pd(d);
+    const __m256d nearer = _mm256_cmp_pd(inv_z, old, _CMP_GT_OQ);
+    const int drawn = _mm256_movemask_pd(nearer);
+    if (drawn == 0) continue;
+    _mm256_storeu_pd(d, _mm256_blendv_pd(old, inv_z, nearer));
+    const __m256d z = _mm256_div_pd(one, inv_z);
+    __m256d edge = zero, halfline = zero;
+    if constexpr (Grid) {
+      const __m256d fx = frac4(_mm256_mul_pd(interp(wa, wb, wc, in.awx, in.bwx, in.cwx), z));
+      const __m256d fy = frac4(_mm256_mul_pd(interp(wa, wb, wc, in.awy, in.bwy, in.cwy), z));
+      edge = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(fx, ew, _CMP_LT_OQ), _mm256_cmp_pd(fx, ew_hi, _CMP_GT_OQ)),
+                          _mm256_or_pd(_mm256_cmp_pd(fy, ew, _CMP_LT_OQ), _mm256_cmp_pd(fy, ew_hi, _CMP_GT_OQ)));
+      halfline = _mm256_or_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(fx, half)), hw, _CMP_LT_OQ),
+                              _mm256_cmp_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(fy, half)), hw, _CMP_LT_OQ));
+    }
+    // the fog's fade: 0 up to its start (a triangle's own colour also where
+    // 1 / depth is at least the start's, as the scalar loop decides first),
+    // then (z - start) / its length up to 1
+    __m256d unfogged = _mm256_cmp_pd(z, fog_start, _CMP_LE_OQ);
+    if constexpr (!Grid) unfogged = _mm256_or_pd(unfogged, _mm256_cmp_pd(inv_z, fog_start_inv, _CMP_GE_OQ));
+    const __m256d fade =
+        _mm256_blendv_pd(_mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(z, fog_start), fog_scale), one), zero, unfogged);
+    for (int c = 0; c < 3; ++c) {
+      // the grid's colour: an edge line, else a half-metre line, else grass
+      const __m256d col =
+          Grid ? _mm256_blendv_pd(_mm256_blendv_pd(_mm256_set1_pd(in.lit[c][kGrassColour]),
+                                                   _mm256_set1_pd(in.lit[c][kHalfColour]), halfline),
+                                  _mm256_set1_pd(in.lit[c][kEdgeColour]), edge)
+               : _mm256_set1_pd(in.lit[c][0]);
+      const __m256d v = _mm256_add_pd(col, _mm256_mul_pd(fade, _mm256_sub_pd(_mm256_set1_pd(in.sky[c]), col)));
+      _mm_store_si128(reinterpret_cast<__m128i*>(ch[c]), bytes4(v));
+    }
+    for (int k = 0; k < 4; ++k) {
+      if (!((drawn >> k) & 1)) continue;
+      std::uint8_t* p = rgb + 3 * static_cast<size_t>(i + k);
+      p[0] = static_cast<std::uint8_t>(ch[0][k]), p[1] = static_cast<std::uint8_t>(ch[1][k]),
+      p[2] = static_cast<std::uint8_t>(ch[2][k]);
+    }
+  }
+  return n;
+}
+#endif
+
 }  // namespace
 
 Rgb rgbOf(std::uint32_t hex) {
@@ -55,7 +160,7 @@ Raster::Raster(int width, int height, double fov_deg)
     : width_(width), height_(height),
       focal_(0.5 * height / std::tan(0.5 * fov_deg * std::acos(-1.0) / 180.0)),
       colour_(static_cast<size_t>(width) * height * 3),
-      depth_(static_cast<size_t>(width) * height) {}
+      depth_(static_cast<size_t>(width) * height), wide_(useWideSimd(false)) {}
 
 void Raster::look(const Vec3& eye, const Vec3& target) {
   eye_ = eye;
@@ -69,8 +174,12 @@ void Raster::look(const Vec3& eye, const Vec3& target) {
 void Raster::clear(const Rgb& sky) {
   sky_ = sky;
   const std::uint8_t r = byteOf(sky.r), g = byteOf(sky.g), b = byteOf(sky.b);
-  for (size_t k = 0; k < colour_.size(); k += 3) colour_[k] = r, colour_[k + 1] = g, colour_[k + 2] = b;
   std::fill(depth_.begin(), depth_.end(), 0.0);  // 1 / depth: nothing drawn is infinitely far
+  // the first pixel, then the filled part copied onto the rest, doubling
+  if (colour_.empty()) return;
+  colour_[0] = r, colour_[1] = g, colour_[2] = b;
+  for (size_t done = 3; done < colour_.size(); done *= 2)
+    std::copy_n(colour_.begin(), std::min(done, colour_.size() - done), colour_.begin() + static_cast<std::ptrdiff_t>(done));
 }
 
 Raster::Vertex Raster::project(const Vec3& cam, const Vec3& world) const {
@@ -158,6 +267,24 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   if (grid)
     for (size_t g = 0; g < ground.size(); ++g)
       ground[g] = bytesOf({kGround[g].r * light, kGround[g].g * light, kGround[g].b * light});
+  // a drawn ground pixel at depth z showing colour g: its bytes made once
+  // unfogged, faded towards the sky past the fog's start
+  const auto groundPixel = [&](size_t k, double z, int g) {
+    const Rgb& t = kGround[static_cast<size_t>(g)];
+    if (z <= kFogStart) return put(k, ground[static_cast<size_t>(g)]);
+    const Rgb col{t.r * light, t.g * light, t.b * light};
+    const double f = std::min((z - kFogStart) * kFogScale, 1.0);
+    put(k, Rgb{col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
+  };
+#if defined(__x86_64__)
+  const bool wide = wide_;  // the same bytes either way (spanQuads)
+  SpanIn span{0.0, 0.0, dwa_dx, dwb_dx, a.inv_z, b.inv_z, c.inv_z, a.wx, b.wx, c.wx, a.wy, b.wy, c.wy, {}, {}};
+  for (size_t g = 0; g < kGround.size(); ++g) {
+    span.lit[0][g] = kGround[g].r * light, span.lit[1][g] = kGround[g].g * light, span.lit[2][g] = kGround[g].b * light;
+  }
+  if (!grid) span.lit[0][0] = lit.r, span.lit[1][0] = lit.g, span.lit[2][0] = lit.b;
+  span.sky[0] = sky_.r, span.sky[1] = sky_.g, span.sky[2] = sky_.b;
+#endif
   for (int py = y0; py <= y1; ++py, wa_row += dwa_dy, wb_row += dwb_dy) {
     // the row's pixels inside: where each weight w0 + dw i (i from the box's
     // first pixel) is >= 0, intersected; the third weight is 1 - wa - wb
@@ -174,7 +301,17 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
     }
     if (lo > hi) continue;
     const size_t row = static_cast<size_t>(py) * width_;
-    for (int i = lo; i <= hi; ++i) {
+    // the span four pixels at a time where the CPU has AVX2 (the same
+    // bytes: spanQuads), then the rest one by one
+    int i = lo;
+#if defined(__x86_64__)
+    if (wide && hi - lo >= 3) {
+      span.wa_row = wa_row, span.wb_row = wb_row;
+      i += (grid ? spanQuads<true> : spanQuads<false>)(span, lo, hi, depth_.data() + row + x0,
+                                                       colour_.data() + 3 * (row + x0));
+    }
+#endif
+    for (; i <= hi; ++i) {
       const int px = x0 + i;
       // at the span's ends a weight may be a rounding below 0: clamped
       const double wa = std::max(0.0, wa_row + dwa_dx * i), wb = std::max(0.0, wb_row + dwb_dx * i);
@@ -189,19 +326,16 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
         continue;
       }
       const double z = 1.0 / inv_z;
-      Rgb col = lit;
-      int g = 0;
       if (grid) {
-        g = groundAt((wa * a.wx + wb * b.wx + wc * c.wx) * z, (wa * a.wy + wb * b.wy + wc * c.wy) * z);
-        col = {kGround[static_cast<size_t>(g)].r * light, kGround[static_cast<size_t>(g)].g * light,
-               kGround[static_cast<size_t>(g)].b * light};
+        groundPixel(k, z, groundAt((wa * a.wx + wb * b.wx + wc * c.wx) * z, (wa * a.wy + wb * b.wy + wc * c.wy) * z));
+        continue;
       }
       if (z <= kFogStart) {
-        put(k, grid ? ground[static_cast<size_t>(g)] : own);
+        put(k, own);
         continue;
       }
       const double f = std::min((z - kFogStart) * kFogScale, 1.0);
-      put(k, Rgb{col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
+      put(k, Rgb{lit.r + f * (sky_.r - lit.r), lit.g + f * (sky_.g - lit.g), lit.b + f * (sky_.b - lit.b)});
     }
   }
 }

@@ -67,6 +67,29 @@ TEST(Render, APlaneDrawnAsTwoTrianglesIsTheGridsFrame) {
   EXPECT_LE(most, 8);
 }
 
+// Spans four pixels at a time (AVX2, where the CPU has it) give the bytes
+// of the pixel-by-pixel loop: the ground's grid, the fog, the car, on a
+// plane (two triangles) and on rolling ground (its cells), at sizes whose
+// rows end in a part of four.
+TEST(Render, WideSpansGiveThePixelLoopsBytes) {
+  const nlohmann::json rolling = {{"type", "expression"}, {"expression", "z - 0.3*sin(0.4*x)*cos(0.3*y)"}};
+  for (const nlohmann::json& ground : {plane(), rolling}) {
+    const scenario::Scene scene = scenario::buildScene(scenario::parseScenario(roadCarDoc(ground, task())));
+    Simulator sim(scene.built.model, scene.built.initial);
+    GroundProbe probe(*sim.model().ground);
+    for (const auto [w, h] : {std::pair{128, 96}, std::pair{67, 41}, std::pair{161, 121}}) {
+      for (int k = 0; k < 25; ++k) sim.step();
+      render::Raster wide(w, h), one(w, h);
+      one.setWideSpans(false);
+      render::FrameCache wide_cache, one_cache;
+      std::vector<std::uint8_t> a(static_cast<size_t>(w * h * 3)), b(a.size());
+      render::renderFrame(sim.model(), sim.state(), probe, 0, render::FrameOptions{}, wide, wide_cache, a.data());
+      render::renderFrame(sim.model(), sim.state(), probe, 0, render::FrameOptions{}, one, one_cache, b.data());
+      EXPECT_EQ(a, b) << ground.dump() << " at " << w << "x" << h;
+    }
+  }
+}
+
 TEST(Render, SizesOutOfRangeAreRefused) {
   Batch b(roadCarDoc(plane(), task()), 1);
   b.reset(0);
