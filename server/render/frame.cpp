@@ -21,6 +21,13 @@ constexpr std::uint32_t kSky = 0x9fc4e0, kTyre = 0x222222, kCone = 0xff6a13, kSt
                         kMovable = 0x3f7fbf;
 
 
+// A triangle of the convex part centred at `centre`, its normal outward.
+Tri outward(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& centre) {
+  Vec3 n = (b - a).cross(c - a);
+  if (n.dot(a + b + c - 3.0 * centre) < 0.0) n = -n;
+  return Tri{{a, b, c}, n};
+}
+
 // The triangles of a shape in its own frame (boxes without their rounding).
 void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
   auto ring = [](double r, double z, int k) {
@@ -31,10 +38,11 @@ void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
   auto frustum = [&](double r0, double z0, double r1, double z1) {
     for (int k = 0; k < kRound; ++k) {
       const Vec3 a = ring(r0, z0, k), b = ring(r0, z0, k + 1), c = ring(r1, z1, k + 1), d = ring(r1, z1, k);
-      out.push_back({a, b, c});
-      if (r1 > 0.0) out.push_back({a, c, d});
-      out.push_back({Vec3(0, 0, z0), b, a});
-      if (r1 > 0.0) out.push_back({Vec3(0, 0, z1), d, c});
+      const Vec3 mid(0.0, 0.0, 0.5 * (z0 + z1));
+      out.push_back(outward(a, b, c, mid));
+      if (r1 > 0.0) out.push_back(outward(a, c, d, mid));
+      out.push_back(outward(Vec3(0, 0, z0), b, a, mid));
+      if (r1 > 0.0) out.push_back(outward(Vec3(0, 0, z1), d, c, mid));
     }
   };
   auto sphere = [&](double r, const Vec3& centre) {
@@ -45,8 +53,8 @@ void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
     };
     for (int i = 0; i < rows; ++i)
       for (int k = 0; k < kRound; ++k) {
-        out.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1)});
-        out.push_back({at(i, k), at(i + 1, k + 1), at(i, k + 1)});
+        out.push_back(outward(at(i, k), at(i + 1, k), at(i + 1, k + 1), centre));
+        out.push_back(outward(at(i, k), at(i + 1, k + 1), at(i, k + 1), centre));
       }
   };
   switch (s.kind) {
@@ -55,8 +63,8 @@ void shapeTriangles(const Shape& s, std::vector<Tri>& out) {
       auto corner = [&](int i) { return Vec3((i & 1 ? 1 : -1) * h.x(), (i & 2 ? 1 : -1) * h.y(), (i & 4 ? 1 : -1) * h.z()); };
       static const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
       for (const auto& f : faces) {
-        out.push_back({corner(f[0]), corner(f[1]), corner(f[2])});
-        out.push_back({corner(f[0]), corner(f[2]), corner(f[3])});
+        out.push_back(outward(corner(f[0]), corner(f[1]), corner(f[2]), Vec3::Zero()));
+        out.push_back(outward(corner(f[0]), corner(f[2]), corner(f[3]), Vec3::Zero()));
       }
       break;
     }
@@ -172,9 +180,16 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
       pos = Vec3(bodyPos(y, col.body)) + Rb * col.pos;
     }
     // far beyond the fog: nothing to draw
-    if ((pos - eye).norm() > 80.0 + col.shape.bound()) continue;
+    const double from_eye = (pos - eye).norm();
+    if (from_eye > 80.0 + col.shape.bound()) continue;
     const Rgb colour = colourOf(m, col);
-    for (const Tri& t : cache.shapes[k]) raster.triangle(pos + rot * t[0], pos + rot * t[1], pos + rot * t[2], colour);
+    // the eye outside the shape's bounding sphere: its back faces are hidden
+    const bool cull = from_eye > col.shape.bound();
+    for (const Tri& t : cache.shapes[k]) {
+      const Vec3 a = pos + rot * t.v[0];
+      if (cull && (rot * t.out).dot(eye - a) < 0.0) continue;
+      raster.triangle(a, pos + rot * t.v[1], pos + rot * t.v[2], colour);
+    }
   }
   raster.write(rgb);
 }

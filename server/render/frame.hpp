@@ -30,7 +30,14 @@ struct FrameOptions {
 // cell origin moves). A frame does not depend on what is in here, only its
 // cost does. The raster's buffers (a frame's size) belong to the caller,
 // one for any number of scenes drawn in turn.
-using Tri = std::array<Vec3, 3>;
+// A triangle of a shape in the shape's frame, with its normal pointing out of
+// the convex part it bounds (a box, a cylinder, one of a capsule's spheres):
+// a triangle whose outward normal faces away from the eye is hidden by its
+// part's own front (back-face culling), and is not drawn.
+struct Tri {
+  std::array<Vec3, 3> v;
+  Vec3 out;
+};
 struct FrameCache {
   double x0 = 0.0, y0 = 0.0, step = 0.0;
   int n = 0;

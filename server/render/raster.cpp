@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -96,7 +97,8 @@ __attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, 
   const __m256d ew = _mm256_set1_pd(edge_w), ew_hi = _mm256_set1_pd(1.0 - edge_w), hw = _mm256_set1_pd(half_w);
   const __m256d half = _mm256_set1_pd(0.5), fog_start = _mm256_set1_pd(kFogStart), fog_scale = _mm256_set1_pd(kFogScale);
   const __m256d fog_start_inv = _mm256_set1_pd(1.0 / kFogStart);
-  alignas(16) std::int32_t ch[3][4];
+  // r0 r1 r2 r3 g0 .. b3 (packed) to r0 g0 b0 r1 g1 b1 ... (the buffer's order)
+  const __m128i interleave = _mm_setr_epi8(0, 4, 8, 1, 5, 9, 2, 6, 10, 3, 7, 11, 12, 13, 14, 15);
   for (int q = 0; q < n; q += 4) {
     const int i = lo + q;
     const __m256d di = _mm256_add_pd(_mm256_set1_pd(static_cast<double>(i)), lane);
@@ -129,6 +131,7 @@ __attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, 
     if constexpr (!Grid) unfogged = _mm256_or_pd(unfogged, _mm256_cmp_pd(inv_z, fog_start_inv, _CMP_GE_OQ));
     const __m256d fade =
         _mm256_blendv_pd(_mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(z, fog_start), fog_scale), one), zero, unfogged);
+    __m128i ch[3];
     for (int c = 0; c < 3; ++c) {
       // the grid's colour: an edge line, else a half-metre line, else grass
       const __m256d col =
@@ -137,14 +140,20 @@ __attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, 
                                   _mm256_set1_pd(in.lit[c][kEdgeColour]), edge)
                : _mm256_set1_pd(in.lit[c][0]);
       const __m256d v = _mm256_add_pd(col, _mm256_mul_pd(fade, _mm256_sub_pd(_mm256_set1_pd(in.sky[c]), col)));
-      _mm_store_si128(reinterpret_cast<__m128i*>(ch[c]), bytes4(v));
+      ch[c] = bytes4(v);
     }
-    for (int k = 0; k < 4; ++k) {
-      if (!((drawn >> k) & 1)) continue;
-      std::uint8_t* p = rgb + 3 * static_cast<size_t>(i + k);
-      p[0] = static_cast<std::uint8_t>(ch[0][k]), p[1] = static_cast<std::uint8_t>(ch[1][k]),
-      p[2] = static_cast<std::uint8_t>(ch[2][k]);
+    // the four pixels' bytes in the buffer's order (each value is in [0, 255]: the packs do not saturate)
+    alignas(16) std::uint8_t px[16];
+    _mm_store_si128(reinterpret_cast<__m128i*>(px),
+                    _mm_shuffle_epi8(_mm_packus_epi16(_mm_packus_epi32(ch[0], ch[1]), _mm_packus_epi32(ch[2], ch[2])),
+                                     interleave));
+    std::uint8_t* p = rgb + 3 * static_cast<size_t>(i);
+    if (drawn == 0xf) {
+      std::memcpy(p, px, 12);
+      continue;
     }
+    for (int k = 0; k < 4; ++k)
+      if ((drawn >> k) & 1) std::memcpy(p + 3 * k, px + 3 * k, 3);
   }
   return n;
 }
@@ -278,7 +287,10 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   };
 #if defined(__x86_64__)
   const bool wide = wide_;  // the same bytes either way (spanQuads)
-  SpanIn span{0.0, 0.0, dwa_dx, dwb_dx, a.inv_z, b.inv_z, c.inv_z, a.wx, b.wx, c.wx, a.wy, b.wy, c.wy, {}, {}};
+  SpanIn span;  // every field set here (no zeroing of its 25 doubles per triangle)
+  span.dwa_dx = dwa_dx, span.dwb_dx = dwb_dx;
+  span.ainv = a.inv_z, span.binv = b.inv_z, span.cinv = c.inv_z;
+  span.awx = a.wx, span.bwx = b.wx, span.cwx = c.wx, span.awy = a.wy, span.bwy = b.wy, span.cwy = c.wy;
   for (size_t g = 0; g < kGround.size(); ++g) {
     span.lit[0][g] = kGround[g].r * light, span.lit[1][g] = kGround[g].g * light, span.lit[2][g] = kGround[g].b * light;
   }
