@@ -21,18 +21,11 @@ lab=$1 server=$2 client=$3 scenario=$4 mode=$5
 fleet_lab_begin fz
 fail() {
   echo "FAIL: $*" >&2
-  for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 8 "$tmp/s$i.log" >&2; done
-  echo "--- recorder (last lines)" >&2; tail -n 8 "$tmp/rec.err" >&2 || true
+  fleet_dump recorder "$tmp/rec.err"
   exit 1
 }
 fleet_start_servers
-
-"$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --publish-rate 200 \
-  --out "$tmp/rec.mcap" --lcm-url "$url" --timeout 10 >"$tmp/rec.out" 2>"$tmp/rec.err" &
-recorder=$!
-for _ in $(seq 600); do [ -s "$tmp/rec.out" ] && break; sleep 0.1; done
-sid=$(tail -n 1 "$tmp/rec.out")
-[ -n "$sid" ] || fail "no session was created"
+fleet_record "$scenario"
 owner_of() {  # SERVER and EPOCH of session $1 in `groundsim list` (the listing kept in $tmp/list.txt)
   "$lab" exec "$name" 4 "$client" list --lcm-url "$url" --timeout 2 >"$tmp/list.txt" 2>&1 || true
   awk -v s="$1" '$1 == s { print $(NF-2), $(NF-1) }' "$tmp/list.txt"

@@ -24,6 +24,12 @@
 #   fleet_wait_new_owner SID OLD [WHY]  sets new and epoch once a server
 #                            other than OLD lists SID; else fail
 #                            "no server took session SID over within 120 s[WHY]"
+#   fleet_dump NAME FILE [N]  the servers' last 8 lines and FILE's last N (8)
+#                            on stderr, for a test's fail()
+#   fleet_record SCENARIO    `groundsim record --create` of a 12 s real-time
+#                            session at 200 Hz from host 4 into $tmp/rec.mcap
+#                            (stderr $tmp/rec.err); sets recorder (its pid)
+#                            and sid, else fail "no session was created"
 # Their wall-clock limits (60-120 s) only end a hung test.
 
 fleet_lab_begin() {
@@ -80,6 +86,21 @@ fleet_wait_capacities() {
     sleep 0.1
   done
   fail "the servers' registrations carry no heartbeat's capacity (${n:-0} of 3)"
+}
+
+fleet_dump() {
+  local i
+  for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 8 "$tmp/s$i.log" >&2 || true; done
+  echo "--- $1 (last lines)" >&2; tail -n "${3:-8}" "$2" >&2 || true
+}
+
+fleet_record() {
+  "$lab" exec "$name" 4 "$client" record --create "$1" --session-duration 12 --publish-rate 200 \
+    --out "$tmp/rec.mcap" --lcm-url "$url" --timeout 10 >"$tmp/rec.out" 2>"$tmp/rec.err" &
+  recorder=$!
+  for _ in $(seq 600); do [ -s "$tmp/rec.out" ] && break; sleep 0.1; done
+  sid=$(tail -n 1 "$tmp/rec.out")
+  [ -n "$sid" ] || fail "no session was created"
 }
 
 fleet_owner_of() {

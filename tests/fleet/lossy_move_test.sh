@@ -12,7 +12,8 @@
 # session moved (epoch 2), the old owner dropped it, the recorder exits 0
 # and the file's ledger lists 0 lost states. Printed, not judged: how many
 # ranges the new owner said were an earlier owner's (the repairs only the
-# old owner could make; without them, a run of 2026-12-07 lost 4 states). Exit 77 where the lab cannot be made.
+# old owner could make; without them, a run of 2026-12-07 lost 4
+# states). Exit 77 where the lab cannot be made.
 #   tests/fleet/lossy_move_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO
 set -euo pipefail
 lab=$1 server=$2 client=$3 scenario=$4
@@ -20,19 +21,12 @@ lab=$1 server=$2 client=$3 scenario=$4
 fleet_lab_begin fm
 fail() {
   echo "FAIL: $*" >&2
-  for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 8 "$tmp/s$i.log" >&2; done
-  echo "--- recorder (last lines)" >&2; tail -n 12 "$tmp/rec.err" >&2 || true
+  fleet_dump recorder "$tmp/rec.err" 12
   exit 1
 }
 declare -A pid
 fleet_start_servers --snapshot-interval 0.05
-
-"$lab" exec "$name" 4 "$client" record --create "$scenario" --session-duration 12 --publish-rate 200 \
-  --out "$tmp/rec.mcap" --lcm-url "$url" --timeout 10 >"$tmp/rec.out" 2>"$tmp/rec.err" &
-recorder=$!
-for _ in $(seq 600); do [ -s "$tmp/rec.out" ] && break; sleep 0.1; done
-sid=$(tail -n 1 "$tmp/rec.out")
-[ -n "$sid" ] || fail "no session was created"
+fleet_record "$scenario"
 fleet_wait_owner "$sid"
 [ "$epoch" = 1 ] || fail "a new session's epoch is $epoch, not 1"
 host=${owner#s}

@@ -18,8 +18,8 @@ lab=$1 server=$2 client=$3 bench=$4 scenario=$5
 fleet_lab_begin fu
 fail() {
   echo "FAIL: $*" >&2
-  for i in 1 2 3; do echo "--- server s$i (last lines)" >&2; tail -n 4 "$tmp/s$i.log" >&2; done
-  echo "--- service_bench" >&2; cat "$tmp/bench.out" "$tmp/bench.err" >&2 || true
+  cat "$tmp/bench.err" >>"$tmp/bench.out" 2>/dev/null || true
+  fleet_dump service_bench "$tmp/bench.out" 20
   exit 1
 }
 declare -A pid
