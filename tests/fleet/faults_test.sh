@@ -89,9 +89,5 @@ grep "^record: .* messages received" "$tmp/rec.err" || true
 # re-requests with it once their lease is back (a figure, not a verdict)
 fenced=$(grep -l "fenced (" "$tmp"/s[123].log | xargs -r -n1 basename | tr '\n' ' ' || true)
 echo "servers fenced for a while: ${fenced:-none}"
-"$client" inspect "$tmp/rec.mcap" >"$tmp/inspect.txt"
-ledger=$(grep "^ledger/$sid" "$tmp/inspect.txt" || true)
-echo "$ledger"
-echo "$ledger" | grep -q "state_lost_count 0" || fail "the ledger lists lost states: $ledger"
-grep -q "^end *complete" "$tmp/inspect.txt" || fail "the recording did not end properly"
+fleet_recording_complete "$sid"
 echo "the session stayed on $owner at epoch 1 through the $mode fault; the recording is complete"

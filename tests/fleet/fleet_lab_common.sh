@@ -30,6 +30,9 @@
 #                            session at 200 Hz from host 4 into $tmp/rec.mcap
 #                            (stderr $tmp/rec.err); sets recorder (its pid)
 #                            and sid, else fail "no session was created"
+#   fleet_recording_complete SID  `groundsim inspect` of $tmp/rec.mcap: prints
+#                            SID's ledger; fail unless it lists 0 lost states
+#                            and the file ended properly
 # Their wall-clock limits (60-120 s) only end a hung test.
 
 fleet_lab_begin() {
@@ -101,6 +104,15 @@ fleet_record() {
   for _ in $(seq 600); do [ -s "$tmp/rec.out" ] && break; sleep 0.1; done
   sid=$(tail -n 1 "$tmp/rec.out")
   [ -n "$sid" ] || fail "no session was created"
+}
+
+fleet_recording_complete() {
+  "$client" inspect "$tmp/rec.mcap" >"$tmp/inspect.txt"
+  local ledger
+  ledger=$(grep "^ledger/$1" "$tmp/inspect.txt" || true)
+  echo "$ledger"
+  echo "$ledger" | grep -q "state_lost_count 0" || fail "the ledger lists lost states: $ledger"
+  grep -q "^end *complete" "$tmp/inspect.txt" || fail "the recording did not end properly"
 }
 
 fleet_owner_of() {

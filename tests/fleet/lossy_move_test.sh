@@ -51,9 +51,5 @@ grep "^record: .* messages received" "$tmp/rec.err" || true
 elsewhere=$(grep -c "published by an earlier owner" "$tmp/rec.err" || true)
 echo "ranges the new owner said an earlier owner published (asked of the old owner again): $elsewhere"
 [ $rc = 0 ] || fail "the recorder exited $rc (3: messages lost)"
-"$client" inspect "$tmp/rec.mcap" >"$tmp/inspect.txt"
-ledger=$(grep "^ledger/$sid" "$tmp/inspect.txt" || true)
-echo "$ledger"
-echo "$ledger" | grep -q "state_lost_count 0" || fail "the ledger lists lost states: $ledger"
-grep -q "^end *complete" "$tmp/inspect.txt" || fail "the recording did not end properly"
+fleet_recording_complete "$sid"
 echo "the recording of session $sid is complete across its move"
