@@ -315,10 +315,13 @@ void Recorder::onResent(const groundsim::resent_t& m, Clock::time_point now) {
     case groundsim::resent_t::STATUS_ELSEWHERE:
       // published by an earlier owner (the session moved): that server
       // answers with what it sent once it hears the next ask; the gap keeps
-      // its schedule and is lost only when its asks are spent
-      if (s->elsewhere_told.insert(m.seq).second)
+      // its schedule and is lost only when its asks are spent (a range not
+      // asked for is ignored: nothing the network sends grows the state)
+      if (auto gap = s->asking.find(m.seq); gap != s->asking.end() && !gap->second.elsewhere) {
+        gap->second.elsewhere = true;
         std::fprintf(stderr, "record: %s: seq %lld..%lld published by an earlier owner: asked of it again\n",
                      s->id.c_str(), static_cast<long long>(m.seq), static_cast<long long>(m.last_seq));
+      }
       break;
     case groundsim::resent_t::STATUS_LIMITED:
       // over our rate: ask again soon, without spending an ask

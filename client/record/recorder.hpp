@@ -85,6 +85,7 @@ class Recorder {
   struct Gap {
     Clock::time_point due;
     int asks = 0;
+    bool elsewhere = false;  // the owner said an earlier owner published it (printed once)
   };
   struct Stream {
     std::string id;                      // session id ("" for the events)
@@ -115,7 +116,6 @@ class Recorder {
     // lower seq was published before the move (an answer to a re-request of
     // what the new owner does not hold) and is written
     std::int64_t epoch_from = -1;
-    std::set<std::int64_t> elsewhere_told;  // ranges told to be an earlier owner's (printed once)
     // A failover: the new owner publishes again the seqs from its snapshot
     // on (docs/fleet.md). Those up to the highest seq heard when the epoch
     // rose are counted as re-simulated, not repeats (the first kept).

@@ -232,7 +232,8 @@ class VecEnv(VectorEnv):
         rewards and flags only a step writes). copy=False: the same ones."""
         if not self._copy:
             return
-        # np.empty with the shape and dtype at hand: a third of empty_like's cost (0.15 against 0.6 us)
+        # np.empty with the shape and dtype at hand: a third of empty_like's cost (0.15 against 0.6 us);
+        # __init__'s info arrays spelt out again, as in _infos_out (loops over a key table cost 0.5-1 us a step)
         n, obs = self.num_envs, self._obs
         self._obs = obs.copy() if keep_obs else np.empty(obs.shape, np.float32)
         if step:

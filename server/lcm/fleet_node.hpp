@@ -70,7 +70,7 @@ class FleetNode final : public session::Ownership {
   // A create heard on the bus: `take` runs later on the node's thread if
   // the create's placement (creates/<client>/<request>) names this server;
   // `refuse` if it could not be placed for kCreateRetry (etcd away) and
-  // this server, the fleet's answerer, then wrote the placement "nowhere".
+  // this server's refusal is the placement written (giveUp).
   void onCreate(const std::string& client_id, std::int64_t request_id, std::function<void()> take,
                 std::function<void(const std::string&)> refuse);
   // Whether this server answers a request naming this session now: it
@@ -157,7 +157,7 @@ class FleetNode final : public session::Ownership {
     Clock::time_point at;  // heard; placement is tried again after an etcd error for kCreateRetry
   };
   static constexpr std::chrono::seconds kCreateRetry{10};
-  // then, until the create is kGiveUpBy old, the answerer tries to refuse it (giveUp)
+  // then, until the create is kGiveUpBy old, every server tries to refuse it (giveUp)
   static constexpr std::chrono::seconds kGiveUpBy{60};
   static constexpr const char* kNowhere = "-";  // a creates/ value "-<server>": refused by that server
   static constexpr std::size_t kMaxPendingCreates = 4096;

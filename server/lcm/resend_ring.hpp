@@ -69,8 +69,8 @@ class ResendRing {
   // the ring, an Elsewhere range for those before the first seq this server
   // published of the session (it took the session over at that seq: an
   // earlier owner published them); UnknownSession when no ring is kept for
-  // it. Scope::Published:
-  // the sent messages held, in the same order and bucket, and nothing else.
+  // it. Scope::Published: the sent messages held, in the same order and
+  // bucket, and nothing else.
   std::vector<Message> answer(const std::string& client, const std::string& session, std::int64_t from,
                               std::int64_t to, Scope scope = Scope::Owner, Clock::time_point now = Clock::now());
 

@@ -272,28 +272,27 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   // ground's three lit by it (the ground passes white: lit.r is the light)
   const double light = lit.r;
   const Bytes own = bytesOf(lit);
+  std::array<Rgb, 3> ground_lit{};
   std::array<Bytes, 3> ground{};
-  if (grid)
-    for (size_t g = 0; g < ground.size(); ++g)
-      ground[g] = bytesOf({kGround[g].r * light, kGround[g].g * light, kGround[g].b * light});
+  for (size_t g = 0; g < ground.size(); ++g) {
+    ground_lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
+    ground[g] = bytesOf(ground_lit[g]);
+  }
   // a drawn ground pixel at depth z showing colour g: its bytes made once
   // unfogged, faded towards the sky past the fog's start
   const auto groundPixel = [&](size_t k, double z, int g) {
-    const Rgb& t = kGround[static_cast<size_t>(g)];
     if (z <= kFogStart) return put(k, ground[static_cast<size_t>(g)]);
-    const Rgb col{t.r * light, t.g * light, t.b * light};
+    const Rgb& col = ground_lit[static_cast<size_t>(g)];
     const double f = std::min((z - kFogStart) * kFogScale, 1.0);
     put(k, Rgb{col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
   };
 #if defined(__x86_64__)
-  const bool wide = wide_;  // the same bytes either way (spanQuads)
   SpanIn span;  // every field set here (no zeroing of its 25 doubles per triangle)
   span.dwa_dx = dwa_dx, span.dwb_dx = dwb_dx;
   span.ainv = a.inv_z, span.binv = b.inv_z, span.cinv = c.inv_z;
   span.awx = a.wx, span.bwx = b.wx, span.cwx = c.wx, span.awy = a.wy, span.bwy = b.wy, span.cwy = c.wy;
-  for (size_t g = 0; g < kGround.size(); ++g) {
-    span.lit[0][g] = kGround[g].r * light, span.lit[1][g] = kGround[g].g * light, span.lit[2][g] = kGround[g].b * light;
-  }
+  for (size_t g = 0; g < ground_lit.size(); ++g)
+    span.lit[0][g] = ground_lit[g].r, span.lit[1][g] = ground_lit[g].g, span.lit[2][g] = ground_lit[g].b;
   if (!grid) span.lit[0][0] = lit.r, span.lit[1][0] = lit.g, span.lit[2][0] = lit.b;
   span.sky[0] = sky_.r, span.sky[1] = sky_.g, span.sky[2] = sky_.b;
 #endif
@@ -317,7 +316,7 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
     // bytes: spanQuads), then the rest one by one
     int i = lo;
 #if defined(__x86_64__)
-    if (wide && hi - lo >= 3) {
+    if (wide_ && hi - lo >= 3) {  // the same bytes either way
       span.wa_row = wa_row, span.wb_row = wb_row;
       i += (grid ? spanQuads<true> : spanQuads<false>)(span, lo, hi, depth_.data() + row + x0,
                                                        colour_.data() + 3 * (row + x0));

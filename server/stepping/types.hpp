@@ -36,8 +36,9 @@ enum class ErrorCode : int {
   // a create names assets (files) the server does not hold yet: the client
   // sends them (asset_part_t) and creates again (asset_want_t.ERR_MISSING_ASSETS)
   MissingAssets = 15,
-  // a fleet could not place a create: its etcd did not answer while the
-  // create was tried (FleetNode::kCreateRetry); nothing was created
+  // a fleet could not take a create: its etcd did not answer while the
+  // create was tried (FleetNode::kCreateRetry), or the server it named
+  // cannot claim the session (lease lost, draining); nothing was created
   Unavailable = 16
 };
 
