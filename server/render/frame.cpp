@@ -87,7 +87,8 @@ Rgb colourOf(const Model& m, const Collider& c) {
   return rgbOf(g.mass > 0.0 ? kMovable : kStatic);
 }
 
-// The ground patch: on one plane its two corner triangles (the grid is
+// The ground patch: on a level plane row by row (Raster::levelGround); on
+// another plane its two corner triangles (the grid is
 // drawn from each pixel's world x and y, so they give the grid's pixels,
 // without its 2 n^2 triangles' setup); else each cell's two triangles,
 // every vertex to the camera once (a vertex is shared by up to six).
@@ -95,6 +96,11 @@ void drawGround(Raster& raster, FrameCache& cache) {
   const int n = cache.n;
   const std::vector<Vec3>& p = cache.ground;
   const Rgb white{1.0, 1.0, 1.0};
+  if (cache.planar && cache.level) {
+    const Vec3 &lo = p.front(), &hi = p.back();
+    raster.levelGround(lo.z(), lo.x(), hi.x(), lo.y(), hi.y());
+    return;
+  }
   if (cache.planar) {
     const size_t a = 0, b = static_cast<size_t>(n) - 1, cc = static_cast<size_t>(n - 1) * n, d = cc + n - 1;
     raster.triangle(p[a], p[b], p[d], white, true);
@@ -127,7 +133,7 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
   const Vec3 eye = c - o.behind * heading + Vec3(0, 0, o.above);
 
   raster.look(eye, target);
-  raster.clear(rgbOf(kSky));
+  raster.clear(rgbOf(kSky), rgb);
 
   // the ground: a patch sampled on a grid fixed to the world (so it does not
   // swim as the camera moves), centred ahead of the car
@@ -154,6 +160,7 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
     double plane_offset = 0.0;
     cache.planar = m.ground && m.ground->asPlane(&plane_n, &plane_offset) &&
                    std::all_of(cache.found.begin(), cache.found.end(), [](unsigned char f) { return f != 0; });
+    cache.level = cache.planar && plane_n.x() == 0.0 && plane_n.y() == 0.0;
   }
   drawGround(raster, cache);
 
@@ -191,7 +198,6 @@ void renderFrame(const Model& m, const State& s, GroundProbe& ground, int follow
       raster.triangle(a, pos + rot * t.v[1], pos + rot * t.v[2], colour);
     }
   }
-  raster.write(rgb);
 }
 
 }  // namespace groundsim::render

@@ -28,8 +28,9 @@ struct FrameOptions {
 // What one scene keeps between its frames: the ground patch last sampled
 // (the ground does not move: it is sampled again only when the patch's
 // cell origin moves). A frame does not depend on what is in here, only its
-// cost does. The raster's buffers (a frame's size) belong to the caller,
-// one for any number of scenes drawn in turn.
+// cost does. The raster (its depth buffer, a frame's size) belongs to the
+// caller, one for any number of scenes drawn in turn; the frame's bytes are
+// drawn straight into the caller's rgb.
 // A triangle of a shape in the shape's frame, with its normal pointing out of
 // the convex part it bounds (a box, a cylinder, one of a capsule's spheres):
 // a triangle whose outward normal faces away from the eye is hidden by its
@@ -46,6 +47,9 @@ struct FrameCache {
   // the patch lies in one plane (a plane ground, every point found): drawn
   // as its two corner triangles, its grid from each pixel's world x and y
   bool planar = false;
+  // ... and that plane is level (z = height): drawn row by row
+  // (Raster::levelGround), a row at one depth
+  bool level = false;
   std::vector<Vec3> camera;               // the patch's vertices in this frame's camera coordinates
   std::vector<Shape> shape_of;            // each collider's shape as its triangles were made
   std::vector<std::vector<Tri>> shapes;   // each collider's triangles in its own frame

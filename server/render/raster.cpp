@@ -157,6 +157,55 @@ __attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, 
   }
   return n;
 }
+// For each set of a quad's pixels (bit k: pixel k), a byte mask over their
+// three bytes each: kLaneBytes[m] selects those pixels' bytes.
+struct LaneBytes {
+  alignas(16) std::uint8_t mask[16][16];
+  constexpr LaneBytes() : mask{} {
+    for (int m = 0; m < 16; ++m)
+      for (int k = 0; k < 4; ++k)
+        for (int c = 0; c < 3; ++c) mask[m][3 * k + c] = (m >> k) & 1 ? 0xff : 0;
+  }
+};
+constexpr LaneBytes kLaneMasks;
+GROUNDSIM_AVX2 __m128i laneBytes(int m) { return _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneMasks.mask[m])); }
+
+// A row of a level ground four pixels at a time (Raster::levelGround): the
+// grid's colour of pixels i from lo on at world x = xa + xb i, y = ya + yb i
+// (a multiply then an add, as the scalar loop), its bytes taken from the
+// row's three. Returns how many pixels it did (a multiple of 4).
+__attribute__((target("avx2"))) int levelQuads(double xa, double xb, double ya, double yb, const Bytes* bytes, int lo,
+                                               int hi, std::uint8_t* rgb) {
+  const int n = (hi - lo + 1) / 4 * 4;
+  const __m256d lane = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
+  const __m256d sign = _mm256_set1_pd(-0.0), half = _mm256_set1_pd(0.5);
+  const double edge_w = 3.0 / 256.0, half_w = 1.0 / 256.0;
+  const __m256d ew = _mm256_set1_pd(edge_w), ew_hi = _mm256_set1_pd(1.0 - edge_w), hw = _mm256_set1_pd(half_w);
+  const __m256d vxa = _mm256_set1_pd(xa), vxb = _mm256_set1_pd(xb), vya = _mm256_set1_pd(ya), vyb = _mm256_set1_pd(yb);
+  // a colour's bytes four times over, in a pixel quad's 12 bytes
+  const auto quad = [](const Bytes& b) {
+    return _mm_setr_epi8(b[0], b[1], b[2], b[0], b[1], b[2], b[0], b[1], b[2], b[0], b[1], b[2], 0, 0, 0, 0);
+  };
+  const __m128i grass = quad(bytes[kGrassColour]), halfc = quad(bytes[kHalfColour]), edgec = quad(bytes[kEdgeColour]);
+  for (int q = 0; q < n; q += 4) {
+    const int i = lo + q;
+    const __m256d di = _mm256_add_pd(_mm256_set1_pd(static_cast<double>(i)), lane);
+    const __m256d fx = frac4(_mm256_add_pd(vxa, _mm256_mul_pd(vxb, di)));
+    const __m256d fy = frac4(_mm256_add_pd(vya, _mm256_mul_pd(vyb, di)));
+    const int edge = _mm256_movemask_pd(
+        _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(fx, ew, _CMP_LT_OQ), _mm256_cmp_pd(fx, ew_hi, _CMP_GT_OQ)),
+                     _mm256_or_pd(_mm256_cmp_pd(fy, ew, _CMP_LT_OQ), _mm256_cmp_pd(fy, ew_hi, _CMP_GT_OQ))));
+    const int halfline =
+        _mm256_movemask_pd(_mm256_or_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(fx, half)), hw, _CMP_LT_OQ),
+                                        _mm256_cmp_pd(_mm256_andnot_pd(sign, _mm256_sub_pd(fy, half)), hw, _CMP_LT_OQ)));
+    // grass, where a half-metre line then an edge line over it (groundAt's order)
+    const __m128i px = _mm_blendv_epi8(_mm_blendv_epi8(grass, halfc, laneBytes(halfline)), edgec, laneBytes(edge));
+    alignas(16) std::uint8_t out[16];
+    _mm_store_si128(reinterpret_cast<__m128i*>(out), px);
+    std::memcpy(rgb + 3 * static_cast<size_t>(i), out, 12);
+  }
+  return n;
+}
 #endif
 
 }  // namespace
@@ -168,7 +217,6 @@ Rgb rgbOf(std::uint32_t hex) {
 Raster::Raster(int width, int height, double fov_deg)
     : width_(width), height_(height),
       focal_(0.5 * height / std::tan(0.5 * fov_deg * std::acos(-1.0) / 180.0)),
-      colour_(static_cast<size_t>(width) * height * 3),
       depth_(static_cast<size_t>(width) * height), wide_(useWideSimd(false)) {}
 
 void Raster::look(const Vec3& eye, const Vec3& target) {
@@ -180,15 +228,16 @@ void Raster::look(const Vec3& eye, const Vec3& target) {
   up_ = right_.cross(forward_);
 }
 
-void Raster::clear(const Rgb& sky) {
+void Raster::clear(const Rgb& sky, std::uint8_t* rgb) {
   sky_ = sky;
+  colour_ = rgb;
   const std::uint8_t r = byteOf(sky.r), g = byteOf(sky.g), b = byteOf(sky.b);
   std::fill(depth_.begin(), depth_.end(), 0.0);  // 1 / depth: nothing drawn is infinitely far
   // the first pixel, then the filled part copied onto the rest, doubling
-  if (colour_.empty()) return;
+  const size_t size = depth_.size() * 3;
+  if (size == 0) return;
   colour_[0] = r, colour_[1] = g, colour_[2] = b;
-  for (size_t done = 3; done < colour_.size(); done *= 2)
-    std::copy_n(colour_.begin(), std::min(done, colour_.size() - done), colour_.begin() + static_cast<std::ptrdiff_t>(done));
+  for (size_t done = 3; done < size; done *= 2) std::memcpy(colour_ + done, colour_, std::min(done, size - done));
 }
 
 Raster::Vertex Raster::project(const Vec3& cam, const Vec3& world) const {
@@ -274,10 +323,11 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   const Bytes own = bytesOf(lit);
   std::array<Rgb, 3> ground_lit{};
   std::array<Bytes, 3> ground{};
-  for (size_t g = 0; g < ground.size(); ++g) {
-    ground_lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
-    ground[g] = bytesOf(ground_lit[g]);
-  }
+  if (grid)
+    for (size_t g = 0; g < ground.size(); ++g) {
+      ground_lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
+      ground[g] = bytesOf(ground_lit[g]);
+    }
   // a drawn ground pixel at depth z showing colour g: its bytes made once
   // unfogged, faded towards the sky past the fog's start
   const auto groundPixel = [&](size_t k, double z, int g) {
@@ -291,9 +341,11 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   span.dwa_dx = dwa_dx, span.dwb_dx = dwb_dx;
   span.ainv = a.inv_z, span.binv = b.inv_z, span.cinv = c.inv_z;
   span.awx = a.wx, span.bwx = b.wx, span.cwx = c.wx, span.awy = a.wy, span.bwy = b.wy, span.cwy = c.wy;
-  for (size_t g = 0; g < ground_lit.size(); ++g)
-    span.lit[0][g] = ground_lit[g].r, span.lit[1][g] = ground_lit[g].g, span.lit[2][g] = ground_lit[g].b;
-  if (!grid) span.lit[0][0] = lit.r, span.lit[1][0] = lit.g, span.lit[2][0] = lit.b;
+  if (grid)
+    for (size_t g = 0; g < ground_lit.size(); ++g)
+      span.lit[0][g] = ground_lit[g].r, span.lit[1][g] = ground_lit[g].g, span.lit[2][g] = ground_lit[g].b;
+  else
+    span.lit[0][0] = lit.r, span.lit[1][0] = lit.g, span.lit[2][0] = lit.b;  // [c][1], [c][2] unread
   span.sky[0] = sky_.r, span.sky[1] = sky_.g, span.sky[2] = sky_.b;
 #endif
   for (int py = y0; py <= y1; ++py, wa_row += dwa_dy, wb_row += dwb_dy) {
@@ -319,7 +371,7 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
     if (wide_ && hi - lo >= 3) {  // the same bytes either way
       span.wa_row = wa_row, span.wb_row = wb_row;
       i += (grid ? spanQuads<true> : spanQuads<false>)(span, lo, hi, depth_.data() + row + x0,
-                                                       colour_.data() + 3 * (row + x0));
+                                                       colour_ + 3 * (row + x0));
     }
 #endif
     for (; i <= hi; ++i) {
@@ -351,13 +403,61 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   }
 }
 
+// The pixels i of a row (from 0 to last) whose coordinate a + b i lies in
+// [lo_b, hi_b], intersected with [lo, hi].
+static void keepWithin(double a, double b, double lo_b, double hi_b, int last, int& lo, int& hi) {
+  if (b == 0.0) {
+    if (!(a >= lo_b && a <= hi_b)) hi = -1;
+    return;
+  }
+  double from = (lo_b - a) / b, to = (hi_b - a) / b;
+  if (b < 0.0) std::swap(from, to);
+  lo = std::max(lo, static_cast<int>(std::ceil(std::clamp(from, -1.0, last + 1.0))));
+  hi = std::min(hi, static_cast<int>(std::floor(std::clamp(to, -1.0, last + 1.0))));
+}
+
+void Raster::levelGround(double height, double x_lo, double x_hi, double y_lo, double y_hi) {
+  // lit as a triangle of it: its normal turned towards the eye
+  const double light = 0.45 + 0.55 * std::max(0.0, (eye_.z() >= height ? 1.0 : -1.0) * kSun.z());
+  std::array<Rgb, 3> lit{};
+  for (size_t g = 0; g < lit.size(); ++g) lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
+  const double u0 = 0.5 - 0.5 * width_;  // pixel 0's centre from the frame's middle, px
+  for (int py = 0; py < height_; ++py) {
+    // the row's ray direction eye + t (forward + u right + v up) (right has
+    // no z: the row's rays meet the plane at one camera depth t)
+    const double v = (0.5 * height_ - (py + 0.5)) / focal_;
+    const double t = (height - eye_.z()) / (forward_.z() + v * up_.z());
+    if (!(t >= kNear && t <= kFogEnd)) continue;
+    const double s = t / focal_;
+    const double xa = eye_.x() + t * (forward_.x() + v * up_.x()) + s * u0 * right_.x(), xb = s * right_.x();
+    const double ya = eye_.y() + t * (forward_.y() + v * up_.y()) + s * u0 * right_.y(), yb = s * right_.y();
+    int lo = 0, hi = width_ - 1;
+    keepWithin(xa, xb, x_lo, x_hi, width_ - 1, lo, hi);
+    keepWithin(ya, yb, y_lo, y_hi, width_ - 1, lo, hi);
+    if (lo > hi) continue;
+    // the row's three colours faded by its fog, as bytes
+    const double f = t <= kFogStart ? 0.0 : std::min((t - kFogStart) * kFogScale, 1.0);
+    std::array<Bytes, 3> bytes{};
+    for (size_t g = 0; g < bytes.size(); ++g)
+      bytes[g] = bytesOf(Rgb{lit[g].r + f * (sky_.r - lit[g].r), lit[g].g + f * (sky_.g - lit[g].g),
+                             lit[g].b + f * (sky_.b - lit[g].b)});
+    const size_t row = static_cast<size_t>(py) * width_;
+    std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(row + lo), depth_.begin() + static_cast<std::ptrdiff_t>(row + hi + 1),
+              1.0 / t);
+    int i = lo;
+#if defined(__x86_64__)
+    if (wide_) i += levelQuads(xa, xb, ya, yb, bytes.data(), lo, hi, colour_ + 3 * row);
+#endif
+    for (; i <= hi; ++i) put(row + i, bytes[static_cast<size_t>(groundAt(xa + xb * i, ya + yb * i))]);
+  }
+}
+
 void Raster::put(size_t k, const Rgb& c) { put(k, bytesOf(c)); }
 
 void Raster::put(size_t k, const std::array<std::uint8_t, 3>& bytes) {
-  std::uint8_t* p = colour_.data() + 3 * k;
+  std::uint8_t* p = colour_ + 3 * k;
   p[0] = bytes[0], p[1] = bytes[1], p[2] = bytes[2];
 }
 
-void Raster::write(std::uint8_t* rgb) const { std::copy(colour_.begin(), colour_.end(), rgb); }
 
 }  // namespace groundsim::render

@@ -29,7 +29,9 @@ class Raster {
   Raster(int width, int height, double fov_deg = 60.0);  // px, vertical degrees
   // A camera at eye looking at target, z up.
   void look(const Vec3& eye, const Vec3& target);
-  void clear(const Rgb& sky);
+  // Starts a frame drawn into rgb (height() x width() x 3 bytes, RGB, the
+  // top row first: the caller's, written directly), cleared to the sky.
+  void clear(const Rgb& sky, std::uint8_t* rgb);
   // One triangle (world coordinates) of colour c, lit from the sun; with
   // grid, the colour comes from the page's ground texture at each pixel's
   // world x, y instead.
@@ -47,8 +49,15 @@ class Raster {
   // whose vertices are shared: each transformed once).
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& ca, const Vec3& cb, const Vec3& cc,
                 const Rgb& colour, bool grid = false);
-  // The frame as rows of RGB bytes, top row first.
-  void write(std::uint8_t* rgb) const;
+  // The ground as the level plane z = height over the rectangle [x_lo, x_hi]
+  // x [y_lo, y_hi], drawn first onto a cleared frame (no depth test): what
+  // the rectangle's two triangles draw, without them. The camera has no roll
+  // (look()), so a row of pixels sees a level plane at one depth: the row's
+  // depth, fog and three lit colours are made once, and its pixels differ
+  // only in their world x, y (affine along the row), from which the grid's
+  // colour comes. Rows above the horizon, nearer than the near plane or
+  // beyond the fog's end are left to the sky.
+  void levelGround(double height, double x_lo, double x_hi, double y_lo, double y_hi);
   int width() const { return width_; }
   int height() const { return height_; }
   // Spans four pixels at a time (AVX2, where the CPU has it: the default)
@@ -69,7 +78,7 @@ class Raster {
   Rgb sky_;
   void put(size_t pixel, const Rgb& c);  // the pixel's colour, as bytes
   void put(size_t pixel, const std::array<std::uint8_t, 3>& bytes);
-  std::vector<std::uint8_t> colour_;     // RGB bytes, top row first
+  std::uint8_t* colour_ = nullptr;       // the frame's RGB bytes, the caller's (clear())
   std::vector<double> depth_;  // 1 / depth of what each pixel shows (0: sky)
   bool wide_;                  // spans four pixels at a time (spanQuads in raster.cpp)
 };
