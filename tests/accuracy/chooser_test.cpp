@@ -69,6 +69,29 @@ TEST(Chooser, MeetsTheToleranceAcrossAnImpact) {
   }
 }
 
+// A law is not extrapolated on three runs alone: where the chosen step
+// lies below the trial's first three runs, the pilot has run at least one
+// step more below them (a chaotic scene's three runs can shrink at the
+// order by chance: docs/accuracy.md, "A chaotic scene's choice").
+TEST(Chooser, AChoiceBelowThePilotsThreeRunsIsJudgedByARunThere) {
+  int extrapolated = 0;
+  for (const char* file : {"sedan_skidpad.json", "sedan_wet.json"}) {
+    const scenario::Scenario s = test::config(file, {"duration=4"});
+    const Choice c = chooseSettings(s, 1e-4);
+    SCOPED_TRACE(c.report());
+    for (const IntegratorTrial& t : c.trials) {
+      if (!t.usable || t.adaptive() || t.kind != c.integrator || t.contact_substeps != c.contact_substeps ||
+          t.model != c.model || t.level_dt.size() < 3)
+        continue;
+      if (!(c.dt < t.level_dt[2] * (1 - 1e-9))) continue;
+      ++extrapolated;
+      EXPECT_GE(t.level_dt.size(), 4u);
+      EXPECT_LT(t.level_dt[3], t.level_dt[2]);
+    }
+  }
+  EXPECT_GT(extrapolated, 0) << "no choice here lies below its pilot's three runs: the test checks nothing";
+}
+
 // A ground 100 times stiffer than the report's: the largest stable step
 // shrinks by 10; the chooser stays inside it and says why.
 TEST(Chooser, StaysInsideTheStabilityLimitAndNamesIt) {
