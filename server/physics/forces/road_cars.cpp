@@ -40,6 +40,35 @@ void holdGrowth(double hold, double ux, double uy, double* dux, double* duy) {
   if (*duy * uy > 0.0) *duy *= 1.0 - hold;
 }
 
+// (a x b) . c, as Eigen's a.cross(b).dot(c) computes it (the same products
+// and sums in the same order), kept in registers: here GCC stored Eigen's
+// cross product and reloaded it as a pair for the dot, a store-forwarding
+// stall (about 7% of this loop's samples each, perf).
+GROUNDSIM_INLINE_BODY double tripleProduct(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double x = a.y() * b.z() - a.z() * b.y();
+  const double y = a.z() * b.x() - a.x() * b.z();
+  const double z = a.x() * b.y() - a.y() * b.x();
+  return x * c.x() + y * c.y() + z * c.z();
+}
+
+// v + om x r + s n: the velocity of a point r of a body, moving at s along
+// n on it, the same way, written component by component (a Vec3 built of
+// the three sums went through the stack as a pair: the same stall).
+GROUNDSIM_INLINE_BODY void pointVelocity(const Vec3& v, const Vec3& om, const Vec3& r, double s, const Vec3& n,
+                                         Vec3& out) {
+  out.x() = v.x() + (om.y() * r.z() - om.z() * r.y()) + s * n.x();
+  out.y() = v.y() + (om.z() * r.x() - om.x() * r.z()) + s * n.y();
+  out.z() = v.z() + (om.x() * r.y() - om.y() * r.x()) + s * n.z();
+}
+
+// (v + om x r) . t: the velocity of a body's point r along t, the same way.
+GROUNDSIM_INLINE_BODY double pointVelocityAlong(const Vec3& v, const Vec3& om, const Vec3& r, const Vec3& t) {
+  const double x = v.x() + (om.y() * r.z() - om.z() * r.y());
+  const double y = v.y() + (om.z() * r.x() - om.x() * r.z());
+  const double z = v.z() + (om.x() * r.y() - om.y() * r.x());
+  return x * t.x() + y * t.y() + z * t.z();
+}
+
 // Numbers of the model, named once.
 constexpr double kRadPerRev = 2.0 * 3.14159265358979323846;  // rad per revolution (engine rpm)
 constexpr double kTreadRelaxRate = 20.0;  // 1/s  a tread off the ground relaxes at this rate
@@ -133,7 +162,7 @@ GROUNDSIM_INLINE_BODY void contactPatch(const Model& m, const Eigen::VectorXd& y
   const Vec3 r_hub = car.R * car.rc.hub[w] + q.s * nb;
   q.r_hub = r_hub;
   const Vec3 p_hub = ws.com[car.b] + r_hub;
-  q.v_hub = car.v + car.om_b.cross(r_hub) + q.sd * nb;
+  pointVelocity(car.v, car.om_b, r_hub, q.sd, nb, q.v_hub);
   const double cd = delta == 0.0 ? 1.0 : std::cos(delta);  // straight ahead: no trig
   const double sn = delta == 0.0 ? 0.0 : std::sin(delta);
   q.axle = car.R * Vec3(-sn, cd, 0.0);
@@ -153,7 +182,8 @@ GROUNDSIM_INLINE_BODY void contactPatch(const Model& m, const Eigen::VectorXd& y
     const double along2 = along.squaredNorm();
     o.tx = along2 > 0.0 ? Vec3(along * (1.0 / std::sqrt(along2))) : along;
     o.ty = n.cross(o.tx);
-    const Vec3 vc = car.v + car.om_b.cross(q.r_c) + q.sd * nb;
+    Vec3 vc;
+    pointVelocity(car.v, car.om_b, q.r_c, q.sd, nb, vc);
     q.vx = vc.dot(o.tx), q.vy = vc.dot(o.ty);
     q.Fz = std::max(0.0, tp.vertical_stiffness * pen - tp.vertical_damping * q.v_hub.dot(n));
     // the ground's friction at the patch (patches and maps, surface_friction.hpp)
@@ -210,9 +240,10 @@ GROUNDSIM_INLINE_BODY void treadForces(const CarBody& car, int w, WheelPasses& w
     holdGrowth(o.hold, q.ux, q.uy, &q.dux, &q.duy);
     Fx += tp.low_speed_damping * fade * q.dux;
     Fy += tp.low_speed_damping * fade * q.duy;
-    const double cap = wp.lanes.mu[w] * tp.friction_scale * q.Fz, mag = std::sqrt(Fx * Fx + Fy * Fy);
-    if (mag > cap && mag > 0.0) {
-      const double scale = cap / mag;
+    // compared squared: the square root (its latency) only for a capped tread
+    const double cap = wp.lanes.mu[w] * tp.friction_scale * q.Fz, mag2 = Fx * Fx + Fy * Fy;
+    if (mag2 > cap * cap && mag2 > 0.0) {
+      const double scale = cap / std::sqrt(mag2);
       Fx *= scale;
       Fy *= scale;
     }
@@ -242,11 +273,11 @@ GROUNDSIM_INLINE_BODY SpinTorques spinTorques(const CarBody& car, int w, WheelPa
   StickSlipWheel& ss = wp.rigid[w];
   const double om = q.om, r = car.r, I = car.I;
   SpinTorques t{};
-  t.geometric = (q.r_c - q.r_hub).cross(q.F).dot(q.axle);  // what the body does not get
+  t.geometric = tripleProduct(q.r_c - q.r_hub, q.F, q.axle);  // what the body does not get
   t.tyre = -(o.contact ? o.fx : 0.0) * r;
   t.rolling = -tp.rolling_resistance * q.Fz * r * wp.spin_tanh[w];
   double t_d = axle_torque[ax] * 0.5 + car.in.applied.wheel_torque[w];
-  const double vx_c = o.contact ? (car.v + car.om_b.cross(q.r_c)).dot(o.tx) : 0.0;
+  const double vx_c = o.contact ? pointVelocityAlong(car.v, car.om_b, q.r_c, o.tx) : 0.0;
   const double kp = tp.peak_slip_ratio;
   if (!ss.active && car.p.brakes.traction_control && o.contact && t_d > 0.0) {
     const double w_top = (vx_c + std::max(kp * std::abs(vx_c), kTractionSlipFloor)) * car.inv_r;
@@ -334,7 +365,7 @@ GROUNDSIM_INLINE_BODY void bodyAccelerations(const Model& m, Workspace& ws, cons
   ws.body_torque[car.b] = R * (car.Ib * acc_b.tail<3>()) + car.gyro;  // I_w alpha + om x I_w om
   for (int w = 0; w < 4; ++w)
     ws.aux_dot[car.rc.aux + 5 * w + 1] =
-        bs.Q[w] * car.inv_mu - (car.nb.dot(a_lin) + wp.pw[w].r_hub.cross(car.nb).dot(alpha));
+        bs.Q[w] * car.inv_mu - (car.nb.dot(a_lin) + tripleProduct(wp.pw[w].r_hub, car.nb, alpha));
 }
 
 // One car: the powertrain, steering, then the wheels' three passes, the
