@@ -144,6 +144,7 @@ export class Ghost {
 // and kept through the session's resets.
 const RIVAL_RATE = 30;   // samples a second
 const MAX_RIVALS = 16;   // cars recorded at once
+const RECENT_S = 2;      // simulated s of states kept for a lap whose start event arrives after them
 
 export class RivalGhost {
   constructor(scene) {
@@ -153,6 +154,10 @@ export class RivalGhost {
     this.layouts = [];      // the session's vehicles' layouts, by car
     this.best = null;       // {car, name, lap_time, samples}
     this.tapes = new Map(); // car -> its current lap being recorded
+    // the states of the last RECENT_S s ({t, vehicles}, oldest first): a race
+    // event and the states travel apart, so a lap's start may arrive after
+    // the states that follow it; its tape takes them from here
+    this.recent = [];
     this.cut = null;        // the faster lap waiting for its last state: {car, name, t, lap_time, tape}
     this.playStart = null;  // the own lap's start (simulated s)
     this.shown = null;
@@ -170,7 +175,10 @@ export class RivalGhost {
   // car's lap started at t (its start, or the lap after the one it completed)
   lapStarted(car, t) {
     if (car === session.followed) return;
-    if (this.tapes.has(car) || this.tapes.size < MAX_RIVALS) this.tapes.set(car, tapeStart(t));
+    if (!this.tapes.has(car) && this.tapes.size >= MAX_RIVALS) return;
+    const tape = tapeStart(t);
+    for (const r of this.recent) tapePush(tape, r.t, r.vehicles[car], 1 / RIVAL_RATE);
+    this.tapes.set(car, tape);
   }
   // another car completed a lap: kept when it is the session's fastest by another car
   lapDone(e) {
@@ -183,6 +191,9 @@ export class RivalGhost {
 
   // every state received (raw, not interpolated)
   onState(m) {
+    if (this.recent.length && m.t < this.recent[this.recent.length - 1].t) this.recent = [];  // a reset: time went back
+    this.recent.push({ t: m.t, vehicles: (m.vehicles || []).map((v) => v && v.p && v.q && { p: [...v.p], q: [...v.q] }) });
+    while (this.recent.length && this.recent[0].t < m.t - RECENT_S) this.recent.shift();
     for (const [car, tape] of this.tapes) if (car !== session.followed) tapePush(tape, m.t, m.vehicles[car], 1 / RIVAL_RATE);
     const c = this.cut;
     if (!c) return;
@@ -206,6 +217,7 @@ export class RivalGhost {
     if (this.vehicle) this.vehicle.dispose(this.scene);
     this.vehicle = null;
     this.tapes.clear();
+    this.recent = [];
     this.cut = null; this.playStart = null; this.shown = null;
   }
 }
