@@ -55,6 +55,27 @@ function tapePush(tape, t, v, minGap = 0) {
   tape.samples.push([t - tape.start, ...v.p, ...v.q]);
 }
 
+// The states of the last RECENT_S simulated s, each vehicle's position and
+// orientation, oldest first. A race event and the states travel apart, so a
+// lap's start may reach the page after the states that follow it (under
+// load, seen 0.19 s after): its tape takes those from here.
+const RECENT_S = 2;
+class RecentStates {
+  constructor() { this.states = []; }
+  push(m) {
+    const s = this.states;
+    if (s.length && m.t < s[s.length - 1].t) this.states = [];  // a reset: time went back
+    this.states.push({ t: m.t, vehicles: (m.vehicles || []).map((v) => v && v.p && v.q && { p: [...v.p], q: [...v.q] }) });
+    while (this.states[0].t < m.t - RECENT_S) this.states.shift();
+  }
+  // car's kept states from the tape's start on into it (none when the start
+  // came first, as it does unless events lag: the tape is then as before)
+  into(tape, car, minGap = 0) {
+    for (const r of this.states) if (r.t >= tape.start) tapePush(tape, r.t, r.vehicles[car], minGap);
+  }
+  clear() { this.states = []; }
+}
+
 // Draws `lap` at tau into it on `holder.vehicle` (built on first need by
 // make()); records where in holder.shown ({tau, p}) or hides it.
 function drawLap(holder, lap, tau, make) {
@@ -81,6 +102,7 @@ export class Ghost {
     this.cut = null;        // a finished lap waiting for its last state: {t, lap_time, best}
     this.playStart = null;  // simulated time the lap being driven started (ghost time 0)
     this.shown = null;      // where the ghost was last drawn: {tau, p}
+    this.recent = new RecentStates();  // for a lap whose start arrives after its first states
   }
 
   // The scenario the session runs (ghosts are kept per scenario).
@@ -93,11 +115,13 @@ export class Ghost {
       if (s) this.best = JSON.parse(s);
     } catch { this.best = null; }
     this.rec = null; this.cut = null; this.playStart = null;
+    this.recent.clear();
   }
 
   // the own car's lap started at t (simulated): record it, and race the ghost from it
   lapStarted(t) {
     this.rec = tapeStart(t);
+    this.recent.into(this.rec, session.followed);
     this.playStart = t;
   }
   // the own car completed a lap at e.t: keep it when it is the best (once
@@ -108,6 +132,7 @@ export class Ghost {
 
   // every state received (raw, not interpolated)
   onState(m) {
+    this.recent.push(m);
     const v = m.vehicles[session.followed];
     if (!v) return;
     tapePush(this.rec, m.t, v);
@@ -132,6 +157,7 @@ export class Ghost {
   clear() {
     if (this.vehicle) this.vehicle.dispose(this.scene);
     this.vehicle = null;
+    this.recent.clear();
     this.rec = null; this.cut = null; this.playStart = null; this.shown = null;
   }
 }
@@ -144,7 +170,6 @@ export class Ghost {
 // and kept through the session's resets.
 const RIVAL_RATE = 30;   // samples a second
 const MAX_RIVALS = 16;   // cars recorded at once
-const RECENT_S = 2;      // simulated s of states kept for a lap whose start event arrives after them
 
 export class RivalGhost {
   constructor(scene) {
@@ -154,10 +179,7 @@ export class RivalGhost {
     this.layouts = [];      // the session's vehicles' layouts, by car
     this.best = null;       // {car, name, lap_time, samples}
     this.tapes = new Map(); // car -> its current lap being recorded
-    // the states of the last RECENT_S s ({t, vehicles}, oldest first): a race
-    // event and the states travel apart, so a lap's start may arrive after
-    // the states that follow it; its tape takes them from here
-    this.recent = [];
+    this.recent = new RecentStates();  // for a lap whose start arrives after its first states
     this.cut = null;        // the faster lap waiting for its last state: {car, name, t, lap_time, tape}
     this.playStart = null;  // the own lap's start (simulated s)
     this.shown = null;
@@ -177,7 +199,7 @@ export class RivalGhost {
     if (car === session.followed) return;
     if (!this.tapes.has(car) && this.tapes.size >= MAX_RIVALS) return;
     const tape = tapeStart(t);
-    for (const r of this.recent) tapePush(tape, r.t, r.vehicles[car], 1 / RIVAL_RATE);
+    this.recent.into(tape, car, 1 / RIVAL_RATE);
     this.tapes.set(car, tape);
   }
   // another car completed a lap: kept when it is the session's fastest by another car
@@ -191,9 +213,7 @@ export class RivalGhost {
 
   // every state received (raw, not interpolated)
   onState(m) {
-    if (this.recent.length && m.t < this.recent[this.recent.length - 1].t) this.recent = [];  // a reset: time went back
-    this.recent.push({ t: m.t, vehicles: (m.vehicles || []).map((v) => v && v.p && v.q && { p: [...v.p], q: [...v.q] }) });
-    while (this.recent.length && this.recent[0].t < m.t - RECENT_S) this.recent.shift();
+    this.recent.push(m);
     for (const [car, tape] of this.tapes) if (car !== session.followed) tapePush(tape, m.t, m.vehicles[car], 1 / RIVAL_RATE);
     const c = this.cut;
     if (!c) return;
@@ -217,7 +237,7 @@ export class RivalGhost {
     if (this.vehicle) this.vehicle.dispose(this.scene);
     this.vehicle = null;
     this.tapes.clear();
-    this.recent = [];
+    this.recent.clear();
     this.cut = null; this.playStart = null; this.shown = null;
   }
 }
