@@ -70,9 +70,24 @@ std::int64_t FleetNode::claim(const std::string& id, const std::string& placemen
   if (lease == 0 || fenced_)
     throw session::UnavailableError("server " + options_.server_id + " cannot reach the fleet's etcd");
   const std::string value = ownerValue(options_.server_id, 1, placement);
-  const fleet::TxnResult t =
-      client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
-                  {Op::put(key("owners", id), value, lease), Op::put(key("epochs", id), "1")});
+  fleet::TxnResult t;
+  try {
+    t = client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
+                    {Op::put(key("owners", id), value, lease), Op::put(key("epochs", id), "1")});
+  } catch (const fleet::EtcdError& e) {
+    // etcd did not answer (a stall under load): the claim may or may not
+    // have landed, so it is released as if it had (the release deletes the
+    // keys only where they still hold this claim's value), and the create
+    // is refused as unavailable: the client creates again
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      my_epochs_[id] = 1;
+      my_values_[id] = value;
+    }
+    release(id);
+    throw session::UnavailableError("server " + options_.server_id + " could not claim the session in the fleet's etcd (" +
+                                    e.what() + ")");
+  }
   if (!t.succeeded) return 0;
   std::lock_guard<std::mutex> lk(mutex_);
   my_epochs_[id] = 1;

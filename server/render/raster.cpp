@@ -158,7 +158,7 @@ __attribute__((target("avx2"))) int spanQuads(const SpanIn& in, int lo, int hi, 
   return n;
 }
 // For each set of a quad's pixels (bit k: pixel k), a byte mask over their
-// three bytes each: kLaneBytes[m] selects those pixels' bytes.
+// three bytes each: laneBytes(m) selects those pixels' bytes.
 struct LaneBytes {
   alignas(16) std::uint8_t mask[16][16];
   constexpr LaneBytes() : mask{} {
