@@ -53,6 +53,18 @@ std::uint8_t byteOf(double v) { return static_cast<std::uint8_t>(std::clamp(v * 
 using Bytes = std::array<std::uint8_t, 3>;
 Bytes bytesOf(const Rgb& c) { return {byteOf(c.r), byteOf(c.g), byteOf(c.b)}; }
 
+// The ground's three colours (kGround) lit by `light`.
+std::array<Rgb, 3> groundLit(double light) {
+  std::array<Rgb, 3> lit{};
+  for (size_t g = 0; g < lit.size(); ++g) lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
+  return lit;
+}
+
+// c faded towards the sky by the fog's fade f (0: c; 1: the sky).
+Rgb fogged(const Rgb& c, double f, const Rgb& sky) {
+  return {c.r + f * (sky.r - c.r), c.g + f * (sky.g - c.g), c.b + f * (sky.b - c.b)};
+}
+
 // A span four pixels at a time: for pixels i of a row from lo on, 1 /
 // depth, the depth test, and for the pixels drawn their colour (Grid: the
 // ground's grid at the pixel's world x, y; else the triangle's) faded by
@@ -323,18 +335,17 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
   const Bytes own = bytesOf(lit);
   std::array<Rgb, 3> ground_lit{};
   std::array<Bytes, 3> ground{};
-  if (grid)
-    for (size_t g = 0; g < ground.size(); ++g) {
-      ground_lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
-      ground[g] = bytesOf(ground_lit[g]);
-    }
+  if (grid) {
+    ground_lit = groundLit(light);
+    for (size_t g = 0; g < ground.size(); ++g) ground[g] = bytesOf(ground_lit[g]);
+  }
   // a drawn ground pixel at depth z showing colour g: its bytes made once
   // unfogged, faded towards the sky past the fog's start
   const auto groundPixel = [&](size_t k, double z, int g) {
     if (z <= kFogStart) return put(k, ground[static_cast<size_t>(g)]);
     const Rgb& col = ground_lit[static_cast<size_t>(g)];
     const double f = std::min((z - kFogStart) * kFogScale, 1.0);
-    put(k, Rgb{col.r + f * (sky_.r - col.r), col.g + f * (sky_.g - col.g), col.b + f * (sky_.b - col.b)});
+    put(k, fogged(col, f, sky_));
   };
 #if defined(__x86_64__)
   SpanIn span;  // every field set here (no zeroing of its 25 doubles per triangle)
@@ -398,7 +409,7 @@ void Raster::fill(const Vertex& a, const Vertex& b, const Vertex& c, const Rgb& 
         continue;
       }
       const double f = std::min((z - kFogStart) * kFogScale, 1.0);
-      put(k, Rgb{lit.r + f * (sky_.r - lit.r), lit.g + f * (sky_.g - lit.g), lit.b + f * (sky_.b - lit.b)});
+      put(k, fogged(lit, f, sky_));
     }
   }
 }
@@ -419,8 +430,7 @@ static void keepWithin(double a, double b, double lo_b, double hi_b, int last, i
 void Raster::levelGround(double height, double x_lo, double x_hi, double y_lo, double y_hi) {
   // lit as a triangle of it: its normal turned towards the eye
   const double light = 0.45 + 0.55 * std::max(0.0, (eye_.z() >= height ? 1.0 : -1.0) * kSun.z());
-  std::array<Rgb, 3> lit{};
-  for (size_t g = 0; g < lit.size(); ++g) lit[g] = {kGround[g].r * light, kGround[g].g * light, kGround[g].b * light};
+  const std::array<Rgb, 3> lit = groundLit(light);
   const double u0 = 0.5 - 0.5 * width_;  // pixel 0's centre from the frame's middle, px
   for (int py = 0; py < height_; ++py) {
     // the row's ray direction eye + t (forward + u right + v up) (right has
@@ -438,9 +448,7 @@ void Raster::levelGround(double height, double x_lo, double x_hi, double y_lo, d
     // the row's three colours faded by its fog, as bytes
     const double f = t <= kFogStart ? 0.0 : std::min((t - kFogStart) * kFogScale, 1.0);
     std::array<Bytes, 3> bytes{};
-    for (size_t g = 0; g < bytes.size(); ++g)
-      bytes[g] = bytesOf(Rgb{lit[g].r + f * (sky_.r - lit[g].r), lit[g].g + f * (sky_.g - lit[g].g),
-                             lit[g].b + f * (sky_.b - lit[g].b)});
+    for (size_t g = 0; g < bytes.size(); ++g) bytes[g] = bytesOf(fogged(lit[g], f, sky_));
     const size_t row = static_cast<size_t>(py) * width_;
     std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(row + lo), depth_.begin() + static_cast<std::ptrdiff_t>(row + hi + 1),
               1.0 / t);

@@ -60,11 +60,14 @@ function tapePush(tape, t, v, minGap = 0) {
 // lap's start may reach the page after the states that follow it (under
 // load, seen 0.19 s after): its tape takes those from here.
 const RECENT_S = 2;
+const RECENT_MAX = 1024;  // states kept at most (a session publishing faster than 500 a simulated s)
 class RecentStates {
   constructor() { this.states = []; }
   push(m) {
-    const s = this.states;
-    if (s.length && m.t < s[s.length - 1].t) this.states = [];  // a reset: time went back
+    const last = this.states.length ? this.states[this.states.length - 1].t : null;
+    if (last !== null && m.t < last) this.states = [];  // a reset: time went back
+    if (m.t === last) return;                           // paused: the same instant again
+    if (this.states.length >= RECENT_MAX) this.states.shift();
     this.states.push({ t: m.t, vehicles: (m.vehicles || []).map((v) => v && v.p && v.q && { p: [...v.p], q: [...v.q] }) });
     while (this.states[0].t < m.t - RECENT_S) this.states.shift();
   }
