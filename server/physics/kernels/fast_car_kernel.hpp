@@ -13,8 +13,8 @@
 
 #include "physics/base/pointwise.hpp"
 #include "physics/kernels/fast_car.hpp"
-#include "physics/kernels/fast_car_friction.hpp"
 #include "physics/kernels/fast_car_lanes.hpp"
+#include "physics/kernels/rigid_friction.hpp"
 #include "physics/simd/simd_path.hpp"
 
 namespace groundsim::fastcar {
@@ -269,6 +269,39 @@ GROUNDSIM_INLINE_BODY void integrate(const FastCarPlan& P, V* Y, double h, Scrat
     }
     turn(q0, w, h, y + 3);
   }
+}
+
+// The car's contact slots as the shared friction solve reads them
+// (rigid_friction.hpp): fixed slots (body points, then one per wheel),
+// lane-masked, one mu; each wheel's slot also holds its axle's brake.
+template <class V> struct SlotSet {
+  const FastCarPlan& P;
+  Scratch<V>& S;
+  size_t slots() const { return S.con.size(); }
+  bool solves(size_t k) const { return S.con[k].any_in; }
+  typename Lane<V>::M in(size_t k) const { return S.con[k].in; }
+  ContactL<V>& at(size_t k) { return S.con[k]; }
+  int body(size_t k) const { return P.contacts[k].body; }
+  double mu(size_t) const { return P.mu; }
+  typename Lane<V>::M touching() const {
+    typename Lane<V>::M t = S.con[0].in;
+    for (size_t k = 1; k < S.con.size(); ++k) t = t | S.con[k].in;
+    return t;
+  }
+  size_t axles() const { return P.wheels.size(); }
+  int axleBody(size_t w) const { return P.wheels[w].body; }
+  int axleCarrier(size_t w) const { return P.wheels[w].carrier; }
+  ContactL<V>& axle(size_t w) { return S.con[P.point_contacts + w]; }
+};
+
+// Stick-slip friction and brakes: the shared rigid solve over the car's slots.
+template <class V>
+GROUNDSIM_INLINE_BODY void frictionAndBrakes(const FastCarPlan& P, const V* Y, const V* brake, double h,
+                                             Scratch<V>& S) {
+  const rigid::FrictionInput<V> in{P.bodies.data(), S.bodies.data(), S.bodies.size(), Y, brake, P.t1, P.t2, h,
+                                   P.friction_iterations};
+  SlotSet<V> set{P, S};
+  S.sweeps = rigid::frictionAndBrakes(in, set);
 }
 
 // One integrator step h: evaluation, then the update. Returns the drive power.

@@ -9,7 +9,7 @@
 #include "physics/base/pointwise.hpp"
 #include "physics/kernels/fast_car_kernel.hpp"  // the rigid-body helpers shared with the circle-wheel car
 #include "physics/kernels/ring_car_detail.hpp"
-#include "physics/kernels/ring_car_friction.hpp"
+#include "physics/kernels/rigid_friction.hpp"
 #include "physics/forces/forces.hpp"
 
 namespace groundsim {
@@ -17,7 +17,7 @@ namespace groundsim {
 namespace {
 
 // The plan and scratch (ring_car_detail.hpp) are built in ring_car_plan.cpp;
-// the evaluation (friction and brakes in ring_car_friction.hpp), the
+// the evaluation (friction and brakes: the shared rigid_friction.hpp), the
 // integration and the wide and generic wrappers that inline them are here.
 using ringcar::BodyL;
 using ringcar::ContactR;
@@ -28,7 +28,6 @@ using ringcar::PlainPoint;
 using ringcar::Rim;
 using ringcar::Scratch;
 using ringcar::WheelC;
-using ringcar::frictionAndBrakes;
 using fastcar::cross3;
 using fastcar::dot3;
 using fastcar::mat3vec;
@@ -41,7 +40,7 @@ GROUNDSIM_INLINE_BODY void addContact(const Model& m, const Plan& P, Scratch& S,
   c.wheel = wheel;
   for (int d = 0; d < 3; ++d) {
     c.p[d] = p[d];
-    c.r[d] = r[d];
+    c.rr[d] = r[d];
     c.u[d] = u[d];
   }
   c.depth = -H / P.gn;
@@ -278,7 +277,7 @@ GROUNDSIM_INLINE_BODY void normalForces(const Plan& P, Scratch& S) {
     BodyL<double>& B = S.rigid.bodies[c.body];
     const double f[3] = {c.N * P.cn[0], c.N * P.cn[1], c.N * P.cn[2]};
     double rf[3];
-    cross3(c.r, f, rf);
+    cross3(c.rr, f, rf);
     for (int d = 0; d < 3; ++d) {
       B.F[d] += f[d];
       B.T[d] += rf[d];
@@ -286,19 +285,18 @@ GROUNDSIM_INLINE_BODY void normalForces(const Plan& P, Scratch& S) {
   }
 }
 
-// Drive torque about each axle, its reaction on the carrier; whether any
-// wheel brakes.
-GROUNDSIM_INLINE_BODY bool driveTorques(const Plan& P, const std::vector<WheelControl>& ctl, Scratch& S) {
+// Drive torque about each axle, its reaction on the carrier; each axle's
+// world axis and brake torque for the friction solve.
+GROUNDSIM_INLINE_BODY void driveTorques(const Plan& P, const std::vector<WheelControl>& ctl, Scratch& S) {
   std::vector<BodyL<double>>& bodies = S.rigid.bodies;
   S.drive_power = 0.0;
-  bool braking = false;
   for (size_t w = 0; w < P.wheels.size(); ++w) {
     const WheelC& wc = P.wheels[w];
     BodyL<double>& B = bodies[wc.body];
     const double ax[3] = {wc.ax, wc.ay, wc.az};
-    mat3vec(B.R, ax, S.axis[w]);
-    const double* a = S.axis[w];
-    braking = braking || ctl[w].brake_torque > 0.0;
+    mat3vec(B.R, ax, S.axles[w].a);
+    const double* a = S.axles[w].a;
+    S.brake[w] = ctl[w].brake_torque;
     const double Tq = ctl[w].drive_torque;
     if (Tq == 0.0) continue;
     for (int d = 0; d < 3; ++d) B.T[d] += Tq * a[d];
@@ -311,7 +309,33 @@ GROUNDSIM_INLINE_BODY bool driveTorques(const Plan& P, const std::vector<WheelCo
     const double rel[3] = {B.w[0] - C.w[0], B.w[1] - C.w[1], B.w[2] - C.w[2]};
     S.drive_power += Tq * dot3(a, rel);
   }
-  return braking;
+}
+
+// The ring car's contacts as the shared friction solve reads them
+// (rigid_friction.hpp): this evaluation's compacted list, a mu per contact;
+// its wheels' axles for the brakes.
+struct ContactList {
+  const Plan& P;
+  Scratch& S;
+  size_t slots() const { return S.ncon; }
+  bool solves(size_t) const { return true; }
+  bool in(size_t) const { return true; }
+  ContactR& at(size_t k) { return S.con[k]; }
+  int body(size_t k) const { return S.con[k].body; }
+  double mu(size_t k) const { return S.con[k].mu; }
+  bool touching() const { return S.ncon > 0; }
+  size_t axles() const { return P.wheels.size(); }
+  int axleBody(size_t w) const { return P.wheels[w].body; }
+  int axleCarrier(size_t w) const { return P.wheels[w].carrier; }
+  ringcar::AxleR& axle(size_t w) { return S.axles[w]; }
+};
+
+// Stick-slip friction and brakes: the shared rigid solve over the list.
+GROUNDSIM_INLINE_BODY void frictionAndBrakes(const Plan& P, const double* Y, double h, Scratch& S) {
+  const rigid::FrictionInput<double> in{P.rigid.bodies.data(), S.rigid.bodies.data(), S.rigid.bodies.size(), Y,
+                                        S.brake, P.t1, P.t2, h, P.friction_iterations};
+  ContactList set{P, S};
+  S.sweeps = rigid::frictionAndBrakes(in, set);
 }
 
 // computeForces for this model (forces.cpp), ending with the friction and
@@ -324,8 +348,8 @@ GROUNDSIM_INLINE_BODY void evaluate(const Model& m, const Plan& P, const double*
   looseSprings(P, S);
   pointSums(P, S);
   normalForces(P, S);
-  const bool braking = driveTorques(P, ctl, S);
-  frictionAndBrakes(P, Y, ctl, h, braking, S);
+  driveTorques(P, ctl, S);
+  frictionAndBrakes(P, Y, h, S);
 }
 
 // Semi-implicit Euler (semi_implicit_euler.cpp): momenta, positions, the

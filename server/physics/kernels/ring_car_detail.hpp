@@ -1,6 +1,6 @@
 // The ring car's (ring_car.hpp) private types: the plan built once from the
 // model (ring_car_plan.cpp) and the scratch one evaluation fills
-// (ring_car.cpp, ring_car_friction.hpp). Only the ring-car files include it.
+// (ring_car.cpp). Only the ring-car files include it.
 // Named (not file-local) so both translation units share them; the
 // hot functions stay always-inline in ring_car.cpp's wrappers.
 #pragma once
@@ -74,11 +74,16 @@ const char* buildPlan(const Model& m, Plan* P);
 struct PlainL {
   double r[3], p[3], u[3], f[3];
 };
-// A point below the plane, as velocity_constraints.cpp's Contact.
+// A point below the plane, as velocity_constraints.cpp's Contact; rr is
+// its lever arm, the rest what the friction solve (rigid_friction.hpp) uses.
 struct ContactR {
   int body, point, wheel;
-  double p[3], r[3], u[3], depth, N, mu;
+  double p[3], rr[3], u[3], depth, N, mu;
   double a1[3], a2[3], b1[3], b2[3], k00, k01, k11, i00, i01, i10, i11, j0, j1;
+};
+// A wheel's axle: its world axis, and what the brake solve keeps of it.
+struct AxleR {
+  double a[3], ia[3], ic[3], bden, bi;
 };
 
 struct Scratch {
@@ -95,8 +100,8 @@ struct Scratch {
   std::vector<ContactR> con;  // every contact point once at most; [0, ncon) this evaluation's
   size_t ncon = 0;
   std::span<ContactR> contacts() { return {con.data(), ncon}; }
-  double axis[kMaxWheels][3];  // wheel axes, world
-  double brake_impulse[kMaxWheels];
+  AxleR axles[kMaxWheels];     // wheel axes (world) and brake impulses
+  double brake[kMaxWheels];     // each wheel's brake torque
   double drive_power = 0.0, max_depth = 0.0;
   int sweeps = 0;
 };
