@@ -101,6 +101,7 @@ bool Simulator::step() {
       break;
   }
   ws_.step_pairs = false;
+  ws_.step_census = false;
   ++state_.tick;
   state_.t = static_cast<double>(state_.tick) * m.opt.dt;  // no drift from summing dt
   if (m.collisions) {

@@ -39,6 +39,8 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   for (size_t g = 0; g < m.groups.size(); ++g) sweep[g] = static_cast<int>(g);
   pairs.reserve(4 * m.groups.size());
   pair_contacts.reserve(4 * m.groups.size());
+  census_range.reserve(4 * m.groups.size());
+  census.reserve(m.probes.size());
   car_inputs.assign(m.road_cars.size(), CarRuntime{});
   applied_mark.assign(m.wheels.size(), WheelControl{});
   cars_mark.assign(m.road_cars.size(), CarRuntime{});

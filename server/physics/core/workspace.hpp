@@ -7,6 +7,7 @@
 // Nothing here is part of the model: one Model serves many Workspaces.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -100,6 +101,17 @@ struct Workspace {
   // groupsMayTouch at the step's start, its boxes padded by what each group
   // can move in the step, so the step's force evaluations skip the sweep
   bool step_pairs = false;
+  // set with step_pairs by contactSubsteps: for each pair of two rigid (or
+  // static) groups, the probes its census at the step's start found
+  // pressing or within the step's reach of a shape of the other group, as
+  // (probe, collider) in the order the narrow phase visits them; the step's
+  // force evaluations test only these (body_contact.cpp)
+  struct CensusProbe {
+    int probe, collider;
+  };
+  bool step_census = false;
+  std::vector<CensusProbe> census;                  // pair by pair
+  std::vector<std::array<int, 3>> census_range;     // (pairs) [begin, mid, end): a's probes, b's; begin -1: none
   std::vector<PairContact> pair_contacts;  // pairs in contact, last evaluation
   double body_contact_energy = 0.0;    // J, 1/2 S depth^2 over probes inside shapes
   double body_contact_depth = 0.0;     // m, deepest probe

@@ -178,6 +178,68 @@ Vec3 deepestCirclePoint(const Shape& s, const Frame& f, const Vec3& centre, cons
   return p;
 }
 
+// Probe pi of group P (whose bodies it moves with: pb) against collider
+// col of group C at frame f: the report's eq. (10) if it is inside, added
+// to the pair's telemetry and, with apply, to both bodies.
+void probeInto(const Model& m, int P, int pi, const Collider& col, const Frame& f, const PairLaw& law, bool apply,
+               Workspace& ws, PairContact& pc) {
+  const Probe& pr = m.probes[pi];
+  const double reach = col.shape.bound();
+  Vec3 p;
+  int moving = -1;  // the body whose velocity at p is the probe's, once it is inside
+  if (pr.wheel >= 0) {
+    const Wheel& wh = m.wheels[pr.wheel];
+    const Vec3 centre = ws.com[wh.body];
+    if ((centre - f.o).norm() > reach + wh.radius) return;
+    p = deepestCirclePoint(col.shape, f, centre, ws.R[wh.body] * wh.axis, wh.radius);
+    moving = wh.body;
+  } else if (pr.point >= 0) {
+    p = ws.pointPos(pr.point);
+    if ((p - f.o).squaredNorm() > reach * reach) return;
+  } else if (pr.body >= 0) {
+    p = ws.com[pr.body] + ws.R[pr.body] * pr.local;
+    if ((p - f.o).squaredNorm() > reach * reach) return;
+    moving = pr.body;
+  } else {
+    p = pr.local;
+    if ((p - f.o).squaredNorm() > reach * reach) return;
+  }
+  const Vec3 q = f.R.transpose() * (p - f.o);
+  const double dist = col.shape.distance(q);
+  if (!(dist < 0.0)) return;
+  // the probe's velocity, only for a probe inside
+  const Vec3 u = moving >= 0     ? bodyPointVelocity(moving, p, ws)
+                 : pr.point >= 0 ? ws.pointVel(pr.point)
+                                 : Vec3(Vec3::Zero());
+  const double depth = -dist;
+  const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
+  const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);
+  const double N = std::max(law.k * depth - law.c * rel.dot(n), 0.0);
+  const Vec3 slip = rel - rel.dot(n) * n;
+  const double s = slip.norm();
+  Vec3 F = N * n;
+  if (s > 0.0 && law.mu > 0.0) F -= (law.mu * N * std::tanh(s / law.vs) / s) * slip;
+  ws.body_contact_energy += 0.5 * law.k * depth * depth;
+  ws.body_contact_depth = std::max(ws.body_contact_depth, depth);
+  ++pc.points;
+  pc.normal += N;
+  pc.where += N * p;
+  pc.depth = std::max(pc.depth, depth);
+  pc.force += P == pc.a ? F : Vec3(-F);
+  if (!apply) return;
+  const int pb = pr.wheel >= 0 ? m.wheels[pr.wheel].body : pr.point >= 0 ? m.points[pr.point].body : pr.body;
+  if (pr.particle >= 0) {
+    ws.particle_force[pr.particle] += F;
+  } else if (pb >= 0) {
+    ws.body_force[pb] += F;
+    ws.body_torque[pb] += (p - ws.com[pb]).cross(F);
+  }
+  if (col.body >= 0) {
+    ws.body_force[col.body] -= F;
+    ws.body_torque[col.body] -= (p - ws.com[col.body]).cross(F);
+  }
+}
+
 // Probes of group P against the shapes of group C.
 void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
   const CollisionGroup& gp = m.groups[P];
@@ -187,7 +249,7 @@ void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Wo
   // misses it reaches none of them, and a probe fixed to that body is
   // tested against the shape's bounding sphere and that box in the body's
   // frame, with no rotation per probe. These only skip work: a probe they
-  // pass meets the world-frame test below as before (so the same probes
+  // pass meets the world-frame test of probeInto (so the same probes
   // reach the shape, bit for bit), and the 1 mm of slack covers the
   // round-off between the two frames.
   constexpr double kSlack = 1e-3;  // m
@@ -210,60 +272,25 @@ void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Wo
       if (rb >= 0 && pr.body == rb && pr.wheel < 0 && pr.point < 0 &&
           ((pr.local - c_local).squaredNorm() > cull || ((pr.local - c_local).cwiseAbs() - c_half).maxCoeff() > 0.0))
         continue;
-      Vec3 p;
-      int moving = -1;  // the body whose velocity at p is the probe's, once it is inside
-      if (pr.wheel >= 0) {
-        const Wheel& wh = m.wheels[pr.wheel];
-        const Vec3 centre = ws.com[wh.body];
-        if ((centre - f.o).norm() > reach + wh.radius) continue;
-        p = deepestCirclePoint(col.shape, f, centre, ws.R[wh.body] * wh.axis, wh.radius);
-        moving = wh.body;
-      } else if (pr.point >= 0) {
-        p = ws.pointPos(pr.point);
-        if ((p - f.o).squaredNorm() > reach * reach) continue;
-      } else if (pr.body >= 0) {
-        p = ws.com[pr.body] + ws.R[pr.body] * pr.local;
-        if ((p - f.o).squaredNorm() > reach * reach) continue;
-        moving = pr.body;
-      } else {
-        p = pr.local;
-        if ((p - f.o).squaredNorm() > reach * reach) continue;
-      }
-      const Vec3 q = f.R.transpose() * (p - f.o);
-      const double dist = col.shape.distance(q);
-      if (!(dist < 0.0)) continue;
-      // the probe's velocity, only for a probe inside
-      const Vec3 u = moving >= 0     ? bodyPointVelocity(moving, p, ws)
-                     : pr.point >= 0 ? ws.pointVel(pr.point)
-                                     : Vec3(Vec3::Zero());
-      const double depth = -dist;
-      const Vec3 n = f.R * col.shape.normal(q);  // out of the shape: pushes the probe out
-      const Vec3 rel = u - bodyPointVelocity(col.body, p, ws);
-      const double N = std::max(law.k * depth - law.c * rel.dot(n), 0.0);
-      const Vec3 slip = rel - rel.dot(n) * n;
-      const double s = slip.norm();
-      Vec3 F = N * n;
-      if (s > 0.0 && law.mu > 0.0) F -= (law.mu * N * std::tanh(s / law.vs) / s) * slip;
-      ws.body_contact_energy += 0.5 * law.k * depth * depth;
-      ws.body_contact_depth = std::max(ws.body_contact_depth, depth);
-      ++pc.points;
-      pc.normal += N;
-      pc.where += N * p;
-      pc.depth = std::max(pc.depth, depth);
-      pc.force += P == pc.a ? F : Vec3(-F);
-      if (!apply) continue;
-      const int pb = pr.wheel >= 0 ? m.wheels[pr.wheel].body : pr.point >= 0 ? m.points[pr.point].body : pr.body;
-      if (pr.particle >= 0) {
-        ws.particle_force[pr.particle] += F;
-      } else if (pb >= 0) {
-        ws.body_force[pb] += F;
-        ws.body_torque[pb] += (p - ws.com[pb]).cross(F);
-      }
-      if (col.body >= 0) {
-        ws.body_force[col.body] -= F;
-        ws.body_torque[col.body] -= (p - ws.com[col.body]).cross(F);
-      }
+      probeInto(m, P, pi, col, f, law, apply, ws, pc);
     }
+  }
+}
+
+// The probes of group P the step's census listed, against their shapes
+// of group C: the same tests and forces as probesInto, in its order, over
+// the probes that can touch in this step only.
+void listedProbesInto(const Model& m, int P, const Workspace::CensusProbe* begin, const Workspace::CensusProbe* end,
+                      const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
+  int frame_of = -1;
+  Frame f;
+  for (const Workspace::CensusProbe* e = begin; e != end; ++e) {
+    const Collider& col = m.colliders[e->collider];
+    if (e->collider != frame_of) {
+      f = colliderFrame(col, ws);
+      frame_of = e->collider;
+    }
+    probeInto(m, P, e->probe, col, f, law, apply, ws, pc);
   }
 }
 
@@ -271,13 +298,22 @@ void narrowPhase(const Model& m, bool apply, Workspace& ws) {
   ws.body_contact_energy = 0.0;
   ws.body_contact_depth = 0.0;
   ws.pair_contacts.clear();
-  for (const auto& [a, b] : ws.pairs) {
+  const bool listed = ws.step_pairs && ws.step_census;
+  for (size_t k = 0; k < ws.pairs.size(); ++k) {
+    const auto [a, b] = ws.pairs[k];
     PairContact pc;
     pc.a = a;
     pc.b = b;
     const PairLaw law = pairLaw(m, m.groups[a], m.groups[b]);
-    probesInto(m, a, b, law, apply, ws, pc);
-    probesInto(m, b, a, law, apply, ws, pc);
+    if (listed && ws.census_range[k][0] >= 0) {
+      const std::array<int, 3>& r = ws.census_range[k];
+      const Workspace::CensusProbe* c = ws.census.data();
+      listedProbesInto(m, a, c + r[0], c + r[1], law, apply, ws, pc);
+      listedProbesInto(m, b, c + r[1], c + r[2], law, apply, ws, pc);
+    } else {
+      probesInto(m, a, b, law, apply, ws, pc);
+      probesInto(m, b, a, law, apply, ws, pc);
+    }
     if (pc.points == 0) continue;
     pc.where = pc.normal > 0.0 ? Vec3(pc.where / pc.normal) : Vec3::Zero();
     ws.pair_contacts.push_back(pc);
@@ -355,8 +391,11 @@ Vec3 censusProbe(const Model& m, const Probe& pr, const CensusSide& s) {
 // pair's pads) and culls the rest.
 using Gen12 = Eigen::Matrix<double, 12, 1>;
 using Mat12 = Eigen::Matrix<double, 12, 12>;
+// Each probe counted is listed in `listed` as (probe, collider), in the
+// narrow phase's order.
 int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, const CollisionGroup& gc,
-               const CensusSide& sc, double reach, double dt, bool p_first, Mat12& A) {
+               const CensusSide& sc, double reach, double dt, bool p_first, Mat12& A,
+               std::vector<Workspace::CensusProbe>& listed) {
   int count = 0;
   for (int ci = gc.collider_begin; ci < gc.collider_end; ++ci) {
     const Collider& col = m.colliders[ci];
@@ -386,6 +425,7 @@ int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, c
       g.head<6>() = massWeighted(p_first ? sp : sc, p, p_first ? n : Vec3(-n));
       g.tail<6>() = massWeighted(p_first ? sc : sp, p, p_first ? Vec3(-n) : n);
       A.noalias() += g * g.transpose();
+      listed.push_back({pi, ci});
       ++count;
     }
   }
@@ -421,7 +461,10 @@ int faceProbeSubsteps(const PairLaw& law, const CollisionGroup& ga, const Collis
 // the lever arms and counted probes that cannot touch. A pair whose parts
 // do not all move with its reference bodies (the report's cars of mass
 // points) still takes that bound.
-int pairSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, int a, int b, double dt) {
+// The census's probes are kept as the pair's census_range in ws (a's,
+// then b's): the step's evaluations test only those.
+int pairSubsteps(const Model& m, const Eigen::VectorXd& y, Workspace& ws, size_t pair, double dt) {
+  const auto [a, b] = ws.pairs[pair];
   const CollisionGroup &ga = m.groups[a], &gb = m.groups[b];
   const PairLaw law = pairLaw(m, ga, gb);
   const double mr = reducedMass(ga, gb);
@@ -430,8 +473,12 @@ int pairSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, 
   const CensusSide sa = censusSide(m, ga, y), sb = censusSide(m, gb, y);
   const double reach = ws.group_pad[a] + ws.group_pad[b];
   Mat12 A = Mat12::Zero();
-  const int count =
-      censusInto(m, ga, sa, gb, sb, reach, dt, true, A) + censusInto(m, gb, sb, ga, sa, reach, dt, false, A);
+  std::array<int, 3>& range = ws.census_range[pair];
+  range[0] = static_cast<int>(ws.census.size());
+  int count = censusInto(m, ga, sa, gb, sb, reach, dt, true, A, ws.census);
+  range[1] = static_cast<int>(ws.census.size());
+  count += censusInto(m, gb, sb, ga, sa, reach, dt, false, A, ws.census);
+  range[2] = static_cast<int>(ws.census.size());
   if (count == 0 || !(law.k > 0.0)) return 1;
   const double top = largestEigenvalueBound(A);
   const double omega = std::sqrt(law.k * std::max(top, 0.0));
@@ -440,9 +487,12 @@ int pairSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, 
 
 }  // namespace
 
-int contactSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, double dt) {
+int contactSubsteps(const Model& m, const Eigen::VectorXd& y, Workspace& ws, double dt) {
+  ws.census.clear();
+  ws.census_range.assign(ws.pairs.size(), {-1, -1, -1});
   int n = 1;
-  for (const auto& [a, b] : ws.pairs) n = std::max(n, pairSubsteps(m, y, ws, a, b, dt));
+  for (size_t k = 0; k < ws.pairs.size(); ++k) n = std::max(n, pairSubsteps(m, y, ws, k, dt));
+  ws.step_census = ws.step_pairs;
   return n;
 }
 

@@ -28,8 +28,12 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
 // their stiffest mode is bounded by the sum of the inverse masses (with the
 // lever arms) they meet along the normals. Otherwise from the pair's
 // reduced mass with the face probes of both groups pressing at once. 1
-// when no pair may touch.
-int contactSubsteps(const Model& m, const Eigen::VectorXd& y, const Workspace& ws, double dt);
+// when no pair may touch. Keeps the census's probes in ws (census,
+// census_range) and, when the step's pairs are set (step_pairs), sets
+// step_census: the step's force evaluations then test only the probes the
+// census found pressing or within the step's reach (the rest cannot touch
+// in the step), and every other pair's probes as before.
+int contactSubsteps(const Model& m, const Eigen::VectorXd& y, Workspace& ws, double dt);
 
 // The face-probe bound at dt (every face probe of both groups pressing at
 // once, on the reduced mass) over every pair of groups that can touch (one
