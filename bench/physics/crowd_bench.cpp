@@ -35,6 +35,7 @@ struct Row {
 struct Result {
   double steps_per_s = 0.0;
   double evaluations_per_step = 0.0;
+  double contact_substeps_per_step = 0.0;
   size_t hits = 0;
 };
 
@@ -57,6 +58,7 @@ Result measure(const std::string& path, int rounds) {
     }
     best = std::min(best, t);
     r.evaluations_per_step = static_cast<double>(sim.forceEvaluations()) / static_cast<double>(steps);
+    r.contact_substeps_per_step = static_cast<double>(sim.contactSubstepCount()) / static_cast<double>(steps);
     r.hits = sim.hits().size() + sim.takeEndedHits().size();
   }
   r.steps_per_s = static_cast<double>(steps) / best;
@@ -78,7 +80,9 @@ int main(int argc, char** argv) {
       {"pack16", "spread16", "16 sedans in a pack"},
   };
   std::vector<std::pair<std::string, Result>> done;
-  std::printf("| scene | steps/s | cost against | evaluations per step | hits |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| scene | steps/s | cost against | evaluations per step | contact substeps per step | hits |\n"
+      "|---|---|---|---|---|---|\n");
   const std::string only = argc > 3 ? argv[3] : "";
   for (const Row& row : rows) {
     if (!only.empty() && only != row.scene) continue;
@@ -87,8 +91,8 @@ int main(int argc, char** argv) {
     double ref = r.steps_per_s;
     for (const auto& [name, d] : done)
       if (name == row.reference) ref = d.steps_per_s;
-    std::printf("| %s: %s | %.0f | %.2fx %s | %.2f | %zu |\n", row.scene, row.what, r.steps_per_s,
-                ref / r.steps_per_s, row.reference, r.evaluations_per_step, r.hits);
+    std::printf("| %s: %s | %.0f | %.2fx %s | %.2f | %.2f | %zu |\n", row.scene, row.what, r.steps_per_s,
+                ref / r.steps_per_s, row.reference, r.evaluations_per_step, r.contact_substeps_per_step, r.hits);
     std::fflush(stdout);
   }
   return 0;

@@ -7,6 +7,7 @@
 
 #include "physics/forces/body_contact.hpp"
 #include "physics/forces/road_car_phase.hpp"
+#include "physics/integrators/contact_phase.hpp"
 
 namespace groundsim {
 
@@ -96,7 +97,15 @@ bool Simulator::step() {
       integrator_->evaluations += n;
       break;
     case StepPath::General:
-      for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+      if (touching && n > 1 && contactPhaseApplies(m, ws_)) {
+        // the contact's substeps without the rest of the forces (contact_phase.hpp)
+        contactPhaseStep(m, state_, ws_, m.opt.dt, n);
+        integrator_->evaluations += 1;
+        contact_substeps_ += n;
+      } else {
+        for (int k = 0; k < n; ++k) integrator_->advance(m, state_, ws_, h);
+        if (touching) contact_substeps_ += n;
+      }
       ws_stale_ = false;
       break;
   }

@@ -81,6 +81,10 @@ class Simulator {
   // tasks that observe none).
   State& batchState() { return state_; }
   long long forceEvaluations() const { return integrator_->evaluations; }
+  // substeps of contact between bodies so far: in whole force evaluations,
+  // or in the contact phase (contact_phase.hpp), where the rest of the
+  // forces are evaluated once per step
+  long long contactSubstepCount() const { return contact_substeps_; }
   // Which path steps take while no pair of bodies may touch (chosen once
   // per model: choosePath).
   StepPath stepPath() const { return path_; }
@@ -106,6 +110,7 @@ class Simulator {
   mutable Workspace ws_;  // mutable: filled on demand after a specialised step
   mutable bool ws_stale_ = false;
   std::unique_ptr<Integrator> integrator_;
+  long long contact_substeps_ = 0;
   // Builds the kernel of the path the model takes (buildPath) for model_.
   void buildPath();
   StepPath path_ = StepPath::General;

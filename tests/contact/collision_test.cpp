@@ -380,9 +380,12 @@ TEST(Collision, CarsRestOnABox) {
 
 // One sedan pushing another from standstill: the pushed car accelerates
 // as the pair's mass under the net ground force on both, F / (m1 + m2).
+// The sedans keep their own wheel inertia: with wheels of 0.05 kg m^2 the
+// driven wheels' spin is not resolved at dt 2 ms even for a car alone (it
+// rings between locked and spinning), and only the contact's substeps,
+// when they still refined the whole car, hid that.
 TEST(Collision, PushedCarAcceleratesAtForceOverBothMasses) {
   json a = sedan("pusher", 0.0, 0.0, 0.0), b = sedan("pushed", 4.71, 0.0, 0.0);
-  a["wheel_inertia"] = b["wheel_inertia"] = 0.05;
   a["controls"] = {{{"t", 0.0}, {"throttle", 0.6}}};
   json doc = {{"name", "push"},
               {"physics", {{"dt", 0.002}}},

@@ -41,6 +41,11 @@ Workspace::Workspace(const Model& m, bool with_diagnostics) : ground(*m.ground) 
   pair_contacts.reserve(4 * m.groups.size());
   census_range.reserve(4 * m.groups.size());
   census.reserve(m.probes.size());
+  phase_cars.reserve(m.road_cars.size());
+  in_phase.assign(m.bodies.size(), 0);
+  phase_force.reserve(m.road_cars.size());
+  phase_torque.reserve(m.road_cars.size());
+  phase_travel.reserve(m.road_cars.size());
   car_inputs.assign(m.road_cars.size(), CarRuntime{});
   applied_mark.assign(m.wheels.size(), WheelControl{});
   cars_mark.assign(m.road_cars.size(), CarRuntime{});

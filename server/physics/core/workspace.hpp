@@ -112,6 +112,15 @@ struct Workspace {
   bool step_census = false;
   std::vector<CensusProbe> census;                  // pair by pair
   std::vector<std::array<int, 3>> census_range;     // (pairs) [begin, mid, end): a's probes, b's; begin -1: none
+  // the contact phase (integrators/contact_phase.cpp): computeForces
+  // leaves contact between bodies out while it is set; per car of the
+  // step's pairs its road car index and the forces and travel accelerations
+  // held over the phase's substeps
+  bool defer_body_contacts = false;
+  std::vector<int> phase_cars;
+  std::vector<unsigned char> in_phase;                // (nbody)
+  std::vector<Vec3> phase_force, phase_torque;        // (phase_cars)
+  std::vector<std::array<double, 4>> phase_travel;    // (phase_cars) m/s^2
   std::vector<PairContact> pair_contacts;  // pairs in contact, last evaluation
   double body_contact_energy = 0.0;    // J, 1/2 S depth^2 over probes inside shapes
   double body_contact_depth = 0.0;     // m, deepest probe

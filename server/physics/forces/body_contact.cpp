@@ -529,10 +529,14 @@ bool groupsMayTouch(const Model& m, const Eigen::VectorXd& y, double dt, Workspa
   return !ws.pairs.empty();
 }
 
-void bodyContacts(const Model& m, bool apply, Workspace& ws) {
+void clearBodyContacts(Workspace& ws) {
   ws.pair_contacts.clear();
   ws.body_contact_energy = 0.0;
   ws.body_contact_depth = 0.0;
+}
+
+void bodyContacts(const Model& m, bool apply, Workspace& ws) {
+  clearBodyContacts(ws);
   if (!m.collisions) return;
   if (!ws.step_pairs) {
     groupBoxes(m, ws, [&](int body) { return ws.com[body]; }, [](const CollisionGroup&) { return 0.0; });

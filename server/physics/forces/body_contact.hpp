@@ -13,6 +13,8 @@ namespace groundsim {
 // shape of the other group to both bodies (apply = false: only measures
 // energy, depth and ws.pair_contacts, for diagnostics).
 void bodyContacts(const Model& m, bool apply, Workspace& ws);
+// No contact between bodies this evaluation: its telemetry cleared.
+void clearBodyContacts(Workspace& ws);
 
 // The broad phase alone at configuration y (no kinematics needed), each
 // group's box padded by what it can move in dt: whether any pair of groups

@@ -17,7 +17,8 @@ void computeForces(const Model& m, const Eigen::VectorXd& y,
   applyContactNormals(m, ws);
   applyExplicitFriction(m, ws);      // regularised / sign models only
   accumulateBodyForces(m, ws);       // gravity + point forces -> body force and torque
-  bodyContacts(m, true, ws);         // bodies touching bodies (forces/body_contact.cpp)
+  if (ws.defer_body_contacts) clearBodyContacts(ws);  // the contact phase's own (integrators/contact_phase.cpp)
+  else bodyContacts(m, true, ws);    // bodies touching bodies (forces/body_contact.cpp)
   ws.max_depth = std::max(ws.max_depth, ws.body_contact_depth);
   applyDrive(m, controls, ws);       // drive torque on wheel, reaction on carrier
   if (!velocityLevelBrakes(m)) applyRegularizedBrakes(m, controls, ws);
