@@ -179,12 +179,12 @@ Vec3 deepestCirclePoint(const Shape& s, const Frame& f, const Vec3& centre, cons
 }
 
 // Probe pi of group P (whose bodies it moves with: pb) against collider
-// col of group C at frame f: the report's eq. (10) if it is inside, added
+// col of group C at frame f, whose bounding sphere has radius reach: the
+// report's eq. (10) if it is inside, added
 // to the pair's telemetry and, with apply, to both bodies.
-void probeInto(const Model& m, int P, int pi, const Collider& col, const Frame& f, const PairLaw& law, bool apply,
-               Workspace& ws, PairContact& pc) {
+void probeInto(const Model& m, int P, int pi, const Collider& col, const Frame& f, double reach, const PairLaw& law,
+               bool apply, Workspace& ws, PairContact& pc) {
   const Probe& pr = m.probes[pi];
-  const double reach = col.shape.bound();
   Vec3 p;
   int moving = -1;  // the body whose velocity at p is the probe's, once it is inside
   if (pr.wheel >= 0) {
@@ -272,7 +272,7 @@ void probesInto(const Model& m, int P, int C, const PairLaw& law, bool apply, Wo
       if (rb >= 0 && pr.body == rb && pr.wheel < 0 && pr.point < 0 &&
           ((pr.local - c_local).squaredNorm() > cull || ((pr.local - c_local).cwiseAbs() - c_half).maxCoeff() > 0.0))
         continue;
-      probeInto(m, P, pi, col, f, law, apply, ws, pc);
+      probeInto(m, P, pi, col, f, reach, law, apply, ws, pc);
     }
   }
 }
@@ -284,13 +284,15 @@ void listedProbesInto(const Model& m, int P, const Workspace::CensusProbe* begin
                       const PairLaw& law, bool apply, Workspace& ws, PairContact& pc) {
   int frame_of = -1;
   Frame f;
+  double reach = 0.0;
   for (const Workspace::CensusProbe* e = begin; e != end; ++e) {
     const Collider& col = m.colliders[e->collider];
     if (e->collider != frame_of) {
       f = colliderFrame(col, ws);
+      reach = col.shape.bound();
       frame_of = e->collider;
     }
-    probeInto(m, P, e->probe, col, f, law, apply, ws, pc);
+    probeInto(m, P, e->probe, col, f, reach, law, apply, ws, pc);
   }
 }
 
@@ -424,7 +426,8 @@ int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, c
       Gen12 g;
       g.head<6>() = massWeighted(p_first ? sp : sc, p, p_first ? n : Vec3(-n));
       g.tail<6>() = massWeighted(p_first ? sc : sp, p, p_first ? Vec3(-n) : n);
-      A.noalias() += g * g.transpose();
+      for (int j = 0; j < 12; ++j)  // g g^T, lower half (largestEigenvalueBound reads it as symmetric)
+        for (int i = j; i < 12; ++i) A(i, j) += g[i] * g[j];
       listed.push_back({pi, ci});
       ++count;
     }
@@ -436,7 +439,8 @@ int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, c
 // semidefinite A that is within a factor rank^(1/8) of it: the Frobenius
 // norm of A^4 to the power 1/4 (every eigenvalue of A^4 is the fourth power
 // of one of A's, and the Frobenius norm is the root of their squares' sum).
-double largestEigenvalueBound(const Mat12& A) {
+double largestEigenvalueBound(const Mat12& lower) {
+  const Mat12 A = lower.selfadjointView<Eigen::Lower>();
   const Mat12 A2 = A * A;
   const Mat12 A4 = A2 * A2;
   return std::sqrt(std::sqrt(A4.norm()));
