@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
       {"pack8", "spread8", "8 sedans in a pack (2 abreast 2.3 m, 5.2 m nose to nose)"},
       {"spread16", "spread16", "16 sedans spread"},
       {"pack16", "spread16", "16 sedans in a pack"},
+      {"spread16_push", "spread16", "14 sedans spread, a pair pushing in a third lane"},
   };
   std::vector<std::pair<std::string, Result>> done;
   std::printf(

@@ -411,6 +411,42 @@ TEST(Collision, PushedCarAcceleratesAtForceOverBothMasses) {
   EXPECT_NEAR(a_pushed, a_closed, 0.05 * a_closed);
 }
 
+// The contact phase (integrators/contact_phase.cpp): while two sedans
+// push, only their contact takes substeps. A third sedan in another lane
+// is stepped exactly as it is alone, bit for bit (whole substeps of the
+// scene would refine it too), and the scene pays one force evaluation a
+// step.
+TEST(Collision, ACarOfNoPairIsSteppedAsIfAloneWhileAPairPushes) {
+  auto driven = [](json car, double throttle) {
+    car["controls"] = {{{"t", 0.0}, {"throttle", throttle}}};
+    return car;
+  };
+  const json lone = driven(sedan("lone", 0.0, 8.0, 5.0), 0.3);
+  json doc = {{"name", "push and lone"},
+              {"physics", {{"dt", 0.004}}},
+              {"ground", {{"type", "plane"}}},
+              {"vehicles", {driven(sedan("pusher", 0.0, 0.0, 5.0), 0.6), sedan("pushed", 4.72, 0.0, 5.0), lone}}};
+  json alone = doc;
+  alone["vehicles"] = {lone};
+  SceneRun r = load(doc), a = load(alone);
+  const int steps = 500;  // 2 s
+  ASSERT_TRUE(step(r, steps)) << r.sim->state().health_reason;
+  ASSERT_TRUE(step(a, steps)) << a.sim->state().health_reason;
+  ASSERT_FALSE(r.sim->hits().empty()) << "the pair parted";
+  EXPECT_EQ(r.sim->forceEvaluations(), steps);
+  EXPECT_GT(r.sim->contactSubstepCount(), 2 * steps);  // the pair's contact took substeps
+  const Eigen::VectorXd &y = r.sim->state().y, &ya = a.sim->state().y;
+  for (int k = 0; k < 13; ++k) EXPECT_EQ(y[13 * r.body("lone") + k], ya[13 * a.body("lone") + k]) << "body state " << k;
+  auto aux = [](const SceneRun& s, int body) {
+    for (const RoadCar& rc : s.m().road_cars)
+      if (rc.body == body) return s.m().auxBase() + rc.aux;
+    return -1;
+  };
+  for (int k = 0; k < 20; ++k) EXPECT_EQ(y[aux(r, r.body("lone")) + k], ya[aux(a, a.body("lone")) + k]) << "wheel state " << k;
+  std::printf("contact phase: %lld evaluations and %lld contact substeps in %d steps; the lone car at x %.4f m in both\n",
+              r.sim->forceEvaluations(), r.sim->contactSubstepCount(), steps, r.pos("lone").x());
+}
+
 // The lone wheel (a hoop, I = m r^2) rolling into a kerb of height h < r.
 // Rigid and without slip it pivots about the edge keeping its angular
 // momentum there, m v (r - h) + I v / r = (I + m r^2) w, and climbs when

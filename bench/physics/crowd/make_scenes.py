@@ -55,6 +55,10 @@ scenes = {
     # 0.4 throttle pushes the one ahead, which coasts, for the whole run
     "push": scene("push", "one sedan pushing another, nose to tail, for 20 s",
                   [car("pusher", 0, 0, CRUISE + 0.4), car("pushed", 4.72, 0, 0.0)]),
+    # the same pair pushing in a third lane beside 14 sedans spread: what
+    # one touching pair costs the rest of a scene
+    "spread16_push": scene("spread16_push", "14 sedans spread and a pair pushing in a third lane, for 20 s",
+                           spread(14) + [car("pusher", 0, 20, CRUISE + 0.4), car("pushed", 4.72, 20, 0.0)]),
 }
 for name, doc in scenes.items():
     with open(os.path.join(here, name + ".json"), "w") as f:
