@@ -9,6 +9,7 @@
 #include "physics/core/model.hpp"
 #include "physics/core/state.hpp"
 #include "physics/core/workspace.hpp"
+#include "physics/simd/simd_path.hpp"
 
 namespace groundsim {
 
@@ -25,6 +26,18 @@ void stateDerivative(const Model& m, const Eigen::VectorXd& y, const Workspace& 
                      Eigen::VectorXd& dy);
 
 // Phases, each in its own file.
+// Body i's rotation, world inverse inertia, angular velocity, centre of
+// mass and velocity at configuration y (the kinematics' first part).
+// Always inlined, so the kinematics' wide build keeps its own arithmetic.
+GROUNDSIM_INLINE_BODY void bodyFrame(const Model& m, const Eigen::VectorXd& y, int i, Workspace& ws) {
+  const Mat3 R = bodyRot(y, i).normalized().toRotationMatrix();
+  ws.R[i] = R;
+  ws.inv_inertia_world[i] = R * m.bodies[i].inv_inertia * R.transpose();
+  ws.omega[i] = ws.inv_inertia_world[i] * bodyMom(y, i);
+  ws.com[i] = bodyPos(y, i);
+  ws.vel[i] = bodyVel(y, i);
+}
+
 void computeKinematics(const Model& m, const Eigen::VectorXd& y,
                        const std::vector<WheelControl>& controls, Workspace& ws);
 void applySprings(const Model& m, Workspace& ws);

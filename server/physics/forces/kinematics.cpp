@@ -21,12 +21,8 @@ GROUNDSIM_INLINE_BODY void kinematicsBody(const Model& m, const Eigen::VectorXd&
   }
   const int nb = static_cast<int>(m.bodies.size());
   for (int i = 0; i < nb; ++i) {
-    const Mat3 R = bodyRot(y, i).normalized().toRotationMatrix();
-    ws.R[i] = R;
-    ws.inv_inertia_world[i] = R * m.bodies[i].inv_inertia * R.transpose();
-    ws.omega[i] = ws.inv_inertia_world[i] * bodyMom(y, i);
-    ws.com[i] = bodyPos(y, i);
-    ws.vel[i] = bodyVel(y, i);
+    bodyFrame(m, y, i, ws);
+    const Mat3 R = ws.R[i];
     // p = c + R l ; u = v + w x (R l), branch-free over the body's points
     const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1),
                  r12 = R(1, 2), r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);

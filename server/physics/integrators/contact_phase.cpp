@@ -50,23 +50,7 @@ void collectCars(const Model& m, Workspace& ws) {
 // bodies of no pair, the particles, the road cars' spin (and the travel
 // rate of the cars of no pair).
 void stepTheRest(const Model& m, State& s, const Workspace& ws, double dt) {
-  const int nb = static_cast<int>(m.bodies.size());
-  for (int i = 0; i < nb; ++i) {
-    if (ws.in_phase[i]) continue;
-    auto v = bodyVel(s.y, i);
-    auto L = bodyMom(s.y, i);
-    v += dt * ws.body_force[i] / m.bodies[i].mass;
-    L += dt * ws.body_torque[i];
-    bodyPos(s.y, i) += dt * v;
-    auto q = bodyRot(s.y, i);
-    const Quat q0(q);
-    q = rotateMidpoint(q0, m.bodies[i].inv_inertia, ws.inv_inertia_world[i] * L, L, dt, 1);
-  }
-  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
-    const int o = particleOffset(nb, j);
-    s.y.segment<3>(o + 3) += dt * ws.particle_force[j] / m.particles[j].mass;
-    s.y.segment<3>(o) += dt * s.y.segment<3>(o + 3);
-  }
+  semiImplicitBodiesAndParticles(m, s.y, ws, dt, ws.in_phase.data());
   const int base = m.auxBase();
   for (const RoadCar& rc : m.road_cars)
     for (int w = 0; w < 4; ++w) {
@@ -96,12 +80,7 @@ void holdSlowForces(const Model& m, Workspace& ws) {
 void carKinematics(const Model& m, const Eigen::VectorXd& y, Workspace& ws) {
   for (int c : ws.phase_cars) {
     const int b = m.road_cars[c].body;
-    const Mat3 R = bodyRot(y, b).normalized().toRotationMatrix();
-    ws.R[b] = R;
-    ws.inv_inertia_world[b] = R * m.bodies[b].inv_inertia * R.transpose();
-    ws.omega[b] = ws.inv_inertia_world[b] * bodyMom(y, b);
-    ws.com[b] = bodyPos(y, b);
-    ws.vel[b] = bodyVel(y, b);
+    bodyFrame(m, y, b, ws);
     ws.body_force[b].setZero();
     ws.body_torque[b].setZero();
   }
@@ -125,14 +104,8 @@ void moveCars(const Model& m, State& s, Workspace& ws, double h) {
     const Eigen::Matrix<double, 6, 1> acc_b = rc.inv_mass_body * Gb;
     const Vec3 a_lin = R * acc_b.head<3>();
     const Vec3 torque = R * (m.bodies[b].inertia * acc_b.tail<3>());
-    auto v = bodyVel(s.y, b);
-    auto L = bodyMom(s.y, b);
-    v += h * (ws.phase_force[j] / m.bodies[b].mass + a_lin);
-    L += h * (ws.phase_torque[j] + torque);
-    bodyPos(s.y, b) += h * v;
-    auto q = bodyRot(s.y, b);
-    const Quat q0(q);
-    q = rotateMidpoint(q0, m.bodies[b].inv_inertia, ws.inv_inertia_world[b] * L, L, h, 1);
+    semiImplicitBodyUpdate(m, s.y, b, h * (ws.phase_force[j] / m.bodies[b].mass + a_lin),
+                           h * (ws.phase_torque[j] + torque), ws.inv_inertia_world[b], h);
     // a strut's travel: the body's acceleration along it at the hub (the
     // struts are the body's z axis: body-frame constants)
     for (int w = 0; w < 4; ++w) {

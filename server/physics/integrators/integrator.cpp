@@ -11,6 +11,32 @@ void normalizeRotations(const Model& m, Eigen::VectorXd& y) {
   for (int i = 0; i < static_cast<int>(m.bodies.size()); ++i) bodyRot(y, i).normalize();
 }
 
+void semiImplicitBodyUpdate(const Model& m, Eigen::VectorXd& y, int i, const Vec3& dv, const Vec3& dL,
+                            const Mat3& inv_inertia_world, double h) {
+  auto v = bodyVel(y, i);
+  auto L = bodyMom(y, i);
+  v += dv;
+  L += dL;
+  bodyPos(y, i) += h * v;
+  auto q = bodyRot(y, i);
+  const Quat q0(q);
+  q = rotateMidpoint(q0, m.bodies[i].inv_inertia, inv_inertia_world * L, L, h, 1);
+}
+
+void semiImplicitBodiesAndParticles(const Model& m, Eigen::VectorXd& y, const Workspace& ws, double h,
+                                    const unsigned char* skip) {
+  const int nb = static_cast<int>(m.bodies.size());
+  for (int i = 0; i < nb; ++i)
+    if (!skip || !skip[i])
+      semiImplicitBodyUpdate(m, y, i, h * ws.body_force[i] / m.bodies[i].mass, h * ws.body_torque[i],
+                             ws.inv_inertia_world[i], h);
+  for (int j = 0; j < static_cast<int>(m.particles.size()); ++j) {
+    const int o = particleOffset(nb, j);
+    y.segment<3>(o + 3) += h * ws.particle_force[j] / m.particles[j].mass;
+    y.segment<3>(o) += h * y.segment<3>(o + 3);
+  }
+}
+
 Vec3 angularVelocityAt(const Quat& q, const Mat3& inv_inertia_body, const Vec3& L) {
   const Mat3 R = q.toRotationMatrix();
   return R * (inv_inertia_body * (R.transpose() * L));

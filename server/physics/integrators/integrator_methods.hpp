@@ -78,6 +78,17 @@ class Adaptive final : public Integrator {
 // takes one pass, velocity Verlet two.
 Quat rotateMidpoint(const Quat& q0, const Mat3& inv_inertia_body, const Vec3& omega0, const Vec3& L,
                     double h, int passes);
+// Semi-implicit Euler's update of body i (report eqs. 18-21): momenta by
+// dv and dL, then the position with the new velocity and the orientation
+// by the midpoint rotation (one pass) from inv_inertia_world, the world
+// inverse inertia at the start of the update.
+void semiImplicitBodyUpdate(const Model& m, Eigen::VectorXd& y, int i, const Vec3& dv, const Vec3& dL,
+                            const Mat3& inv_inertia_world, double h);
+// semiImplicitBodyUpdate of every body under the evaluation's forces in
+// ws (but those marked in skip, when given), then the particles'
+// momenta and positions.
+void semiImplicitBodiesAndParticles(const Model& m, Eigen::VectorXd& y, const Workspace& ws, double h,
+                                    const unsigned char* skip = nullptr);
 // omega = R I^-1 R^T L at orientation q.
 Vec3 angularVelocityAt(const Quat& q, const Mat3& inv_inertia_body, const Vec3& L);
 
