@@ -427,7 +427,7 @@ TEST(Collision, ACarOfNoPairIsSteppedAsIfAloneWhileAPairPushes) {
               {"ground", {{"type", "plane"}}},
               {"vehicles", {driven(sedan("pusher", 0.0, 0.0, 5.0), 0.6), sedan("pushed", 4.72, 0.0, 5.0), lone}}};
   json alone = doc;
-  alone["vehicles"] = {lone};
+  alone["vehicles"] = json::array({lone});
   SceneRun r = load(doc), a = load(alone);
   const int steps = 500;  // 2 s
   ASSERT_TRUE(step(r, steps)) << r.sim->state().health_reason;
