@@ -70,6 +70,18 @@ std::int64_t FleetNode::claim(const std::string& id, const std::string& placemen
   if (lease == 0 || fenced_)
     throw session::UnavailableError("server " + options_.server_id + " cannot reach the fleet's etcd");
   const std::string value = ownerValue(options_.server_id, 1, placement);
+  {
+    std::lock_guard<std::mutex> lk(mutex_);
+    claiming_.insert(id);  // its key may land before my_epochs_ has it: not a stray (scan)
+  }
+  struct Done {
+    FleetNode& node;
+    const std::string& id;
+    ~Done() {
+      std::lock_guard<std::mutex> lk(node.mutex_);
+      node.claiming_.erase(id);
+    }
+  } done{*this, id};
   fleet::TxnResult t;
   try {
     t = client_.txn({Compare::version(key("owners", id), Result::Equal, 0), Compare::version(key("epochs", id), Result::Equal, 0)},
@@ -336,10 +348,13 @@ void FleetNode::scan() {
   if (joined && !fenced_) service_.replicateAgain();
   std::map<std::string, std::string> owners;
   std::set<std::string> realised;
+  std::vector<Stray> named_here;  // owners/ keys naming this server
   for (const fleet::Kv& kv : client_.range(options_.prefix + "/owners/")) {
     const Owner o = ownerOf(kv.value);
-    owners[kv.key.substr(options_.prefix.size() + 8)] = o.server;
+    const std::string sid = kv.key.substr(options_.prefix.size() + 8);
+    owners[sid] = o.server;
     if (!o.placement.empty()) realised.insert(key("creates", o.placement));
+    if (o.server == options_.server_id) named_here.push_back(Stray{sid, kv.value, o.epoch, kv.lease, {}});
   }
   std::vector<std::string> lost;  // sessions hosted here that another server owns now
   std::vector<std::pair<std::string, Standby>> orphans;
@@ -359,6 +374,11 @@ void FleetNode::scan() {
       auto it = owners.find(sid);
       if (it != owners.end() && it->second != options_.server_id) lost.push_back(sid);
     }
+    std::erase_if(named_here, [&](Stray& k) {
+      if (my_epochs_.count(k.session_id) || claiming_.count(k.session_id)) return true;
+      if (auto st = standby_.find(k.session_id); st != standby_.end()) k.standby = st->second;
+      return false;
+    });
     for (auto& [sid, s] : standby_) {
       if (owners.count(sid)) {
         s.absent_since = {};
@@ -379,6 +399,8 @@ void FleetNode::scan() {
   }
   if (ask_again && !fenced_)
     for (const Ask& a : asks) ask_again(a.session_id, a.from_frame, a.to_frame);
+  if (!fenced_ && !draining_)
+    for (Stray& k : named_here) settleStray(std::move(k));
   for (const std::string& sid : lost) {
     log("session " + sid + " is owned by " + owners[sid] + " now: dropped here");
     {
@@ -411,7 +433,34 @@ void FleetNode::tryTakeOver(const std::string& sid, Standby s) {
        Compare::modRevision(key("epochs", sid), Result::Equal, e ? e->mod_revision : 0)},
       {Op::put(key("owners", sid), value, lease),
        Op::put(key("epochs", sid), std::to_string(epoch))});
-  if (!t.succeeded) return;  // another standby was first
+  // another standby was first; or this txn's first attempt landed and its
+  // answer was lost, so that the attempt on the next endpoint found the key
+  // taken: the next scan finds the key naming this server (settleStray)
+  if (!t.succeeded) return;
+  resume(sid, std::move(s), epoch, value);
+}
+
+// An owners/ key naming this server for a session it neither hosts nor is
+// claiming: a write whose answer never came back (etcd applied it, then
+// the answer was lost on its way, and the retry on another endpoint found
+// the key already there), or a session dropped here on an etcd error while
+// the key stayed. A takeover that landed is completed from the standby's
+// replicas; any other such key is deleted, so that the session's standbys
+// take it over (nobody would host it while the key lives).
+void FleetNode::settleStray(Stray k) {
+  if (k.standby && k.standby->scenario && k.standby->snapshot && k.epoch > k.standby->epoch &&
+      k.lease != 0 && k.lease == membership_->leaseId()) {
+    log("owners/" + k.session_id + " names this server at epoch " + std::to_string(k.epoch) +
+        " (a takeover whose answer was lost): resuming the session");
+    resume(k.session_id, std::move(*k.standby), k.epoch, k.value);
+    return;
+  }
+  log("owners/" + k.session_id + " names this server, which does not host the session: released");
+  client_.txn({Compare::valueIs(key("owners", k.session_id), Result::Equal, k.value)},
+              {Op::del(key("owners", k.session_id))});
+}
+
+void FleetNode::resume(const std::string& sid, Standby s, std::int64_t epoch, const std::string& value) {
   {
     std::lock_guard<std::mutex> lk(mutex_);
     my_epochs_[sid] = epoch;

@@ -133,6 +133,15 @@ class FleetNode final : public session::Ownership {
   void run();  // the node's thread: delayed creates, releases, scans
   void scan();
   void tryTakeOver(const std::string& sid, Standby copy);
+  // an owners/ key naming this server for a session it does not host
+  struct Stray {
+    std::string session_id, value;
+    std::int64_t epoch = 0, lease = 0;
+    std::optional<Standby> standby;  // this server's replicas of it, if any
+  };
+  void settleStray(Stray k);
+  // hosts the session from a standby's replicas at `epoch`, its owners/ key `value` written
+  void resume(const std::string& sid, Standby s, std::int64_t epoch, const std::string& value);
   void onRegistered(std::int64_t lease);
   // Live members that take sessions, in placement order for these loads.
   std::vector<std::string> ranked(const std::map<std::string, int>& loads) const;
@@ -195,6 +204,7 @@ class FleetNode final : public session::Ownership {
   std::map<std::string, std::int64_t> my_epochs_;    // sessions this server claimed, and their epochs
   std::map<std::string, std::string> my_values_;     // their owners/ values as written here (compared by value)
   std::set<std::string> disowned_;
+  std::set<std::string> claiming_;  // ids whose claim() is under way (its key may be in etcd already)
   std::map<std::string, Standby> standby_;
   struct Listing { std::vector<session::SessionInfo> sessions; Clock::time_point at; };
   std::map<std::string, Listing> listings_;  // other servers' last heartbeats, silent ones dropped after 6 s

@@ -20,6 +20,7 @@ inline std::string ownerValue(const std::string& server, std::int64_t epoch, con
 
 struct Owner {
   std::string server, placement;
+  std::int64_t epoch = 0;  // 0: none given
 };
 
 inline Owner ownerOf(const std::string& value) {
@@ -29,7 +30,8 @@ inline Owner ownerOf(const std::string& value) {
     const auto it = j.find(field);
     return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
   };
-  return Owner{text("server"), text("create")};
+  const auto e = j.find("epoch");
+  return Owner{text("server"), text("create"), e != j.end() && e->is_number_integer() ? e->get<std::int64_t>() : 0};
 }
 
 }  // namespace groundsim::net::fleet_owners

@@ -19,6 +19,11 @@
 # 503 "stopping" meanwhile). partition: the
 # owner's host is cut off the switch for 5 s, then plugged back: the old
 # owner must drop the session (it was taken over) and stay silent.
+# lost_answer: as kill, but every server reaches etcd through a relay in its
+# own host (answer_loss_relay.py) that applies the first takeover txn and
+# loses its answer, so the taking server's retry on the next endpoint finds
+# the key already written: the server must notice that the key names it
+# and resume the session (a loaded run of 2026-12-07 lost the session so).
 #   tests/fleet/failover_test.sh FLEET_LAB_SH GROUNDSIM_SERVER GROUNDSIM SCENARIO [MODE]
 set -euo pipefail
 lab=$1 server=$2 client=$3 scenario=$4 mode=${5:-kill}
@@ -32,7 +37,20 @@ fail() {
 }
 
 declare -A pid
-fleet_start_servers --snapshot-interval 1 --metrics-port 9100
+if [ "$mode" = lost_answer ]; then
+  direct=$endpoints
+  for i in 1 2 3; do
+    "$lab" exec "$name" "$i" python3 "$(dirname "$0")/answer_loss_relay.py" 23790 "$direct" /groundsim \
+      >"$tmp/relay$i.log" 2>&1 &
+    for _ in $(seq 300); do grep -qs "relay: listening" "$tmp/relay$i.log" && break; sleep 0.1; done
+    grep -qs "relay: listening" "$tmp/relay$i.log" || fail "the relay of host $i did not start: $(cat "$tmp/relay$i.log")"
+  done
+  endpoints="http://127.0.0.1:23790,$direct"  # the relay first: the servers' client prefers it
+  fleet_start_servers --snapshot-interval 1 --metrics-port 9100
+  endpoints=$direct
+else
+  fleet_start_servers --snapshot-interval 1 --metrics-port 9100
+fi
 
 # the reference: the same scenario in one process
 "$client" run "$scenario" --csv "$tmp/ref.csv" --quiet
@@ -52,7 +70,7 @@ echo "session $sid on $owner (epoch 1); $mode of host $host 3 s of simulated tim
 fleet_wait_session_t "$sid" 3  # snapshots every 1 s: the standbys hold some
 t_kill=$(date +%s.%N)
 case "$mode" in
-  kill) "$lab" kill "$name" "$host" ;;
+  kill|lost_answer) "$lab" kill "$name" "$host" ;;
   drain)
     kill -TERM "${pid[$host]}"
     # while it hands its session over, its /health says so (503 "stopping"):
@@ -74,6 +92,11 @@ fleet_wait_new_owner "$sid" "$owner" " of its host's death"
 [ "$epoch" = 2 ] || fail "the new owner $new holds epoch $epoch, not 2"
 t_listed=$(date +%s.%N)
 grep -h "took over session $sid" "$tmp"/s*.log || true
+if [ "$mode" = lost_answer ]; then
+  grep -h "lost its answer" "$tmp"/relay*.log || fail "no relay lost the answer of a takeover (the test did not test)"
+  grep -h "a takeover whose answer was lost" "$tmp"/s*.log ||
+    fail "the new owner $new did not say it resumed a takeover whose answer was lost"
+fi
 if [ "$mode" = drain ]; then
   wait "${pid[$host]}" || fail "the drained server exited $?"
   grep -q "drained: 1 session(s) handed over" "$tmp/$owner.log" || fail "the drained server did not say it handed the session over"
