@@ -109,7 +109,7 @@ TEST(RoadCarStep, VectorMathIsLibmWithinFourUlp) {
   if (!wide || !vectorMathAvailable()) GTEST_SKIP() << "no AVX2 or no libmvec: the calls are libm's";
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  int64_t worst[4] = {0, 0, 0, 0};
+  int64_t worst[3] = {0, 0, 0};
   for (int k = 0; k < 4000; ++k) {
     alignas(32) double x[4], y[4], out[4];
     for (int i = 0; i < 4; ++i) {
@@ -122,10 +122,8 @@ TEST(RoadCarStep, VectorMathIsLibmWithinFourUlp) {
     for (int i = 0; i < 4; ++i) worst[1] = std::max(worst[1], ulps(out[i], std::sin(y[i])));
     tanh4(x, out, true);
     for (int i = 0; i < 4; ++i) worst[2] = std::max(worst[2], ulps(out[i], std::tanh(x[i])));
-    atan2_4(y, x, out, true);
-    for (int i = 0; i < 4; ++i) worst[3] = std::max(worst[3], ulps(out[i], std::atan2(y[i], x[i])));
   }
-  for (int f = 0; f < 4; ++f) EXPECT_LE(worst[f], 8) << "function " << f;  // 4 ulp each way from the exact value
+  for (int f = 0; f < 3; ++f) EXPECT_LE(worst[f], 8) << "function " << f;  // 4 ulp each way from the exact value
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ VehicleSample sampleVehicle(const Simulator& sim, int vehicle, bool with_energy)
       o.slip = std::abs(rw.slip_ratio);
       o.in_contact = rw.contact;
       o.slip_ratio = rw.slip_ratio;
-      o.slip_angle = rw.slip_angle;
+      o.slip_angle = rw.slipAngle();
       o.travel = rw.travel;
     }
     k = 4;

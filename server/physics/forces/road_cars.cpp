@@ -143,7 +143,7 @@ struct WheelPasses {
   std::array<StickSlipWheel, 4> rigid{};  // stick-slip tyres: solved after the passes
   TyreLanes lanes;
   alignas(32) double spin_arg[4], slip_y[4], slip_x[4];
-  alignas(32) double tyre_fx[4], tyre_fy[4], slip_angle[4], spin_tanh[4];
+  alignas(32) double tyre_fx[4], tyre_fy[4], spin_tanh[4];
 };
 
 // Pass 1 for wheel w: where its hub is, whether it touches, the patch's
@@ -224,7 +224,8 @@ GROUNDSIM_INLINE_BODY void treadForces(const CarBody& car, int w, WheelPasses& w
   const TyreParams& tp = car.p.tyre[w < 2 ? 0 : 1];
   RoadWheelOut& o = car.out.wheel[w];
   if (!o.contact) {
-    o.fx = o.fy = o.slip_ratio = o.slip_angle = 0.0;
+    o.fx = o.fy = o.slip_ratio = o.slip_vy = 0.0;
+    o.slip_vx = 1.0;
     return;
   }
   if (!wp.rigid[w].active) {
@@ -252,7 +253,8 @@ GROUNDSIM_INLINE_BODY void treadForces(const CarBody& car, int w, WheelPasses& w
     o.fy = Fy;
   }
   o.slip_ratio = (q.om * car.r - q.vx) / std::max(std::abs(q.vx), kSlipSpeedFloor);
-  o.slip_angle = wp.slip_angle[w];
+  o.slip_vy = wp.slip_y[w];
+  o.slip_vx = wp.slip_x[w];
 }
 
 // The torques about a wheel's axle.
@@ -382,7 +384,6 @@ GROUNDSIM_INLINE_BODY void roadCarBody(const Model& m, const Eigen::VectorXd& y,
   WheelPasses wp;
   for (int w = 0; w < 4; ++w) contactPatch(m, y, ws, car, w, delta[w], wp);
   tyreForces4(wp.lanes, wide, wp.tyre_fx, wp.tyre_fy);
-  atan2_4(wp.slip_y, wp.slip_x, wp.slip_angle, wide);
   tanh4(wp.spin_arg, wp.spin_tanh, wide);
   double drive_power = 0.0;
   for (int w = 0; w < 4; ++w) {

@@ -174,7 +174,10 @@ struct RoadWheelOut {
   Vec3 force = Vec3::Zero();        // N      tyre force on the car, world
   double fx = 0.0, fy = 0.0;        // N      in the tyre frame
   double slip_ratio = 0.0;          // -      (omega r - v_x) / |v_x|
-  double slip_angle = 0.0;          // rad    atan(v_y / |v_x|)
+  // the slip angle's arguments: atan(v_y / |v_x|) is slipAngle(), taken
+  // only where it is read (telemetry), not in every force evaluation
+  double slip_vy = 0.0, slip_vx = 1.0;  // m/s (v_x floored at the slip speed floor)
+  double slipAngle() const { return std::atan2(slip_vy, slip_vx); }  // rad
   double travel = 0.0;              // m      + = compression
   double steer = 0.0;               // rad
   double drive_torque = 0.0, brake_torque = 0.0;  // N m applied

@@ -15,7 +15,6 @@ extern "C" {
 __attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_atan(__m256d);
 __attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_sin(__m256d);
 __attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_tanh(__m256d);
-__attribute__((target("avx2,fma"))) __m256d _ZGVdN4vv_atan2(__m256d, __m256d);
 }
 #define GROUNDSIM_VECTOR_MATH 1
 #endif
@@ -32,9 +31,6 @@ GROUNDSIM_WIDE void sinWide(const double* in, double* out) {
 }
 GROUNDSIM_WIDE void tanhWide(const double* in, double* out) {
   _mm256_storeu_pd(out, _ZGVdN4v_tanh(_mm256_loadu_pd(in)));
-}
-GROUNDSIM_WIDE void atan2Wide(const double* y, const double* x, double* out) {
-  _mm256_storeu_pd(out, _ZGVdN4vv_atan2(_mm256_loadu_pd(y), _mm256_loadu_pd(x)));
 }
 #endif
 
@@ -62,14 +58,6 @@ void tanh4(const double* in, double* out, bool wide) {
 #endif
   (void)wide;
   for (int i = 0; i < 4; ++i) out[i] = std::tanh(in[i]);
-}
-
-void atan2_4(const double* y, const double* x, double* out, bool wide) {
-#ifdef GROUNDSIM_VECTOR_MATH
-  if (wide) return atan2Wide(y, x, out);
-#endif
-  (void)wide;
-  for (int i = 0; i < 4; ++i) out[i] = std::atan2(y[i], x[i]);
 }
 
 bool vectorMathAvailable() {
