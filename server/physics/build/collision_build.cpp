@@ -413,6 +413,29 @@ void setObjectGroundContact(Model& m) {
   m.object_substeps = std::min(m.object_substeps, kMaxContactSubsteps);
 }
 
+// A rigid or static group's probes in runs of kProbeChunk, each with the
+// box of its positions (fixed in the reference body's frame, or the world).
+void chunkProbes(Model& m, CollisionGroup& g) {
+  g.chunk_begin = g.chunk_end = static_cast<int>(m.probe_chunks.size());
+  if (!g.rigid && g.ref_body >= 0) return;
+  for (int b = g.probe_begin; b < g.probe_end; b += kProbeChunk) {
+    ProbeChunk ch;
+    ch.begin = b;
+    ch.end = std::min(b + kProbeChunk, g.probe_end);
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (int i = ch.begin; i < ch.end; ++i) {
+      const Probe& pr = m.probes[i];
+      const Vec3& local = pr.point >= 0 ? m.points[pr.point].local : pr.local;
+      lo = lo.cwiseMin(local);
+      hi = hi.cwiseMax(local);
+    }
+    ch.c = 0.5 * (lo + hi);
+    ch.h = 0.5 * (hi - lo) + Vec3::Constant(1e-9);
+    m.probe_chunks.push_back(ch);
+  }
+  g.chunk_end = static_cast<int>(m.probe_chunks.size());
+}
+
 }  // namespace
 
 void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
@@ -430,6 +453,8 @@ void finishCollisionModel(Model& m, const Eigen::VectorXd& y) {
     }
   }
   for (CollisionGroup& g : m.groups) g.face_probes = faceProbes(m, g, y);
+  m.probe_chunks.clear();
+  for (CollisionGroup& g : m.groups) chunkProbes(m, g);
   m.collisions = m.opt.collision.enabled && (movable >= 2 || (movable >= 1 && fixed >= 1));
   setObjectGroundContact(m);
 }

@@ -70,6 +70,16 @@ struct Probe {
   int wheel = -1;                   // >= 0: the circle of this wheel (centre at its body's COM)
 };
 
+// A run of a rigid or static group's probes (contiguous, in their order)
+// and the box holding their positions in the reference body's frame about
+// its COM (a static group's: the world), with 1 nm to spare for round-off:
+// the census skips a run whose box misses a shape's.
+struct ProbeChunk {
+  int begin = 0, end = 0;
+  Vec3 c = Vec3::Zero(), h = Vec3::Zero();  // m  centre and half extents
+};
+inline constexpr int kProbeChunk = 8;  // probes per run (the last may hold fewer)
+
 struct CollisionGroup {
   std::string name;
   double mass = 0.0;                // kg     0: static (immovable)
@@ -85,6 +95,7 @@ struct CollisionGroup {
   double friction = 0.5;            // -      Coulomb mu; a pair uses sqrt(mu_a mu_b)
   int probe_begin = 0, probe_end = 0;
   int collider_begin = 0, collider_end = 0;
+  int chunk_begin = 0, chunk_end = 0;  // its runs of probes (Model::probe_chunks): rigid and static groups
   // most probes that can press on one plane at once (those on one side of
   // the group, to 2% of its size): bounds the pair's contact frequency
   int face_probes = 1;

@@ -155,6 +155,7 @@ struct Model {
   std::vector<CollisionGroup> groups;
   std::vector<Collider> colliders;
   std::vector<Probe> probes;
+  std::vector<ProbeChunk> probe_chunks;  // each rigid or static group's probes in runs, in order
   std::vector<SceneObject> objects;   // obstacles: static (body -1) or with mass
   // collisions on, and two groups of which one can move: the step runs the
   // broad phase (and takes the general loop while a pair may touch)

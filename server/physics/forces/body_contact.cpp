@@ -412,24 +412,29 @@ int censusInto(const Model& m, const CollisionGroup& gp, const CensusSide& sp, c
     const Vec3 o_local = sp.movable ? Vec3(sp.R.transpose() * (o - sp.com)) : o;
     const Vec3 o_half = Q.transpose().cwiseAbs() * col.shape.extents() + Vec3::Constant(reach);
     if (sp.movable && ((o_local - gp.box_c).cwiseAbs() - gp.box_h - o_half).maxCoeff() > 0.0) continue;
-    for (int pi = gp.probe_begin; pi < gp.probe_end; ++pi) {
-      const Probe& pr = m.probes[pi];
-      const Vec3& local = pr.point >= 0 ? m.points[pr.point].local : pr.local;
-      if ((local - o_local).squaredNorm() > cull * cull || ((local - o_local).cwiseAbs() - o_half).maxCoeff() > 0.0)
-        continue;
-      const Vec3 q = Q * local + t;
-      const double d = col.shape.distance(q);
-      if (!(d < reach)) continue;
-      const Vec3 p = censusProbe(m, pr, sp);
-      if (d > 0.0 && !(d < 2.0 * (sp.velocityAt(p) - sc.velocityAt(p)).norm() * dt + kPadSlack)) continue;
-      const Vec3 n = R * col.shape.normal(q);
-      Gen12 g;
-      g.head<6>() = massWeighted(p_first ? sp : sc, p, p_first ? n : Vec3(-n));
-      g.tail<6>() = massWeighted(p_first ? sc : sp, p, p_first ? Vec3(-n) : n);
-      for (int j = 0; j < 12; ++j)  // g g^T, lower half (largestEigenvalueBound reads it as symmetric)
-        for (int i = j; i < 12; ++i) A(i, j) += g[i] * g[j];
-      listed.push_back({pi, ci});
-      ++count;
+    // then run by run: a run whose box misses the shape's holds no probe that reaches it
+    for (int k = gp.chunk_begin; k < gp.chunk_end; ++k) {
+      const ProbeChunk& ch = m.probe_chunks[k];
+      if (((ch.c - o_local).cwiseAbs() - ch.h - o_half).maxCoeff() > 0.0) continue;
+      for (int pi = ch.begin; pi < ch.end; ++pi) {
+        const Probe& pr = m.probes[pi];
+        const Vec3& local = pr.point >= 0 ? m.points[pr.point].local : pr.local;
+        if ((local - o_local).squaredNorm() > cull * cull || ((local - o_local).cwiseAbs() - o_half).maxCoeff() > 0.0)
+          continue;
+        const Vec3 q = Q * local + t;
+        const double d = col.shape.distance(q);
+        if (!(d < reach)) continue;
+        const Vec3 p = censusProbe(m, pr, sp);
+        if (d > 0.0 && !(d < 2.0 * (sp.velocityAt(p) - sc.velocityAt(p)).norm() * dt + kPadSlack)) continue;
+        const Vec3 n = R * col.shape.normal(q);
+        Gen12 g;
+        g.head<6>() = massWeighted(p_first ? sp : sc, p, p_first ? n : Vec3(-n));
+        g.tail<6>() = massWeighted(p_first ? sc : sp, p, p_first ? Vec3(-n) : n);
+        for (int j = 0; j < 12; ++j)  // g g^T, lower half (largestEigenvalueBound reads it as symmetric)
+          for (int i = j; i < 12; ++i) A(i, j) += g[i] * g[j];
+        listed.push_back({pi, ci});
+        ++count;
+      }
     }
   }
   return count;
