@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """An etcd relay that loses one answer (tests/fleet/failover_test.sh, mode
-lost_answer): it forwards every request of the etcd JSON gateway to the
-first of ETCD_ENDPOINTS that answers and returns the answer, except for the
-first /v3/kv/txn that puts an owners/ key at epoch 2 or more (a takeover):
-that txn is forwarded and applied by etcd, and its answer is withheld until
-the client has given up waiting (its connection is then closed unanswered),
-as when an answer is lost on its way under load. A client that then tries
-the next endpoint finds the key already written.
+lost_answer; tests/fleet/lost_claim_test.sh): it forwards every request of
+the etcd JSON gateway to the first of ETCD_ENDPOINTS that answers and
+returns the answer, except for the first /v3/kv/txn that puts an owners/
+key of the kind KIND names (takeover: at epoch 2 or more; claim: at epoch
+1): that txn is forwarded and applied by etcd, and its answer is withheld
+until the client has given up waiting (its connection is then closed
+unanswered), as when an answer is lost on its way under load. A client
+that then tries the next endpoint finds the key already written.
 
-  answer_loss_relay.py PORT ETCD_ENDPOINTS PREFIX
+  answer_loss_relay.py PORT ETCD_ENDPOINTS PREFIX [KIND=takeover]
 Prints "relay: listening" once it listens, and one line for the lost answer.
 """
 import base64
@@ -23,12 +24,15 @@ import urllib.parse
 port = int(sys.argv[1])
 upstreams = [urllib.parse.urlsplit(u) for u in sys.argv[2].split(",") if u]
 owners_prefix = sys.argv[3].rstrip("/") + "/owners/"
+kind = sys.argv[4] if len(sys.argv) > 4 else "takeover"
+if kind not in ("takeover", "claim"):
+    sys.exit(f"relay: KIND must be takeover or claim, got {kind!r}")
 lost = threading.Event()
 lock = threading.Lock()
 
 
-def takeover(path, body):
-    """True for a txn that puts an owners/ key at epoch >= 2."""
+def chosen(path, body):
+    """True for a txn that puts an owners/ key of the chosen kind."""
     if path != "/v3/kv/txn":
         return False
     try:
@@ -39,7 +43,8 @@ def takeover(path, body):
                 continue
             key = base64.b64decode(put.get("key", "")).decode()
             value = json.loads(base64.b64decode(put.get("value", "")).decode() or "{}")
-            if key.startswith(owners_prefix) and int(value.get("epoch", 0)) >= 2:
+            epoch = int(value.get("epoch", 0))
+            if key.startswith(owners_prefix) and (epoch >= 2 if kind == "takeover" else epoch == 1):
                 return True
     except (ValueError, TypeError, AttributeError):
         return False
@@ -70,7 +75,7 @@ class Relay(http.server.BaseHTTPRequestHandler):
     def do_POST(self):
         body = self.rfile.read(int(self.headers.get("Content-Length", "0")))
         with lock:
-            lose = not lost.is_set() and takeover(self.path, body)
+            lose = not lost.is_set() and chosen(self.path, body)
             if lose:
                 lost.set()
         try:
@@ -79,7 +84,7 @@ class Relay(http.server.BaseHTTPRequestHandler):
             self.close_connection = True
             return
         if lose:
-            print(f"relay: applied a takeover txn and lost its answer ({data[:120]!r})", flush=True)
+            print(f"relay: applied a {kind} txn and lost its answer ({data[:120]!r})", flush=True)
             time.sleep(3)  # past the client's attempt timeout: it tries the next endpoint
             self.close_connection = True
             return
