@@ -38,16 +38,7 @@ fail() {
 
 declare -A pid
 if [ "$mode" = lost_answer ]; then
-  direct=$endpoints
-  for i in 1 2 3; do
-    "$lab" exec "$name" "$i" python3 "$(dirname "$0")/answer_loss_relay.py" 23790 "$direct" /groundsim \
-      >"$tmp/relay$i.log" 2>&1 &
-    for _ in $(seq 300); do grep -qs "relay: listening" "$tmp/relay$i.log" && break; sleep 0.1; done
-    grep -qs "relay: listening" "$tmp/relay$i.log" || fail "the relay of host $i did not start: $(cat "$tmp/relay$i.log")"
-  done
-  endpoints="http://127.0.0.1:23790,$direct"  # the relay first: the servers' client prefers it
-  fleet_start_servers --snapshot-interval 1 --metrics-port 9100
-  endpoints=$direct
+  fleet_start_servers_via_relays takeover --snapshot-interval 1 --metrics-port 9100
 else
   fleet_start_servers --snapshot-interval 1 --metrics-port 9100
 fi

@@ -12,6 +12,11 @@
 #                            (one worker, --address, the lab's bus and etcd,
 #                            then ARG...), logs in $tmp/s<i>.log, pids in
 #                            pid[i]; waits until they joined (fleet_wait_joined)
+#   fleet_start_servers_via_relays KIND ARG...  as fleet_start_servers, but
+#                            each server reaches etcd through
+#                            answer_loss_relay.py KIND in its own host
+#                            (127.0.0.1:23790, listed first, so its client
+#                            prefers it; logs $tmp/relay<i>.log); else fail
 #   fleet_wait_joined        waits until servers s1-s3 (logs $tmp/s<i>.log)
 #                            said they joined; else calls the test's fail
 #   fleet_owner_of SID       "SERVER EPOCH" of session SID in `groundsim list`
@@ -75,6 +80,20 @@ fleet_start_servers() {
     pid[$i]=$!
   done
   fleet_wait_joined
+}
+
+fleet_start_servers_via_relays() {
+  local kind=$1 direct=$endpoints i
+  shift
+  for i in 1 2 3; do
+    "$lab" exec "$name" "$i" python3 "$(dirname "${BASH_SOURCE[0]}")/answer_loss_relay.py" 23790 "$direct" /groundsim \
+      "$kind" >"$tmp/relay$i.log" 2>&1 &
+    for _ in $(seq 300); do grep -qs "relay: listening" "$tmp/relay$i.log" && break; sleep 0.1; done
+    grep -qs "relay: listening" "$tmp/relay$i.log" || fail "the relay of host $i did not start: $(cat "$tmp/relay$i.log")"
+  done
+  endpoints="http://127.0.0.1:23790,$direct"
+  fleet_start_servers "$@"
+  endpoints=$direct
 }
 
 # waits until every server's registration in etcd carries the capacity of

@@ -22,16 +22,7 @@ fail() {
   exit 1
 }
 declare -A pid
-direct=$endpoints
-for i in 1 2 3; do
-  "$lab" exec "$name" "$i" python3 "$(dirname "$0")/answer_loss_relay.py" 23790 "$direct" /groundsim claim \
-    >"$tmp/relay$i.log" 2>&1 &
-  for _ in $(seq 300); do grep -qs "relay: listening" "$tmp/relay$i.log" && break; sleep 0.1; done
-  grep -qs "relay: listening" "$tmp/relay$i.log" || fail "the relay of host $i did not start"
-done
-endpoints="http://127.0.0.1:23790,$direct"  # the relay first: the servers' client prefers it
-fleet_start_servers
-endpoints=$direct
+fleet_start_servers_via_relays claim
 
 "$lab" exec "$name" 4 "$client" create "$scenario" --duration -1 --lcm-url "$url" --timeout 20 --token-file "$tmp/tokens.json" \
   >"$tmp/create.out" 2>"$tmp/create.err" || fail "the create failed: $(cat "$tmp/create.err")"
@@ -42,7 +33,7 @@ echo "session $sid on $owner"
 grep -h "lost its answer" "$tmp"/relay*.log || fail "no relay lost the answer of a claim (the test did not test)"
 
 owner_keys() {
-  "$lab" exec "$name" 4 etcdctl --endpoints "$direct" get --prefix /groundsim/owners/ --keys-only 2>/dev/null | grep -v '^$' || true
+  "$lab" exec "$name" 4 etcdctl --endpoints "$endpoints" get --prefix /groundsim/owners/ --keys-only 2>/dev/null | grep -v '^$' || true
 }
 keys=""
 for _ in $(seq 300); do
